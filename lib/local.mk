@@ -1,0 +1,24 @@
+# libmeristem. Everything is built once into a convenience library that the unit
+# tests link whole; the installed shared library exports only the mer_ prefix.
+noinst_LTLIBRARIES += lib/libmeristem-core.la
+lib_libmeristem_core_la_SOURCES = \
+	lib/result.c \
+	lib/version.c \
+	lib/gltf.cc
+lib_libmeristem_core_la_LIBADD = -lm
+
+lib_LTLIBRARIES += lib/libmeristem.la
+lib_libmeristem_la_SOURCES =
+# An empty C++ source makes libtool link with the C++ driver (tinygltf needs libstdc++).
+nodist_EXTRA_lib_libmeristem_la_SOURCES = lib/link-as-cxx.cc
+lib_libmeristem_la_LIBADD = lib/libmeristem-core.la
+lib_libmeristem_la_LDFLAGS = -version-info $(MERISTEM_LT_VERSION) -Wl,--version-script=$(srcdir)/lib/libmeristem.map
+lib_libmeristem_la_DEPENDENCIES = lib/libmeristem-core.la $(srcdir)/lib/libmeristem.map
+EXTRA_DIST += lib/libmeristem.map
+
+include_HEADERS = lib/meristem.h
+meristemincludedir = $(includedir)/meristem
+meristeminclude_HEADERS = \
+	lib/meristem/result.h \
+	lib/meristem/version.h \
+	lib/meristem/gltf.h

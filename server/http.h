@@ -1,0 +1,21 @@
+/* meristemd — the libmicrohttpd front: daemon lifecycle and request plumbing. */
+#ifndef MERISTEMD_HTTP_H
+#define MERISTEMD_HTTP_H
+
+#include <stdio.h>
+
+#include "server/settings.h"
+
+typedef struct mer_server mer_server;
+
+/* Starts listening as `config` says (copied). Returns NULL after printing the
+ * reason to `err`. The web root must exist. */
+mer_server *mer_server_start(const mer_settings *config, FILE *err);
+
+/* The TCP port actually bound (useful with --port 0). */
+unsigned mer_server_port(const mer_server *server);
+
+/* Stops accepting, finishes or drops open connections, frees everything. NULL is fine. */
+void mer_server_stop(mer_server *server);
+
+#endif

@@ -1,0 +1,151 @@
+/* meristemd — settings table and command-line parsing. */
+#include "config.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <limits.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <meristem/version.h>
+
+#include "server/settings.h"
+
+#ifndef MER_WEB_ROOT
+#define MER_WEB_ROOT "web"
+#endif
+
+typedef enum { OPT_STRING, OPT_LONG, OPT_FLAG } opt_type;
+
+typedef struct opt_spec {
+    const char *name;
+    opt_type type;
+    long min, max;          /* for OPT_LONG */
+    const char *fallback;   /* default, as it would be typed */
+    size_t offset;          /* into mer_settings */
+    size_t size;            /* of a string field */
+    const char *help;
+} opt_spec;
+
+#define STR(field) offsetof(mer_settings, field), sizeof(((mer_settings *)0)->field)
+#define NUM(field) offsetof(mer_settings, field), 0
+
+static const opt_spec specs[] = {
+    {"bind", OPT_STRING, 0, 0, "127.0.0.1", STR(bind),
+     "address to listen on; anything but loopback exposes the API"},
+    {"port", OPT_LONG, 0, 65535, "8080", NUM(port), "TCP port; 0 picks a free one and logs it"},
+    {"web-root", OPT_STRING, 0, 0, MER_WEB_ROOT, STR(web_root), "folder served at /"},
+    {"data-dir", OPT_STRING, 0, 0, "meristem-data", STR(data_dir),
+     "folder for session journals"},
+    {"threads", OPT_LONG, 1, 256, "2", NUM(threads), "HTTP worker threads"},
+    {"max-body", OPT_LONG, 1024, 1L << 30, "8388608", NUM(body_limit),
+     "largest request body in bytes"},
+    {"max-connections", OPT_LONG, 1, 65536, "1024", NUM(connection_limit),
+     "open connections at once"},
+    {"max-connections-per-ip", OPT_LONG, 1, 65536, "256", NUM(per_ip_limit),
+     "open connections from one address"},
+    {"connection-memory", OPT_LONG, 4096, 1L << 24, "65536", NUM(memory_limit),
+     "header buffer bytes per connection"},
+    {"timeout", OPT_LONG, 1, 86400, "60", NUM(timeout), "seconds an idle connection is kept"},
+    {"quiet", OPT_FLAG, 0, 0, NULL, NUM(quiet), "no request log on stdout"},
+};
+#define N_SPECS (sizeof specs / sizeof specs[0])
+
+static int set_option(mer_settings *config, const opt_spec *spec, const char *text, FILE *err)
+{
+    char *base = (char *)config + spec->offset;
+    switch (spec->type) {
+    case OPT_STRING:
+        if (strlen(text) >= spec->size) {
+            fprintf(err, "meristemd: --%s is longer than %zu characters\n", spec->name,
+                    spec->size - 1);
+            return -1;
+        }
+        memcpy(base, text, strlen(text) + 1);
+        return 0;
+    case OPT_LONG: {
+        char *end = NULL;
+        errno = 0;
+        long value = strtol(text, &end, 10);
+        if (errno != 0 || end == text || *end != '\0' || value < spec->min || value > spec->max) {
+            fprintf(err, "meristemd: --%s wants an integer from %ld to %ld, got '%s'\n",
+                    spec->name, spec->min, spec->max, text);
+            return -1;
+        }
+        memcpy(base, &value, sizeof value);
+        return 0;
+    }
+    case OPT_FLAG: {
+        bool on = true;
+        memcpy(base, &on, sizeof on);
+        return 0;
+    }
+    }
+    return -1;
+}
+
+static void print_help(FILE *out)
+{
+    fprintf(out,
+            "Usage: meristemd [OPTION]...\n"
+            "Serve live self-organizing tree sessions over HTTP, and the brush client.\n\n");
+    for (size_t i = 0; i < N_SPECS; i++) {
+        char left[64];
+        snprintf(left, sizeof left, "--%s%s", specs[i].name,
+                 specs[i].type == OPT_FLAG ? "" : "=VALUE");
+        fprintf(out, "  %-30s %s", left, specs[i].help);
+        if (specs[i].fallback != NULL)
+            fprintf(out, " (default %s)", specs[i].fallback);
+        if (specs[i].type == OPT_LONG)
+            fprintf(out, " [%ld..%ld]", specs[i].min, specs[i].max);
+        fputc('\n', out);
+    }
+    fprintf(out, "  %-30s %s\n  %-30s %s\n", "--help", "show this help and exit", "--version",
+            "show the version and exit");
+}
+
+mer_settings_outcome mer_settings_parse(mer_settings *config, int argc, char **argv, FILE *out,
+                                    FILE *err)
+{
+    memset(config, 0, sizeof *config);
+    for (size_t i = 0; i < N_SPECS; i++)
+        if (specs[i].fallback != NULL && set_option(config, &specs[i], specs[i].fallback, err) != 0)
+            return MER_SETTINGS_ERROR;
+
+    enum { OPT_HELP = 1000, OPT_VERSION };
+    struct option longopts[N_SPECS + 3];
+    for (size_t i = 0; i < N_SPECS; i++)
+        longopts[i] = (struct option){specs[i].name,
+                                      specs[i].type == OPT_FLAG ? no_argument : required_argument,
+                                      NULL, (int)i};
+    longopts[N_SPECS] = (struct option){"help", no_argument, NULL, OPT_HELP};
+    longopts[N_SPECS + 1] = (struct option){"version", no_argument, NULL, OPT_VERSION};
+    longopts[N_SPECS + 2] = (struct option){0, 0, 0, 0};
+
+    optind = 1;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+        if (c == OPT_HELP) {
+            print_help(out);
+            return MER_SETTINGS_EXIT;
+        }
+        if (c == OPT_VERSION) {
+            fprintf(out, "meristemd %s\n", mer_version());
+            return MER_SETTINGS_EXIT;
+        }
+        if (c < 0 || (size_t)c >= N_SPECS) {
+            fprintf(err, "meristemd: unknown or incomplete option '%s'; see --help\n",
+                    argv[optind - 1]);
+            return MER_SETTINGS_ERROR;
+        }
+        if (set_option(config, &specs[c], optarg, err) != 0)
+            return MER_SETTINGS_ERROR;
+    }
+    if (optind < argc) {
+        fprintf(err, "meristemd: unexpected argument '%s'; see --help\n", argv[optind]);
+        return MER_SETTINGS_ERROR;
+    }
+    return MER_SETTINGS_RUN;
+}

@@ -1,0 +1,34 @@
+/* meristemd — its settings: one table feeds the command line, --help and
+ * libmicrohttpd's limits, so a limit has exactly one name, default and range. */
+#ifndef MERISTEMD_SETTINGS_H
+#define MERISTEMD_SETTINGS_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+typedef struct mer_settings {
+    char bind[64];          /* --bind: listen address, IPv4 or IPv6 literal */
+    long port;              /* --port: TCP port, 0 picks a free one */
+    char web_root[4096];    /* --web-root: folder of the brush client */
+    char data_dir[4096];    /* --data-dir: session journals */
+    long threads;           /* --threads: libmicrohttpd thread-pool size */
+    long body_limit;        /* --max-body: request body bytes */
+    long connection_limit;  /* --max-connections: open connections in all */
+    long per_ip_limit;      /* --max-connections-per-ip */
+    long memory_limit;      /* --connection-memory: bytes of buffer per connection */
+    long timeout;           /* --timeout: idle connection seconds */
+    bool quiet;             /* --quiet: no request log */
+} mer_settings;
+
+typedef enum mer_settings_outcome {
+    MER_SETTINGS_RUN,   /* settings parsed: start the daemon */
+    MER_SETTINGS_EXIT,  /* --help or --version printed: exit 0 */
+    MER_SETTINGS_ERROR  /* a bad option was reported on `err`: exit 2 */
+} mer_settings_outcome;
+
+/* Fills `config` with the defaults, then applies argv. Messages go to `out`
+ * (help, version) and `err` (mistakes, naming the option and its range). */
+mer_settings_outcome mer_settings_parse(mer_settings *config, int argc, char **argv,
+                                    FILE *out, FILE *err);
+
+#endif

@@ -1,0 +1,19 @@
+/* meristemd — the brush client's static files, with no way out of the web root. */
+#ifndef MERISTEMD_STATIC_FILES_H
+#define MERISTEMD_STATIC_FILES_H
+
+#include <microhttpd.h>
+
+#include "server/request.h"
+
+/* Answers GET/HEAD `req->url` from the canonical folder `root` (as realpath
+ * gives it). A path that names no regular file inside `root`, by "..", an
+ * encoded "%2e%2e" (libmicrohttpd decodes it before we see it), a symlink that
+ * leads outside, or anything else, gets a 404 problem; a folder gets its
+ * index.html, or a 301 to the same path with a trailing slash. */
+enum MHD_Result mer_static_serve(mer_request *req, const char *root);
+
+/* The Content-Type for a file name, by its extension; never NULL. */
+const char *mer_static_mime_type(const char *path);
+
+#endif

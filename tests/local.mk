@@ -1,0 +1,49 @@
+# The test suite: `make check` runs all of it. Every test speaks TAP: cmocka
+# (CMOCKA_MESSAGE_OUTPUT=TAP), node's test runner (--test-reporter=tap) and the
+# shell checks, all read by automake's TAP driver.
+include tests/unit/local.mk
+
+TEST_EXTENSIONS = .js .sh
+TAP_DRIVER = env AM_TAP_AWK='$(AWK)' $(SHELL) $(top_srcdir)/build-aux/tap-driver.sh
+LOG_DRIVER = $(TAP_DRIVER)
+JS_LOG_DRIVER = $(TAP_DRIVER)
+SH_LOG_DRIVER = $(TAP_DRIVER)
+JS_LOG_COMPILER = $(SHELL) $(top_srcdir)/tests/support/run-node.sh
+SH_LOG_COMPILER = $(SHELL)
+
+AM_TESTS_ENVIRONMENT = \
+	export CMOCKA_MESSAGE_OUTPUT=TAP; \
+	export MER_ARTIFACTS='$(abs_top_builddir)/tests/artifacts'; \
+	export MERISTEMD='$(abs_top_builddir)/server/meristemd'; \
+	export MER_WEB_ROOT='$(abs_top_srcdir)/web'; \
+	export MER_SRCDIR='$(abs_top_srcdir)'; \
+	export MER_BUILDDIR='$(abs_top_builddir)'; \
+	export NODE='$(NODE)'; \
+	export NODE_PATH='$(NODE_MODULES_DIR)'; \
+	export CHROMIUM='$(CHROMIUM)'; \
+	export PACKAGE_VERSION='$(PACKAGE_VERSION)'; \
+	mkdir -p "$$MER_ARTIFACTS";
+
+TESTS += tests/check-exports.sh
+TESTS += tests/api/health.test.js
+TESTS += tests/api/static.test.js
+TESTS += tests/browser/page.test.js
+TESTS += tests/conformance/validate.test.js
+
+# The conformance test validates every GLB the other tests leave behind, so it runs last.
+tests/conformance/validate.log: tests/unit/test_gltf.log
+
+EXTRA_DIST += \
+	tests/check-exports.sh \
+	tests/support/run-node.sh \
+	tests/support/daemon.js \
+	tests/api/health.test.js \
+	tests/api/static.test.js \
+	tests/browser/page.test.js \
+	tests/conformance/validate.test.js
+
+clean-local: clean-artifacts
+clean-artifacts:
+	-rm -rf tests/artifacts
+.PHONY: clean-artifacts
+EXTRA_DIST += build-aux/tap-driver.sh

@@ -1,0 +1,51 @@
+'use strict';
+// Starts a real meristemd on a free loopback port for a test and stops it after.
+const { spawn } = require('node:child_process');
+const fs = require('node:fs');
+const os = require('node:os');
+const path = require('node:path');
+
+/**
+ * Starts meristemd with `--port 0` and resolves once it logs the URL it listens on.
+ * @param {string[]} extraArgs more command-line options
+ * @returns {Promise<{url: string, port: number, child: import('node:child_process').ChildProcess,
+ *   dataDir: string, log: () => string, stop: (signal?: string) => Promise<{code: number|null, signal: string|null}>}>}
+ */
+async function startDaemon(extraArgs = []) {
+  const exe = process.env.MERISTEMD;
+  if (!exe) throw new Error('MERISTEMD is not set; run the tests with make check');
+  const dataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-test-'));
+  const args = ['--port', '0', '--web-root', process.env.MER_WEB_ROOT, '--data-dir', dataDir,
+    ...extraArgs];
+  const child = spawn(exe, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  let output = '';
+  child.stdout.on('data', (d) => { output += d; });
+  child.stderr.on('data', (d) => { output += d; });
+  const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })));
+
+  const port = await new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`meristemd did not start:\n${output}`)), 15000);
+    const look = () => {
+      const m = output.match(/listening on http:\/\/[^:]+:(\d+)\//);
+      if (m) { clearTimeout(timer); resolve(Number(m[1])); }
+    };
+    child.stdout.on('data', look);
+    exited.then(() => { clearTimeout(timer); reject(new Error(`meristemd exited early:\n${output}`)); });
+  });
+
+  return {
+    url: `http://127.0.0.1:${port}`,
+    port,
+    child,
+    dataDir,
+    log: () => output,
+    async stop(signal = 'SIGTERM') {
+      if (child.exitCode === null && child.signalCode === null) child.kill(signal);
+      const result = await exited;
+      fs.rmSync(dataDir, { recursive: true, force: true });
+      return result;
+    },
+  };
+}
+
+module.exports = { startDaemon };
