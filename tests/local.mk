@@ -15,7 +15,7 @@ AM_TESTS_ENVIRONMENT = \
 	export CMOCKA_MESSAGE_OUTPUT=TAP; \
 	export MER_ARTIFACTS='$(abs_top_builddir)/tests/artifacts'; \
 	export MERISTEMD='$(abs_top_builddir)/server/meristemd'; \
-	export MER_WEB_ROOT='$(abs_top_srcdir)/web'; \
+	export MER_WEB_ROOT='$(abs_top_builddir)/webroot'; \
 	export MER_SRCDIR='$(abs_top_srcdir)'; \
 	export MER_BUILDDIR='$(abs_top_builddir)'; \
 	export NODE='$(NODE)'; \
@@ -31,7 +31,7 @@ TESTS += tests/browser/page.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
-tests/conformance/validate.log: tests/unit/test_gltf.log
+tests/conformance/validate.test.log: tests/unit/test_gltf.log
 
 EXTRA_DIST += \
 	tests/check-exports.sh \

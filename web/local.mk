@@ -1,4 +1,35 @@
-# The brush client: static files served by meristemd. web/node_modules (three.js)
-# is installed by the quick start from web/package-lock.json, not shipped.
+# The brush client. meristemd serves `webroot/` from the build folder: web/'s own
+# files plus the parts of three.js the page imports, copied from web/node_modules
+# (installed by the quick start from web/package-lock.json). The copy keeps the
+# node_modules/three/... paths, so web/ itself also works as a web root while
+# editing the page. `make install` installs the same tree as $(pkgdatadir)/web.
 webdir = $(pkgdatadir)/web
-dist_web_DATA = web/index.html web/style.css web/favicon.svg web/package.json web/package-lock.json
+WEB_FILES = index.html style.css favicon.svg
+THREE_PARTS = \
+	LICENSE \
+	build/three.module.js \
+	build/three.core.js \
+	examples/jsm/controls/OrbitControls.js \
+	examples/jsm/loaders/GLTFLoader.js \
+	examples/jsm/utils/BufferGeometryUtils.js \
+	examples/jsm/utils/SkeletonUtils.js
+EXTRA_DIST += web/index.html web/style.css web/favicon.svg \
+	web/package.json web/package-lock.json web/assemble.sh
+
+webroot/.stamp: $(srcdir)/web/index.html $(srcdir)/web/style.css $(srcdir)/web/favicon.svg \
+		$(srcdir)/web/package-lock.json $(srcdir)/web/assemble.sh
+	$(AM_V_GEN)$(SHELL) $(srcdir)/web/assemble.sh '$(srcdir)/web' '$(WEB_MODULES_DIR)' webroot \
+		$(WEB_FILES) -- $(THREE_PARTS)
+
+all-local: webroot/.stamp
+install-data-local: webroot/.stamp
+	$(MKDIR_P) '$(DESTDIR)$(webdir)'
+	cd webroot && find . -type f ! -name .stamp | while read -r f; do \
+	  $(MKDIR_P) "$(DESTDIR)$(webdir)/$${f%/*}" && \
+	  $(INSTALL_DATA) "$$f" "$(DESTDIR)$(webdir)/$$f" || exit 1; done
+uninstall-local:
+	-rm -rf '$(DESTDIR)$(webdir)'
+clean-local: clean-webroot
+clean-webroot:
+	-rm -rf webroot
+.PHONY: clean-webroot

@@ -92,13 +92,29 @@ test('no request leaves the web root', async () => {
   }
 });
 
-test('the real web root refuses /../configure.ac', async (t) => {
+// The real web root lies in the build folder, beside its Makefile (and, in an
+// in-tree build, configure.ac): both are one "/../" away.
+test('the real web root refuses /../configure.ac and its cousins', async (t) => {
   const real = await startDaemon();
   t.after(() => real.stop());
-  for (const target of ['/../configure.ac', '/%2e%2e/configure.ac']) {
+  assert.ok(fs.existsSync(path.join(process.env.MER_WEB_ROOT, '..', 'Makefile')));
+  for (const target of ['/../configure.ac', '/%2e%2e/configure.ac', '/../Makefile',
+    '/%2e%2e/Makefile', '/%2E%2E/Makefile']) {
     const r = await rawGet(real.port, target);
     assert.equal(r.status, 404, target);
     assert.equal(r.type, 'application/problem+json');
     assert.equal(JSON.parse(r.body).status, 404);
+    assert.doesNotMatch(r.body, /automake|AC_INIT/, target);
   }
+});
+
+test('the real web root serves the page and three.js', async (t) => {
+  const real = await startDaemon();
+  t.after(() => real.stop());
+  const page = await fetch(`${real.url}/`);
+  assert.equal(page.status, 200);
+  assert.match(await page.text(), /<title>meristem<\/title>/);
+  const three = await fetch(`${real.url}/node_modules/three/build/three.module.js`);
+  assert.equal(three.status, 200);
+  assert.equal(three.headers.get('content-type'), 'text/javascript; charset=utf-8');
 });
