@@ -3,6 +3,19 @@
 noinst_LTLIBRARIES += lib/libmeristem-core.la
 lib_libmeristem_core_la_SOURCES = \
 	lib/result.c \
+	lib/rng.c \
+	lib/params.c \
+	lib/fate.c \
+	lib/markers.c \
+	lib/shadow.c \
+	lib/tree.c \
+	lib/scene.c \
+	lib/grow.c \
+	lib/edit.c \
+	lib/presets.c \
+	lib/mesh.c \
+	lib/scene_private.h \
+	lib/vec_private.h \
 	lib/version.c \
 	lib/gltf.cc
 lib_libmeristem_core_la_LIBADD = -lm
@@ -20,5 +33,14 @@ include_HEADERS = lib/meristem.h
 meristemincludedir = $(includedir)/meristem
 meristeminclude_HEADERS = \
 	lib/meristem/result.h \
+	lib/meristem/rng.h \
+	lib/meristem/params.h \
+	lib/meristem/fate.h \
+	lib/meristem/markers.h \
+	lib/meristem/shadow.h \
+	lib/meristem/scene.h \
+	lib/meristem/edit.h \
+	lib/meristem/presets.h \
 	lib/meristem/version.h \
-	lib/meristem/gltf.h
+	lib/meristem/gltf.h \
+	lib/meristem/mesh.h

@@ -9,6 +9,14 @@
 
 #include <meristem/result.h>
 #include <meristem/version.h>
+#include <meristem/rng.h>
+#include <meristem/params.h>
+#include <meristem/fate.h>
+#include <meristem/markers.h>
+#include <meristem/shadow.h>
+#include <meristem/scene.h>
+#include <meristem/edit.h>
+#include <meristem/presets.h>
 #include <meristem/gltf.h>
 
 #endif

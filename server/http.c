@@ -11,12 +11,14 @@
 #include <string.h>
 #include <sys/socket.h>
 
+#include "server/app.h"
 #include "server/http.h"
 #include "server/request.h"
 #include "server/routes.h"
 
 struct mer_server {
     struct MHD_Daemon *daemon;
+    mer_app *app;
     mer_settings config;
     char web_root[PATH_MAX];   /* canonical */
     struct sockaddr_storage address;
@@ -43,7 +45,9 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         if (req == NULL)
             return MHD_NO;
         req->connection = connection;
-        req->server = server;
+        req->app = server->app;
+        req->revision = -1;
+        req->route = "unknown";
         req->method = method;
         req->url = url;
         clock_gettime(CLOCK_MONOTONIC, &req->started);
@@ -55,6 +59,16 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
             req->body_too_large = true;
         return MHD_YES;
     }
+
+    if (req->async == MER_ASYNC_READY) {
+        // A worker has answered while the connection was suspended.
+        req->async = MER_ASYNC_NONE;
+        struct MHD_Response *r = req->pending;
+        req->pending = NULL;
+        return mer_reply(req, req->pending_status, r, req->pending_size);
+    }
+    if (req->async == MER_ASYNC_WAITING)
+        return MHD_YES;
 
     if (*upload_data_size != 0) {
         size_t chunk = *upload_data_size;
@@ -124,6 +138,10 @@ static void on_completed(void *cls, struct MHD_Connection *connection, void **st
     mer_request *req = *state;
     if (req == NULL)
         return;
+    if (server->app != NULL)
+        mer_metrics_request(server->app->metrics, req->route, req->status);
+    if (req->pending != NULL)
+        MHD_destroy_response(req->pending);
     if (!server->config.quiet)
         printf("%s %s %u %llu %.2fms%s\n", req->method, req->url, req->status,
                (unsigned long long)req->bytes_out, elapsed_ms(&req->started),
@@ -150,12 +168,13 @@ static bool resolve_bind(mer_server *server, FILE *err)
     return true;
 }
 
-mer_server *mer_server_start(const mer_settings *config, FILE *err)
+mer_server *mer_server_start(const mer_settings *config, mer_app *app, FILE *err)
 {
     mer_server *server = calloc(1, sizeof *server);
     if (server == NULL)
         return NULL;
     server->config = *config;
+    server->app = app;
     if (realpath(config->web_root, server->web_root) == NULL) {
         fprintf(err, "meristemd: --web-root '%s' does not exist\n", config->web_root);
         free(server);
@@ -165,7 +184,8 @@ mer_server *mer_server_start(const mer_settings *config, FILE *err)
         free(server);
         return NULL;
     }
-    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG;
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG |
+                     MHD_ALLOW_SUSPEND_RESUME;
     if (server->address.ss_family == AF_INET6)
         flags |= MHD_USE_IPv6;
     server->daemon = MHD_start_daemon(

@@ -7,10 +7,12 @@
 #include "server/settings.h"
 
 typedef struct mer_server mer_server;
+typedef struct mer_app mer_app;
 
-/* Starts listening as `config` says (copied). Returns NULL after printing the
+/* Starts listening as `config` says (copied), answering with `app` (borrowed;
+ * may be NULL only in tests of static files). Returns NULL after printing the
  * reason to `err`. The web root must exist. */
-mer_server *mer_server_start(const mer_settings *config, FILE *err);
+mer_server *mer_server_start(const mer_settings *config, mer_app *app, FILE *err);
 
 /* The TCP port actually bound (useful with --port 0). */
 unsigned mer_server_port(const mer_server *server);

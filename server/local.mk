@@ -6,6 +6,21 @@ server_meristemd_SOURCES = \
 	server/http.c server/http.h \
 	server/request.c server/request.h \
 	server/routes.c server/routes.h \
-	server/static_files.c server/static_files.h
-server_meristemd_CPPFLAGS = $(AM_CPPFLAGS) -DMER_WEB_ROOT='"$(webdir)"' $(MHD_CFLAGS) $(JANSSON_CFLAGS)
-server_meristemd_LDADD = lib/libmeristem.la $(MHD_LIBS) $(JANSSON_LIBS)
+	server/static_files.c server/static_files.h \
+	server/codec.c server/codec.h \
+	server/edits.c server/edits.h \
+	server/journal.c server/journal.h \
+	server/session.c server/session.h \
+	server/registry.c server/registry.h \
+	server/jobs.c server/jobs.h \
+	server/metrics.c server/metrics.h \
+	server/api.c server/api.h \
+	server/app.h
+server_meristemd_CPPFLAGS = $(AM_CPPFLAGS) -DMER_WEB_ROOT='"$(webdir)"' $(MHD_CFLAGS) $(JANSSON_CFLAGS) $(ZLIB_CFLAGS)
+server_meristemd_LDADD = lib/libmeristem.la $(MHD_LIBS) $(JANSSON_LIBS) $(ZLIB_LIBS)
+
+# meristem: the offline command line (grow from a preset, write a GLB).
+bin_PROGRAMS += server/meristem
+server_meristem_SOURCES = server/cli.c server/codec.c server/codec.h
+server_meristem_CPPFLAGS = $(AM_CPPFLAGS) $(JANSSON_CFLAGS)
+server_meristem_LDADD = lib/libmeristem.la $(JANSSON_LIBS)

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "server/app.h"
+#include "server/codec.h"
 #include "server/request.h"
 
 enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response *response,
@@ -13,6 +15,21 @@ enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response
     if (response == NULL)
         return MHD_NO;
     MHD_add_response_header(response, "X-Content-Type-Options", "nosniff");
+    if (req->revision >= 0) {
+        char rev[24];
+        snprintf(rev, sizeof rev, "%lld", req->revision);
+        MHD_add_response_header(response, "Meristem-Revision", rev);
+    }
+    const char *cors = req->app != NULL ? req->app->settings->cors_origin : "";
+    if (cors[0] != '\0' && strncmp(req->url, "/v1/", 4) == 0) {
+        const char *origin = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, "Origin");
+        if (origin != NULL && strcmp(origin, cors) == 0) {
+            MHD_add_response_header(response, "Access-Control-Allow-Origin", cors);
+            MHD_add_response_header(response, "Access-Control-Expose-Headers",
+                                    "ETag, Location, Meristem-Revision");
+            MHD_add_response_header(response, "Vary", "Origin");
+        }
+    }
     enum MHD_Result ok = MHD_queue_response(req->connection, status, response);
     MHD_destroy_response(response);
     req->status = status;
@@ -33,7 +50,7 @@ enum MHD_Result mer_reply_bytes(mer_request *req, unsigned status, const char *c
 
 enum MHD_Result mer_reply_json(mer_request *req, unsigned status, const json_t *json)
 {
-    char *text = json_dumps(json, JSON_COMPACT);
+    char *text = json_dumps(json, MER_JSON_DUMP_FLAGS);
     if (text == NULL)
         return mer_reply_problem(req, 500, "internal", "Internal Server Error",
                                  "the response could not be encoded");
@@ -48,15 +65,32 @@ enum MHD_Result mer_reply_json(mer_request *req, unsigned status, const json_t *
     return mer_reply(req, status, response, size);
 }
 
-/* Builds (does not queue) an RFC 9457 body; NULL when out of memory. */
-static struct MHD_Response *problem_response(unsigned status, const char *slug,
-                                             const char *title, const char *detail,
-                                             size_t *size)
+const char *mer_status_title(unsigned status)
+{
+    switch (status) {
+    case 400: return "Bad Request";
+    case 401: return "Unauthorized";
+    case 404: return "Not Found";
+    case 405: return "Method Not Allowed";
+    case 409: return "Conflict";
+    case 413: return "Content Too Large";
+    case 415: return "Unsupported Media Type";
+    case 422: return "Unprocessable Content";
+    case 429: return "Too Many Requests";
+    case 503: return "Service Unavailable";
+    default: return status >= 500 ? "Internal Server Error" : "Error";
+    }
+}
+
+struct MHD_Response *mer_problem_response(unsigned status, const char *slug, const char *title,
+                                          const char *detail, const char *field, size_t *size)
 {
     char type[128];
     snprintf(type, sizeof type, "urn:meristem:problem:%s", slug);
     json_t *problem = json_pack("{s:s, s:s, s:i, s:s}", "type", type, "title", title, "status",
                                 (int)status, "detail", detail);
+    if (problem != NULL && field != NULL && field[0] != '\0')
+        json_object_set_new(problem, "field", json_string(field));
     char *text = problem != NULL ? json_dumps(problem, JSON_COMPACT) : NULL;
     json_decref(problem);
     if (text == NULL)
@@ -76,7 +110,7 @@ enum MHD_Result mer_reply_problem(mer_request *req, unsigned status, const char 
                                   const char *title, const char *detail)
 {
     size_t size = 0;
-    struct MHD_Response *response = problem_response(status, slug, title, detail, &size);
+    struct MHD_Response *response = mer_problem_response(status, slug, title, detail, NULL, &size);
     return mer_reply(req, status, response, size);
 }
 
@@ -87,8 +121,31 @@ enum MHD_Result mer_reply_method_not_allowed(mer_request *req, const char *allow
              allow);
     size_t size = 0;
     struct MHD_Response *response =
-        problem_response(405, "method-not-allowed", "Method Not Allowed", detail, &size);
+        mer_problem_response(405, "method-not-allowed", "Method Not Allowed", detail, NULL, &size);
     if (response != NULL)
         MHD_add_response_header(response, MHD_HTTP_HEADER_ALLOW, allow);
     return mer_reply(req, 405, response, size);
+}
+
+void mer_request_suspend(mer_request *req)
+{
+    req->async = MER_ASYNC_WAITING;
+    MHD_suspend_connection(req->connection);
+}
+
+void mer_request_finish(mer_request *req, unsigned status, struct MHD_Response *response,
+                        uint64_t size)
+{
+    if (response == NULL) {
+        size_t n = 0;
+        status = 500;
+        response = mer_problem_response(500, "internal", "Internal Server Error",
+                                        "the reply could not be built (out of memory?)", NULL, &n);
+        size = n;
+    }
+    req->pending = response;
+    req->pending_status = status;
+    req->pending_size = size;
+    req->async = MER_ASYNC_READY;
+    MHD_resume_connection(req->connection);
 }

@@ -13,11 +13,13 @@
 
 #include "server/settings.h"
 
-typedef struct mer_server mer_server;
+typedef struct mer_app mer_app;
+
+enum mer_async { MER_ASYNC_NONE = 0, MER_ASYNC_WAITING, MER_ASYNC_READY };
 
 typedef struct mer_request {
     struct MHD_Connection *connection;
-    const mer_server *server;
+    mer_app *app;
     const char *method;        /* borrowed from libmicrohttpd, valid for the request */
     const char *url;           /* decoded path, no query string */
     char *body;                /* NUL-terminated upload, owned; NULL when none */
@@ -26,7 +28,29 @@ typedef struct mer_request {
     unsigned status;           /* what was queued, for the log line */
     uint64_t bytes_out;
     struct timespec started;
+    const char *route;         /* the route's label, for metrics */
+    long long revision;        /* sent as Meristem-Revision when >= 0 */
+    /* A request answered by a worker: the connection is suspended meanwhile. */
+    int async;                 /* enum mer_async */
+    struct MHD_Response *pending;
+    unsigned pending_status;
+    uint64_t pending_size;
 } mer_request;
+
+/* Suspends the connection until mer_request_finish; call from the handler. */
+void mer_request_suspend(mer_request *req);
+
+/* From a worker: hands over `response` (may be NULL: 500) and resumes the
+ * connection, which then queues it. */
+void mer_request_finish(mer_request *req, unsigned status, struct MHD_Response *response,
+                        uint64_t size);
+
+/* Builds, without queueing, an RFC 9457 body (for workers). NULL when out of memory. */
+struct MHD_Response *mer_problem_response(unsigned status, const char *slug, const char *title,
+                                          const char *detail, const char *field, size_t *size);
+
+/* The reason phrase for a status, for problem titles. */
+const char *mer_status_title(unsigned status);
 
 /* Queues `body` (copied) with `status` and `content_type`. Returns libmicrohttpd's verdict. */
 enum MHD_Result mer_reply_bytes(mer_request *req, unsigned status, const char *content_type,
@@ -43,7 +67,8 @@ enum MHD_Result mer_reply_problem(mer_request *req, unsigned status, const char 
 /* 405 with the Allow header listing `allow` (e.g. "GET, HEAD"). */
 enum MHD_Result mer_reply_method_not_allowed(mer_request *req, const char *allow);
 
-/* Queues an already-built response and remembers status and size for the log. */
+/* Queues an already-built response (adding Meristem-Revision and CORS headers)
+ * and remembers status and size for the log and metrics. */
 enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response *response,
                           uint64_t size);
 

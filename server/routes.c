@@ -5,47 +5,128 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <meristem/version.h>
-
+#include "server/api.h"
+#include "server/app.h"
 #include "server/routes.h"
 #include "server/static_files.h"
 
-typedef enum MHD_Result (*handler_fn)(mer_request *req);
+typedef enum MHD_Result (*handler_fn)(mer_request *req, const char *id);
 
 typedef struct route {
     const char *method;
-    const char *path;
+    const char *pattern;  /* "{id}" matches one path segment */
     handler_fn handler;
+    bool open;            /* answered without the token */
 } route;
 
-static enum MHD_Result handle_health(mer_request *req)
-{
-    json_t *body = json_pack("{s:s, s:s}", "status", "ok", "version", mer_version());
-    enum MHD_Result ok = mer_reply_json(req, 200, body);
-    json_decref(body);
-    return ok;
-}
-
 static const route routes[] = {
-    {"GET", "/v1/health", handle_health},
-    {"HEAD", "/v1/health", handle_health},
+    {"GET", "/v1/health", mer_api_health, true},
+    {"HEAD", "/v1/health", mer_api_health, true},
+    {"GET", "/v1/metrics", mer_api_metrics, false},
+    {"GET", "/v1/presets", mer_api_presets, false},
+    {"GET", "/v1/sessions", mer_api_list, false},
+    {"POST", "/v1/sessions", mer_api_create, false},
+    {"GET", "/v1/sessions/{id}", mer_api_get, false},
+    {"DELETE", "/v1/sessions/{id}", mer_api_delete, false},
+    {"POST", "/v1/sessions/{id}/edits", mer_api_edits, false},
+    {"GET", "/v1/sessions/{id}/snapshot.glb", mer_api_snapshot, false},
+    {"HEAD", "/v1/sessions/{id}/snapshot.glb", mer_api_snapshot, false},
+    {"POST", "/v1/sessions/{id}/cancel", mer_api_cancel, false},
 };
 #define N_ROUTES (sizeof routes / sizeof routes[0])
+
+/* Matches `url` against `pattern`; copies the {id} segment into `id`. */
+static bool match(const char *pattern, const char *url, char *id, size_t id_size)
+{
+    while (*pattern != '\0') {
+        if (strncmp(pattern, "{id}", 4) == 0) {
+            size_t n = strcspn(url, "/");
+            if (n == 0 || n >= id_size)
+                return false;
+            memcpy(id, url, n);
+            id[n] = '\0';
+            url += n;
+            pattern += 4;
+            continue;
+        }
+        if (*pattern++ != *url++)
+            return false;
+    }
+    return *url == '\0';
+}
+
+/* The route table's pattern for `url` (for metrics labels and 405s), or NULL. */
+static const char *route_label(const char *url)
+{
+    char id[80];
+    for (size_t i = 0; i < N_ROUTES; i++)
+        if (match(routes[i].pattern, url, id, sizeof id))
+            return routes[i].pattern;
+    return NULL;
+}
+
+/* Constant time in the token's length: a wrong guess takes as long as a right one. */
+static bool token_ok(mer_request *req)
+{
+    const char *want = req->app->settings->token;
+    if (want[0] == '\0')
+        return true;
+    const char *auth = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
+                                                   MHD_HTTP_HEADER_AUTHORIZATION);
+    if (auth == NULL || strncmp(auth, "Bearer ", 7) != 0)
+        return false;
+    const char *got = auth + 7;
+    size_t n = strlen(want), m = strlen(got);
+    unsigned diff = (unsigned)(n ^ m);
+    for (size_t i = 0; i < n; i++)
+        diff |= (unsigned char)want[i] ^ (unsigned char)(i < m ? got[i] : 0);
+    return diff == 0;
+}
+
+static enum MHD_Result preflight(mer_request *req)
+{
+    const char *cors = req->app->settings->cors_origin;
+    const char *origin = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, "Origin");
+    if (cors[0] == '\0' || origin == NULL || strcmp(origin, cors) != 0)
+        return mer_reply_method_not_allowed(req, "GET, POST, DELETE, HEAD");
+    struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
+    if (r == NULL)
+        return MHD_NO;
+    MHD_add_response_header(r, "Access-Control-Allow-Methods", "GET, POST, DELETE, HEAD");
+    MHD_add_response_header(r, "Access-Control-Allow-Headers", "Authorization, Content-Type, Accept, If-None-Match");
+    MHD_add_response_header(r, "Access-Control-Max-Age", "600");
+    return mer_reply(req, 204, r, 0);
+}
 
 enum MHD_Result mer_route(mer_request *req, const char *web_root)
 {
     if (strncmp(req->url, "/v1/", 4) != 0 && strcmp(req->url, "/v1") != 0) {
+        req->route = "static";
         if (strcmp(req->method, "GET") != 0 && strcmp(req->method, "HEAD") != 0)
             return mer_reply_method_not_allowed(req, "GET, HEAD");
         return mer_static_serve(req, web_root);
     }
+    const char *label = route_label(req->url);
+    req->route = label != NULL ? label : "unknown";
+    if (strcmp(req->method, "OPTIONS") == 0 && label != NULL)
+        return preflight(req);
 
-    char allow[128] = "";
+    char allow[128] = "", id[80] = "";
     for (size_t i = 0; i < N_ROUTES; i++) {
-        if (strcmp(routes[i].path, req->url) != 0)
+        if (!match(routes[i].pattern, req->url, id, sizeof id))
             continue;
-        if (strcmp(routes[i].method, req->method) == 0)
-            return routes[i].handler(req);
+        if (strcmp(routes[i].method, req->method) == 0) {
+            if (!routes[i].open && !token_ok(req)) {
+                size_t size = 0;
+                struct MHD_Response *r = mer_problem_response(
+                    401, "unauthorized", "Unauthorized",
+                    "this meristemd wants Authorization: Bearer TOKEN (its --token)", NULL, &size);
+                if (r != NULL)
+                    MHD_add_response_header(r, MHD_HTTP_HEADER_WWW_AUTHENTICATE, "Bearer");
+                return mer_reply(req, 401, r, size);
+            }
+            return routes[i].handler(req, id[0] ? id : NULL);
+        }
         size_t used = strlen(allow);
         snprintf(allow + used, sizeof allow - used, "%s%s", used ? ", " : "", routes[i].method);
     }

@@ -49,6 +49,25 @@ static const opt_spec specs[] = {
      "header buffer bytes per connection"},
     {"timeout", OPT_LONG, 1, 86400, "60", NUM(timeout), "seconds an idle connection is kept"},
     {"quiet", OPT_FLAG, 0, 0, NULL, NUM(quiet), "no request log on stdout"},
+    {"workers", OPT_LONG, 1, 256, "2", NUM(workers), "threads that step and mesh trees"},
+    {"max-sessions", OPT_LONG, 1, 1000000, "10000", NUM(max_sessions), "live sessions at once"},
+    {"max-internodes", OPT_LONG, 1, 50000000, "2000000", NUM(max_internodes),
+     "internodes a session's tree may grow to"},
+    {"max-markers", OPT_LONG, 1, 20000000, "1000000", NUM(max_markers),
+     "markers one request may add"},
+    {"max-steps", OPT_LONG, 1, 100000, "1000", NUM(max_steps), "steps one request may ask for"},
+    {"max-request-seconds", OPT_LONG, 1, 86400, "300", NUM(max_seconds),
+     "seconds an edit batch may run; it then stops at the last whole step"},
+    {"fsync", OPT_STRING, 0, 0, "always", STR(fsync),
+     "always: flush the journal before every reply; interval: every --fsync-interval ms "
+     "(a power cut may lose that long)"},
+    {"fsync-interval", OPT_LONG, 1, 60000, "200", NUM(fsync_interval),
+     "milliseconds between journal flushes with --fsync=interval"},
+    {"token", OPT_STRING, 0, 0, NULL, STR(token),
+     "require Authorization: Bearer TOKEN on every /v1 route but health"},
+    {"token-file", OPT_STRING, 0, 0, NULL, STR(token_file), "read the token from this file"},
+    {"cors-origin", OPT_STRING, 0, 0, NULL, STR(cors_origin),
+     "allow this one origin to call the API from a browser (CORS is off without it)"},
 };
 #define N_SPECS (sizeof specs / sizeof specs[0])
 
@@ -83,6 +102,28 @@ static int set_option(mer_settings *config, const opt_spec *spec, const char *te
     }
     }
     return -1;
+}
+
+/* The token file's first line, without its newline. */
+static int read_token(mer_settings *config, FILE *err)
+{
+    FILE *f = fopen(config->token_file, "r");
+    if (f == NULL) {
+        fprintf(err, "meristemd: cannot read --token-file %s: %s\n", config->token_file,
+                strerror(errno));
+        return -1;
+    }
+    char line[sizeof config->token];
+    if (fgets(line, sizeof line, f) == NULL)
+        line[0] = '\0';
+    fclose(f);
+    line[strcspn(line, "\r\n")] = '\0';
+    if (line[0] == '\0') {
+        fprintf(err, "meristemd: --token-file %s is empty\n", config->token_file);
+        return -1;
+    }
+    memcpy(config->token, line, strlen(line) + 1);
+    return 0;
 }
 
 static void print_help(FILE *out)
@@ -147,5 +188,11 @@ mer_settings_outcome mer_settings_parse(mer_settings *config, int argc, char **a
         fprintf(err, "meristemd: unexpected argument '%s'; see --help\n", argv[optind]);
         return MER_SETTINGS_ERROR;
     }
+    if (strcmp(config->fsync, "always") != 0 && strcmp(config->fsync, "interval") != 0) {
+        fprintf(err, "meristemd: --fsync wants always or interval, got '%s'\n", config->fsync);
+        return MER_SETTINGS_ERROR;
+    }
+    if (config->token_file[0] != '\0' && read_token(config, err) != 0)
+        return MER_SETTINGS_ERROR;
     return MER_SETTINGS_RUN;
 }

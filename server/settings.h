@@ -18,6 +18,17 @@ typedef struct mer_settings {
     long memory_limit;      /* --connection-memory: bytes of buffer per connection */
     long timeout;           /* --timeout: idle connection seconds */
     bool quiet;             /* --quiet: no request log */
+    long workers;           /* --workers: threads that step and mesh */
+    long max_sessions;      /* --max-sessions */
+    long max_internodes;    /* --max-internodes: per session */
+    long max_markers;       /* --max-markers: per request */
+    long max_steps;         /* --max-steps: per request */
+    long max_seconds;       /* --max-request-seconds: a batch stops at the step past it */
+    char fsync[16];         /* --fsync: "always" or "interval" */
+    long fsync_interval;    /* --fsync-interval: milliseconds between flushes */
+    char token[256];        /* --token: required as Authorization: Bearer on /v1 but health */
+    char token_file[4096];  /* --token-file: read the token from a file */
+    char cors_origin[256];  /* --cors-origin: the one origin allowed to call the API */
 } mer_settings;
 
 typedef enum mer_settings_outcome {

@@ -27,11 +27,17 @@ AM_TESTS_ENVIRONMENT = \
 TESTS += tests/check-exports.sh
 TESTS += tests/api/health.test.js
 TESTS += tests/api/static.test.js
+TESTS += tests/api/cli.test.js
+TESTS += tests/api/sessions.test.js
+TESTS += tests/api/durability.test.js
+TESTS += tests/api/security.test.js
+TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
-tests/conformance/validate.test.log: tests/unit/test_gltf.log
+tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_mesh.log \
+	tests/api/cli.test.log tests/api/sessions.test.log tests/api/smoke.log
 
 EXTRA_DIST += \
 	tests/check-exports.sh \
@@ -39,6 +45,12 @@ EXTRA_DIST += \
 	tests/support/daemon.js \
 	tests/api/health.test.js \
 	tests/api/static.test.js \
+	tests/api/cli.test.js \
+	tests/api/sessions.test.js \
+	tests/api/durability.test.js \
+	tests/api/security.test.js \
+	tests/api/smoke.sh \
+	tests/support/render-glb.js \
 	tests/browser/page.test.js \
 	tests/conformance/validate.test.js
 
@@ -47,3 +59,4 @@ clean-artifacts:
 	-rm -rf tests/artifacts
 .PHONY: clean-artifacts
 EXTRA_DIST += build-aux/tap-driver.sh
+include tests/bench/local.mk

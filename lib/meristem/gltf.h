@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <meristem/mesh.h>
 #include <meristem/result.h>
 
 #ifdef __cplusplus
@@ -34,7 +35,8 @@ typedef struct mer_gltf_mesh {
 
 /* Encodes `mesh` as one binary glTF (GLB) holding a single scene, node, mesh and
  * TRIANGLES primitive with POSITION (with min/max), NORMAL, `_NODE_ID` and
- * UNSIGNED_INT indices (UNSIGNED_SHORT when vertex_count <= 65535).
+ * UNSIGNED_INT indices (UNSIGNED_SHORT when vertex_count <= 65535), all
+ * unquantized.
  *
  * On MER_OK, *out_glb holds *out_size bytes that the caller frees with
  * mer_gltf_free(). On failure *out_glb is NULL and `err` (may be NULL) says why.
@@ -42,6 +44,68 @@ typedef struct mer_gltf_mesh {
  * transient memory. */
 mer_result mer_gltf_write_glb(const mer_gltf_mesh *mesh, uint8_t **out_glb,
                               size_t *out_size, mer_error *err);
+
+typedef enum mer_gltf_format {
+    MER_GLTF_BINARY = 0,   /* .glb: JSON chunk + BIN chunk */
+    MER_GLTF_EMBEDDED = 1  /* .gltf: JSON with the buffer as a base64 data URI, for debugging */
+} mer_gltf_format;
+
+/* What a snapshot says about its own origin, written to asset.extras so that a
+ * GLB tells how to grow it again. Strings may be NULL (then left out). */
+typedef struct mer_gltf_meta {
+    const char *session;  /* session id */
+    uint64_t revision;
+    uint32_t step;
+    const char *preset;
+    uint64_t seed;        /* written as a number below 2^53, else as a decimal string */
+    uint32_t detail;      /* the mesh options it was made with, for the record */
+    uint32_t leaves;
+    uint32_t markers;
+    uint32_t color;
+} mer_gltf_meta;
+
+/* How to write. All-zero: GLB with quantized vertices. */
+typedef struct mer_gltf_options {
+    uint32_t format;     /* mer_gltf_format; default MER_GLTF_BINARY */
+    uint32_t unquantized; /* 1: float positions and normals, no extension; 0: quantized */
+} mer_gltf_options;
+
+/* Encodes a tree mesh: node "tree" with mesh "tree" holding the bark primitive
+ * (material "bark") and, when present, the leaves (material "leaf",
+ * double-sided); node "markers" with a POINTS primitive when the mesh has
+ * markers. Attributes: POSITION (with min/max), NORMAL, TEXCOORD_0, COLOR_0
+ * (when the mesh has colours) and `_NODE_ID`; indices UNSIGNED_SHORT when a
+ * chunk has at most 65535 vertices (every chunk is one primitive), else
+ * UNSIGNED_INT. Materials are PBR metallic-roughness. asset.generator is
+ * "meristem VERSION"; `meta` (may be NULL) goes to asset.extras. `options` may
+ * be NULL (defaults).
+ *
+ * Quantized (the default, KHR_mesh_quantization, listed as required): bark and
+ * leaf positions are SHORT integers on a uniform grid over the tree's bounding
+ * box, with the "tree" node's translation and uniform scale mapping them back
+ * (a step of the largest half-extent / 32767: 0.3 mm on a 20 m tree), and
+ * normals are normalized BYTEs. That takes a vertex from 36 to 24 bytes; three.js
+ * and Blender read the extension. Markers stay FLOAT.
+ *
+ * For MER_GLTF_BINARY, tinygltf writes the JSON and the big arrays go straight
+ * from the mesh into the returned bytes: they are copied once. On MER_OK the
+ * caller frees *out with mer_gltf_free(). Deterministic: the same mesh and meta
+ * give the same bytes. Cost O(vertices + indices). */
+mer_result mer_gltf_write_tree(const mer_mesh *mesh, const mer_gltf_meta *meta,
+                               const mer_gltf_options *options, uint8_t **out, size_t *out_size,
+                               mer_error *err);
+
+/* Reads every TRIANGLES primitive (indexed or not) of the default scene of a
+ * glTF 2.0 asset, GLB or JSON with embedded (data URI) buffers, and returns its
+ * triangles in world space (node transforms applied) as a flat array of
+ * 9 floats per triangle: for an obstacle or a marker volume. External files
+ * are refused (lib does no I/O). Quantized and normalized position accessors are
+ * decoded; sparse accessors are refused. On MER_OK *out_xyz (free with
+ * mer_gltf_free) holds *out_triangles triangles. MER_ERR_FORMAT with tinygltf's
+ * message for a file that is not glTF; MER_ERR_LIMIT past `max_triangles`.
+ * Cost O(file size + triangles). */
+mer_result mer_gltf_read_triangles(const uint8_t *bytes, size_t size, size_t max_triangles,
+                                   float **out_xyz, size_t *out_triangles, mer_error *err);
 
 /* Frees bytes returned by this module. NULL is fine. */
 void mer_gltf_free(void *bytes);

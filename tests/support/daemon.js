@@ -8,13 +8,15 @@ const path = require('node:path');
 /**
  * Starts meristemd with `--port 0` and resolves once it logs the URL it listens on.
  * @param {string[]} extraArgs more command-line options
+ * @param {{dataDir?: string}} options an existing data folder to use (and keep)
  * @returns {Promise<{url: string, port: number, child: import('node:child_process').ChildProcess,
  *   dataDir: string, log: () => string, stop: (signal?: string) => Promise<{code: number|null, signal: string|null}>}>}
  */
-async function startDaemon(extraArgs = []) {
+async function startDaemon(extraArgs = [], options = {}) {
   const exe = process.env.MERISTEMD;
   if (!exe) throw new Error('MERISTEMD is not set; run the tests with make check');
-  const dataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-test-'));
+  const keepData = Boolean(options.dataDir);
+  const dataDir = options.dataDir || fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-test-'));
   const args = ['--port', '0', '--web-root', process.env.MER_WEB_ROOT, '--data-dir', dataDir,
     ...extraArgs];
   const child = spawn(exe, args, { stdio: ['ignore', 'pipe', 'pipe'] });
@@ -42,10 +44,25 @@ async function startDaemon(extraArgs = []) {
     async stop(signal = 'SIGTERM') {
       if (child.exitCode === null && child.signalCode === null) child.kill(signal);
       const result = await exited;
-      fs.rmSync(dataDir, { recursive: true, force: true });
+      if (!keepData) fs.rmSync(dataDir, { recursive: true, force: true });
       return result;
     },
   };
 }
 
-module.exports = { startDaemon };
+/** JSON request helper: returns {status, headers, body (parsed when JSON), raw}. */
+async function api(base, method, p, body, headers = {}) {
+  const init = { method, headers: { ...headers } };
+  if (body !== undefined) {
+    init.body = typeof body === 'string' ? body : JSON.stringify(body);
+    if (!('Content-Type' in init.headers)) init.headers['Content-Type'] = 'application/json';
+  }
+  const r = await fetch(base + p, init);
+  const raw = Buffer.from(await r.arrayBuffer());
+  const type = r.headers.get('content-type') || '';
+  let parsed = null;
+  if (type.includes('json')) parsed = JSON.parse(raw.toString('utf8'));
+  return { status: r.status, headers: r.headers, body: parsed, raw };
+}
+
+module.exports = { startDaemon, api };

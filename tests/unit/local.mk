@@ -12,4 +12,49 @@ tests_unit_test_gltf_SOURCES = tests/unit/test_gltf.cc
 tests_unit_test_gltf_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_gltf_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_rng
+tests_unit_test_rng_SOURCES = tests/unit/test_rng.c
+tests_unit_test_rng_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_rng_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_params
+tests_unit_test_params_SOURCES = tests/unit/test_params.c
+tests_unit_test_params_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_params_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_fate
+tests_unit_test_fate_SOURCES = tests/unit/test_fate.c
+tests_unit_test_fate_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_fate_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_markers
+tests_unit_test_markers_SOURCES = tests/unit/test_markers.c
+tests_unit_test_markers_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_markers_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_shadow
+tests_unit_test_shadow_SOURCES = tests/unit/test_shadow.c
+tests_unit_test_shadow_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_shadow_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_scene
+tests_unit_test_scene_SOURCES = tests/unit/test_scene.c
+tests_unit_test_scene_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_scene_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_presets
+tests_unit_test_presets_SOURCES = tests/unit/test_presets.c
+tests_unit_test_presets_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_presets_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_mesh
+tests_unit_test_mesh_SOURCES = tests/unit/test_mesh.cc
+tests_unit_test_mesh_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_mesh_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_journal
+tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c server/journal.h
+tests_unit_test_journal_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
+tests_unit_test_journal_LDADD = $(CMOCKA_LIBS) $(ZLIB_LIBS)
+
 TESTS += $(check_PROGRAMS)

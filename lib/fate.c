@@ -1,0 +1,119 @@
+/* meristem — BH and priority allocation kernels (P09 §4.2). */
+#include "config.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include <meristem/fate.h>
+
+void mer_bh_split2(float v, float lambda, float q_main, const float q_lat[2], float *v_main,
+                   float v_lat[2])
+{
+    float ql = q_lat[0] + q_lat[1];
+    float den = lambda * q_main + (1.0f - lambda) * ql;  /* λQ_m + (1−λ)Q_l */
+    if (!(den > 0.0f)) {
+        *v_main = 0.0f;
+        v_lat[0] = v_lat[1] = 0.0f;
+        return;
+    }
+    *v_main = v * (lambda * q_main) / den;
+    float vl = v * ((1.0f - lambda) * ql) / den;
+    if (ql > 0.0f) {
+        v_lat[0] = vl * (q_lat[0] / ql);
+        v_lat[1] = vl * (q_lat[1] / ql);
+    } else {
+        v_lat[0] = v_lat[1] = 0.0f;
+    }
+}
+
+void mer_bh_split(float v, float lambda, float q_main, float q_lat, float *v_main, float *v_lat)
+{
+    float ql[2] = {q_lat, 0.0f}, vl[2];
+    mer_bh_split2(v, lambda, q_main, ql, v_main, vl);
+    *v_lat = vl[0];
+}
+
+uint32_t mer_shoot_size(float v, uint32_t max_n, float l0, float *length)
+{
+    if (!(v >= 1.0f)) {
+        if (length != NULL)
+            *length = 0.0f;
+        return 0;
+    }
+    float fl = floorf(v);                       /* n = ⌊v⌋ */
+    uint32_t n = fl >= (float)max_n ? max_n : (uint32_t)fl;
+    if (length != NULL)
+        *length = l0 * (v / fl);                /* l = v/n */
+    return n;
+}
+
+float mer_priority_weight(uint32_t i, uint32_t n, float w_max, float w_min, float kappa)
+{
+    float knee = kappa * (float)n;   /* position where w reaches w_min */
+    float x = (float)i;
+    if (i == 0 || !(knee > 0.0f))
+        return i == 0 ? w_max : w_min;
+    if (x >= knee)
+        return w_min;
+    return w_max + (w_min - w_max) * (x / knee);
+}
+
+/* Item a goes before item b: higher light per bud first, then lower index. */
+static int before(uint32_t a, uint32_t b, const float *q, const uint32_t *buds)
+{
+    float ka = q[a] / (float)(buds[a] > 0 ? buds[a] : 1);
+    float kb = q[b] / (float)(buds[b] > 0 ? buds[b] : 1);
+    if (ka != kb)
+        return ka > kb;
+    return a < b;
+}
+
+void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *buds,
+                           uint32_t terminal, int apical, const float *weights, float w_max,
+                           float w_min, float kappa, uint32_t *rank, uint32_t *scratch,
+                           float *out_v)
+{
+    if (n == 0)
+        return;
+    for (uint32_t i = 0; i < n; i++)
+        rank[i] = i;
+    /* Bottom-up merge sort: stable and O(n log n), no recursion, no comparator globals. */
+    uint32_t *src = rank, *dst = scratch;
+    for (uint32_t width = 1; width < n; width *= 2) {
+        for (uint32_t lo = 0; lo < n; lo += 2 * width) {
+            uint32_t mid = lo + width < n ? lo + width : n;
+            uint32_t hi = lo + 2 * width < n ? lo + 2 * width : n;
+            uint32_t a = lo, b = mid, o = lo;
+            while (a < mid && b < hi)
+                dst[o++] = before(src[b], src[a], q, buds) ? src[b++] : src[a++];
+            while (a < mid)
+                dst[o++] = src[a++];
+            while (b < hi)
+                dst[o++] = src[b++];
+        }
+        uint32_t *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != rank)
+        for (uint32_t i = 0; i < n; i++)
+            rank[i] = src[i];
+    if (apical && terminal < n) {
+        /* Apical control: the terminal bud heads the list whatever its light. */
+        uint32_t pos = 0;
+        while (rank[pos] != terminal)
+            pos++;
+        for (; pos > 0; pos--)
+            rank[pos] = rank[pos - 1];
+        rank[0] = terminal;
+    }
+    float sum = 0.0f;
+    for (uint32_t pos = 0; pos < n; pos++) {
+        float w = weights != NULL ? weights[pos] : mer_priority_weight(pos, n, w_max, w_min, kappa);
+        float qw = q[rank[pos]] * w;
+        out_v[rank[pos]] = qw;
+        sum += qw;
+    }
+    for (uint32_t i = 0; i < n; i++)
+        out_v[i] = sum > 0.0f ? v * out_v[i] / sum : 0.0f;
+}

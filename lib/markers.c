@@ -1,0 +1,397 @@
+/* meristem — marker set on a uniform grid (P09 §4.1, §6). */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <meristem/markers.h>
+#include <meristem/params.h>
+
+#define NONE UINT32_MAX
+
+/* A marker as filed in the grid: its position (copied, so a cell's markers are
+ * contiguous in memory) and its index, with DEAD_BIT set once it is removed. */
+typedef struct entry {
+    float p[3];
+    uint32_t id;
+} entry;
+
+#define DEAD_BIT UINT32_C(0x80000000)
+
+struct mer_markers {
+    float bmin[3];
+    float cell, inv_cell;
+    int dim[3];
+    size_t ncells;
+    /* markers, by index */
+    float *p;          /* 3 per marker */
+    uint8_t *dead;
+    size_t n, cap, alive;
+    /* CSR grid over live markers; stale when `dirty` */
+    uint32_t *start;   /* ncells + 1 */
+    entry *items;      /* live markers in cell order, positions copied for locality */
+    size_t items_cap;
+    int dirty;
+    size_t dead_in_grid;
+    /* colonization scratch, per marker */
+    uint32_t *best;
+    float *best_d2;
+    size_t scratch_cap;
+    uint32_t *touched;
+    size_t touched_cap;
+};
+
+mer_result mer_markers_new(const float bmin[3], const float bmax[3], float cell,
+                           mer_markers **out, mer_error *err)
+{
+    *out = NULL;
+    if (!(cell > 0.0f))
+        return mer_error_set(err, MER_ERR_RANGE, "marker_cell", "marker_cell must be > 0");
+    double cells = 1.0;
+    int dim[3];
+    for (int a = 0; a < 3; a++) {
+        double ext = (double)bmax[a] - (double)bmin[a];
+        if (!(ext > 0.0))
+            return mer_error_set(err, MER_ERR_RANGE, "bounds_max",
+                                 "bounds_max must exceed bounds_min on every axis");
+        double d = ceil(ext / (double)cell);
+        if (d < 1.0)
+            d = 1.0;
+        cells *= d;
+        if (cells > (double)MER_GRID_CELLS_MAX)
+            return mer_error_set(err, MER_ERR_LIMIT, "marker_cell",
+                                 "the marker grid would exceed %u cells; raise marker_cell",
+                                 (unsigned)MER_GRID_CELLS_MAX);
+        dim[a] = (int)d;
+    }
+    mer_markers *m = calloc(1, sizeof *m);
+    if (m == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker set");
+    memcpy(m->bmin, bmin, sizeof m->bmin);
+    memcpy(m->dim, dim, sizeof m->dim);
+    m->cell = cell;
+    m->inv_cell = 1.0f / cell;
+    m->ncells = (size_t)dim[0] * (size_t)dim[1] * (size_t)dim[2];
+    m->start = calloc(m->ncells + 1, sizeof *m->start);
+    if (m->start == NULL) {
+        free(m);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
+    }
+    m->dirty = 0;
+    *out = m;
+    return MER_OK;
+}
+
+void mer_markers_free(mer_markers *m)
+{
+    if (m == NULL)
+        return;
+    free(m->p);
+    free(m->dead);
+    free(m->start);
+    free(m->items);
+    free(m->best);
+    free(m->best_d2);
+    free(m->touched);
+    free(m);
+}
+
+static int cell_coord(const mer_markers *m, float x, int a)
+{
+    float f = (x - m->bmin[a]) * m->inv_cell;
+    if (!(f >= 0.0f))
+        return 0;
+    if (f >= (float)m->dim[a])
+        return m->dim[a] - 1;
+    return (int)f;
+}
+
+static size_t cell_of(const mer_markers *m, const float *p)
+{
+    int i = cell_coord(m, p[0], 0), j = cell_coord(m, p[1], 1), k = cell_coord(m, p[2], 2);
+    return ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
+}
+
+mer_result mer_markers_add(mer_markers *m, const float *xyz, size_t count, mer_error *err)
+{
+    if (count == 0)
+        return MER_OK;
+    if (m->n + count > (size_t)(DEAD_BIT - 1))
+        return mer_error_set(err, MER_ERR_LIMIT, "markers", "too many markers");
+    if (m->n + count > m->cap) {
+        size_t cap = m->cap ? m->cap : 1024;
+        while (cap < m->n + count)
+            cap *= 2;
+        float *p = realloc(m->p, cap * 3 * sizeof *p);
+        if (p == NULL)
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
+        m->p = p;
+        uint8_t *d = realloc(m->dead, cap);
+        if (d == NULL)
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
+        m->dead = d;
+        m->cap = cap;
+    }
+    memcpy(m->p + 3 * m->n, xyz, count * 3 * sizeof *xyz);
+    memset(m->dead + m->n, 0, count);
+    m->n += count;
+    m->alive += count;
+    m->dirty = 1;
+    return MER_OK;
+}
+
+size_t mer_markers_count(const mer_markers *m) { return m->alive; }
+
+size_t mer_markers_positions(const mer_markers *m, float *out, size_t cap)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < m->n; i++) {
+        if (m->dead[i])
+            continue;
+        if (k < cap)
+            memcpy(out + 3 * k, m->p + 3 * i, 3 * sizeof *out);
+        k++;
+    }
+    return k;
+}
+
+/* Counting sort of live markers into cells, in index order within a cell. */
+static int rebuild(mer_markers *m)
+{
+    if (m->alive > m->items_cap) {
+        size_t cap = m->alive + m->alive / 2 + 16;
+        entry *it = realloc(m->items, cap * sizeof *it);
+        if (it == NULL)
+            return 0;
+        m->items = it;
+        m->items_cap = cap;
+    }
+    memset(m->start, 0, (m->ncells + 1) * sizeof *m->start);
+    for (size_t i = 0; i < m->n; i++)
+        if (!m->dead[i])
+            m->start[cell_of(m, m->p + 3 * i) + 1]++;
+    for (size_t c = 0; c < m->ncells; c++)
+        m->start[c + 1] += m->start[c];
+    /* Fill using start[c] as a cursor, then shift back. */
+    for (size_t i = 0; i < m->n; i++)
+        if (!m->dead[i]) {
+            entry *e = &m->items[m->start[cell_of(m, m->p + 3 * i)]++];
+            memcpy(e->p, m->p + 3 * i, sizeof e->p);
+            e->id = (uint32_t)i;
+        }
+    for (size_t c = m->ncells; c > 0; c--)
+        m->start[c] = m->start[c - 1];
+    m->start[0] = 0;
+    m->dirty = 0;
+    m->dead_in_grid = 0;
+    return 1;
+}
+
+static int ensure_grid(mer_markers *m)
+{
+    if (m->dirty || m->dead_in_grid > m->alive + 1024)
+        return rebuild(m);
+    return 1;
+}
+
+static float dist2(const float *a, const float *b)
+{
+    float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/* Cell ranges covering the box center ± radius. */
+static void range(const mer_markers *m, const float *c, float radius, int lo[3], int hi[3])
+{
+    for (int a = 0; a < 3; a++) {
+        lo[a] = cell_coord(m, c[a] - radius, a);
+        hi[a] = cell_coord(m, c[a] + radius, a);
+    }
+}
+
+static size_t remove_sphere_grid(mer_markers *m, const float *center, float radius)
+{
+    int lo[3], hi[3];
+    range(m, center, radius, lo, hi);
+    float r2 = radius * radius;
+    size_t removed = 0;
+    for (int k = lo[2]; k <= hi[2]; k++)
+        for (int j = lo[1]; j <= hi[1]; j++)
+            for (int i = lo[0]; i <= hi[0]; i++) {
+                size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
+                for (uint32_t t = m->start[c]; t < m->start[c + 1]; t++) {
+                    entry *e = &m->items[t];
+                    if (!(e->id & DEAD_BIT) && dist2(e->p, center) <= r2) {
+                        m->dead[e->id] = 1;
+                        e->id |= DEAD_BIT;
+                        removed++;
+                    }
+                }
+            }
+    m->alive -= removed;
+    m->dead_in_grid += removed;
+    return removed;
+}
+
+size_t mer_markers_remove_sphere(mer_markers *m, const float center[3], float radius)
+{
+    if (!ensure_grid(m)) {
+        /* No memory for the grid: fall back to a linear scan. */
+        float r2 = radius * radius;
+        size_t removed = 0;
+        for (size_t i = 0; i < m->n; i++)
+            if (!m->dead[i] && dist2(m->p + 3 * i, center) <= r2) {
+                m->dead[i] = 1;
+                removed++;
+            }
+        m->alive -= removed;
+        m->dirty = 1;
+        return removed;
+    }
+    return remove_sphere_grid(m, center, radius);
+}
+
+size_t mer_markers_remove_if(mer_markers *m, int (*inside)(const float p[3], void *ctx), void *ctx)
+{
+    size_t removed = 0;
+    for (size_t i = 0; i < m->n; i++)
+        if (!m->dead[i] && inside(m->p + 3 * i, ctx)) {
+            m->dead[i] = 1;
+            removed++;
+        }
+    m->alive -= removed;
+    if (removed > 0)
+        m->dirty = 1; /* the grid's copies do not know: rebuild before the next query */
+    return removed;
+}
+
+static inline int in_cone(const float *apex, const float *dir, const float *p, float r2,
+                          float cos_half, float cos2, float *d2_out)
+{
+    float d[3] = {p[0] - apex[0], p[1] - apex[1], p[2] - apex[2]};
+    float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    *d2_out = d2;
+    if (!(d2 > 0.0f) || d2 > r2)
+        return 0;
+    float dot = d[0] * dir[0] + d[1] * dir[1] + d[2] * dir[2];
+    /* dot/|d| >= cos(θ/2), without a division; careful with the sign. */
+    if (cos_half >= 0.0f)
+        return dot >= 0.0f && dot * dot >= cos2 * d2;
+    return dot >= 0.0f || dot * dot <= cos2 * d2;
+}
+
+int mer_in_cone(const float apex[3], const float dir[3], const float p[3], float r,
+                float cos_half_theta)
+{
+    float d2;
+    return in_cone(apex, dir, p, r * r, cos_half_theta, cos_half_theta * cos_half_theta, &d2);
+}
+
+mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, const float *dir,
+                                float rho, float r, float theta, float *q, float *v,
+                                uint32_t *count, uint8_t *quiet, mer_error *err)
+{
+    for (size_t b = 0; b < n; b++) {
+        q[b] = 0.0f;
+        v[3 * b] = v[3 * b + 1] = v[3 * b + 2] = 0.0f;
+        if (count != NULL)
+            count[b] = 0;
+        if (quiet != NULL)
+            quiet[b] = rho <= r;
+    }
+    if (!ensure_grid(m))
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
+    /* 1. Occupancy zones: markers within ρ of any bud are deleted from S. */
+    for (size_t b = 0; b < n && m->alive > 0; b++)
+        remove_sphere_grid(m, pos + 3 * b, rho);
+    if (m->alive == 0 || n == 0)
+        return MER_OK; /* quiet stays as set: with no markers every bud is quiet */
+    if (m->n > m->scratch_cap) {
+        uint32_t *best = realloc(m->best, m->n * sizeof *best);
+        if (best == NULL)
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
+        m->best = best;
+        float *bd = realloc(m->best_d2, m->n * sizeof *bd);
+        if (bd == NULL)
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
+        m->best_d2 = bd;
+        m->scratch_cap = m->n;
+        for (size_t i = 0; i < m->n; i++)
+            m->best[i] = NONE;
+    }
+    float cos_half = cosf(theta * 0.5f * 0.017453292519943295f);
+    if (theta >= 360.0f)
+        cos_half = -1.0f;
+    size_t nt = 0;
+    /* 2. Competition: each perceived marker goes to the closest bud. */
+    float r2 = r * r, cos2 = cos_half * cos_half;
+    for (size_t b = 0; b < n; b++) {
+        const float *a = pos + 3 * b, *db = dir + 3 * b;
+        int lo[3], hi[3];
+        range(m, a, r, lo, hi);
+        for (int k = lo[2]; k <= hi[2]; k++)
+            for (int j = lo[1]; j <= hi[1]; j++)
+                for (int i = lo[0]; i <= hi[0]; i++) {
+                    size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
+                    for (uint32_t t = m->start[c]; t < m->start[c + 1]; t++) {
+                        const entry *e = &m->items[t];
+                        if (e->id & DEAD_BIT)
+                            continue;
+                        uint32_t id = e->id;
+                        if (quiet != NULL)
+                            quiet[b] = 0; /* a live marker in the neighbourhood */
+                        const float *p = e->p;
+                        float d2;
+                        if (!in_cone(a, db, p, r2, cos_half, cos2, &d2))
+                            continue;
+                        if (m->best[id] == NONE) {
+                            if (nt == m->touched_cap) {
+                                size_t cap = m->touched_cap ? 2 * m->touched_cap : 4096;
+                                uint32_t *tt = realloc(m->touched, cap * sizeof *tt);
+                                if (tt == NULL) {
+                                    for (size_t x = 0; x < nt; x++)
+                                        m->best[m->touched[x]] = NONE;
+                                    m->best[id] = NONE;
+                                    return mer_error_set(err, MER_ERR_NOMEM, NULL,
+                                                         "out of memory for colonization");
+                                }
+                                m->touched = tt;
+                                m->touched_cap = cap;
+                            }
+                            m->touched[nt++] = id;
+                            m->best[id] = (uint32_t)b;
+                            m->best_d2[id] = d2;
+                        } else if (d2 < m->best_d2[id]) {
+                            m->best[id] = (uint32_t)b;
+                            m->best_d2[id] = d2;
+                        }
+                    }
+                }
+    }
+    /* 3. Q and V per bud; markers in first-touched order, a fixed order. */
+    for (size_t t = 0; t < nt; t++) {
+        uint32_t id = m->touched[t];
+        uint32_t b = m->best[id];
+        m->best[id] = NONE;
+        const float *p = m->p + 3 * (size_t)id, *a = pos + 3 * (size_t)b;
+        float d[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        v[3 * b] += d[0] / len;
+        v[3 * b + 1] += d[1] / len;
+        v[3 * b + 2] += d[2] / len;
+        q[b] = 1.0f;
+        if (count != NULL)
+            count[b]++;
+    }
+    for (size_t b = 0; b < n; b++) {
+        float *vb = v + 3 * b;
+        float len = sqrtf(vb[0] * vb[0] + vb[1] * vb[1] + vb[2] * vb[2]);
+        if (len > 0.0f) {
+            vb[0] /= len;
+            vb[1] /= len;
+            vb[2] /= len;
+        }
+    }
+    return MER_OK;
+}

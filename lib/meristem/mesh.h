@@ -1,0 +1,129 @@
+/* meristem — tree geometry: the scene's skeleton as meshes an artist accepts.
+ *
+ * Bark. Each axis (a trunk, or a branch grown from a lateral bud, followed along
+ * its main continuations) is ONE generalized cylinder: a ring of `sides` vertices
+ * at the base of its first internode and at the end of every internode, joined
+ * by quads. Rings are framed by parallel transport (the frame is carried from
+ * ring to ring by the rotation between consecutive tangents), so tubes never
+ * twist; a ring at a joint is tilted to the mean of the two internodes'
+ * directions (a miter). Radii come from the pipe model (P09 §4.5): the ring below
+ * internode i has its radius, the tip ring the last internode's. A lateral axis
+ * starts at its node on the parent's centre line, i.e. inside the parent's tube,
+ * so no gap or crack shows at a fork.
+ *
+ * Caps. A living tip's last internode is a cone from its lower ring to its end
+ * point: a twig tapers to its tip, and one apex vertex closes the tube (on a
+ * tree of many short twigs this halves the vertex count against a ring and a
+ * cap). A cut surface (an axis whose continuation was pruned or shed) keeps its
+ * ring and gets a flat disk with its own normals, and so does a trunk's base.
+ *
+ * Level of detail. `detail` 1..5 sets the sides of the thickest axis (4, 6, 8,
+ * 12, 16); an axis gets 3 + round((max − 3)·d / d_max) sides from its base
+ * diameter d, so thin twigs are triangular prisms and the trunk is round.
+ *
+ * UVs (bark). u = j / sides around the circumference, with a duplicated seam
+ * vertex at u = 1; v = arc length / circumference, accumulated ring to ring with
+ * the segment's mean circumference, so v grows monotonically along an axis and
+ * a square tiling bark texture keeps its aspect with no seam between rings.
+ *
+ * Picking. Every vertex carries the id of the internode it belongs to
+ * (`node_ids`, written to glTF as `_NODE_ID`). Ring i of an axis belongs to its
+ * i-th internode (the apex, tip ring and cap to the last), and every bark triangle
+ * lists a vertex of its lower ring first, so the FIRST vertex of any triangle
+ * names the internode that triangle covers.
+ *
+ * Leaves. At each living internode made in the last `leaf_age` seasons of
+ * growth (counted back from the newest internode, so a tree that has stopped
+ * extending still carries its last shoots' leaves), one leaf per lateral bud, pointing the way that bud points (the
+ * phyllotaxis of P09 §4.3), as a rhombus card `leaf_size` long and half as wide,
+ * turned to face up as far as its direction allows, with UVs of a unit square
+ * (base at v = 0, tip at v = 1). Leaves are a separate primitive and material.
+ *
+ * Colours. Optionally a COLOR_0 per vertex: by branch order (a fixed palette),
+ * by light Q (the subtree's light at the last step, dark blue → yellow, scaled
+ * by the largest Q), or by age (young green → old brown, scaled by the step).
+ */
+#ifndef MERISTEM_MESH_H
+#define MERISTEM_MESH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <meristem/result.h>
+#include <meristem/scene.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum mer_color_mode {
+    MER_COLOR_NONE = 0,
+    MER_COLOR_ORDER = 1,
+    MER_COLOR_LIGHT = 2,
+    MER_COLOR_AGE = 3
+} mer_color_mode;
+
+/* All-zero means defaults. */
+typedef struct mer_mesh_options {
+    uint32_t detail;   /* 1..5; 0: 3 */
+    uint32_t leaves;   /* 1: leaf cards; 0: none */
+    uint32_t markers;  /* 1: the scene's markers as points; 0: none */
+    uint32_t color;    /* mer_color_mode; 0: none */
+    float leaf_size;   /* leaf length in world units; 0: 0.8 × l0 */
+    uint32_t leaf_age; /* leaves on the last this many seasons of growth; 0: 3 */
+} mer_mesh_options;
+
+#define MER_MESH_DETAIL_MAX 5
+
+/* Parts are split into chunks of at most MER_MESH_CHUNK_VERTICES vertices, so
+ * that indices fit in 16 bits (half the bytes of a big tree's indices); each
+ * chunk becomes one glTF primitive. */
+#define MER_MESH_CHUNK_VERTICES 65535u
+
+typedef struct mer_mesh_chunk {
+    uint32_t first_vertex, vertex_count; /* a run of the part's vertices */
+    uint32_t first_index, index_count;   /* a run of the part's indices */
+} mer_mesh_chunk;
+
+/* One part's arrays, owned by the mer_mesh. Arrays that an option did not ask
+ * for are NULL. */
+typedef struct mer_mesh_part {
+    uint32_t vertex_count;
+    uint32_t index_count;   /* triangles × 3 */
+    uint32_t chunk_count;
+    mer_mesh_chunk *chunks; /* in order; they tile the vertices and the indices */
+    float *positions;       /* 3 per vertex */
+    float *normals;         /* 3 per vertex, unit */
+    float *uvs;             /* 2 per vertex */
+    float *colors;          /* 4 per vertex (linear RGBA) when a colour mode is on */
+    uint32_t *node_ids;     /* 1 per vertex */
+    uint32_t *indices;      /* relative to their chunk's first vertex; counter-clockwise
+                               seen from outside */
+} mer_mesh_part;
+
+typedef struct mer_mesh {
+    mer_mesh_part bark;
+    mer_mesh_part leaves;   /* vertex_count 0 unless options.leaves */
+    uint32_t point_count;   /* markers, 0 unless options.markers */
+    float *points;          /* 3 per marker */
+    uint32_t axes;          /* generalized cylinders in `bark` */
+    uint32_t internodes;    /* living internodes meshed */
+} mer_mesh;
+
+/* Meshes the living part of `scene` as the header describes. `options` may be
+ * NULL (defaults). `*out` is the caller's, freed with mer_mesh_free(). The
+ * result depends only on the scene and options (same input, same bytes).
+ * Errors: MER_ERR_RANGE naming the option for a bad option, MER_ERR_LIMIT when a
+ * part would pass 2^32 vertices, MER_ERR_NOMEM. Cost: O(internodes × sides)
+ * time; memory about 40 bytes per bark vertex. */
+mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *options,
+                          mer_mesh **out, mer_error *err);
+
+/* Frees `mesh` and its arrays. NULL is fine. */
+void mer_mesh_free(mer_mesh *mesh);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

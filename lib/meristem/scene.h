@@ -1,0 +1,218 @@
+/* meristem — a scene: plants growing in one shared environment (P09 §3, §4, §6).
+ *
+ * A scene holds one or more plants (trees of metamers), the environment they share
+ * (marker set for space colonization, shadow grid for shadow propagation, box and
+ * sphere obstacles, the ground plane), the parameters and developmental schedule,
+ * and one deterministic random generator. Same parameters, seed and sequence of
+ * calls give bit-identical scenes (mer_scene_hash).
+ *
+ * Threads: a scene must not be used from two threads at once (the server holds a
+ * lock per session); distinct scenes share nothing, and the library has no global
+ * mutable state, so they may step in parallel.
+ *
+ * Structure. A node is a metamer: an internode from `base` along `dir` for
+ * `length`, with a leaf and one or two lateral buds (buds_per_node) at its top
+ * end. The node whose main child is absent carries its axis's terminal bud, also at
+ * its top end. Node ids are indices in creation order: they are stable and never
+ * reused in a scene (pruned and shed nodes become tombstones, alive = 0). A
+ * parent's id is always lower than its children's.
+ *
+ * Axis order: a plant's trunk is order 0; the shoot from a lateral bud on an axis of
+ * order n is order n + 1 (P09 §3).
+ *
+ * Buds have a state: DORMANT buds are alive and compete; a bud that grows a shoot
+ * becomes that shoot (state NONE); FLOWER and ABORTED buds never grow.
+ *
+ * One step (P09 Fig. 3 right): environment (Q, V per dormant bud) → basipetal
+ * light → shedding → acropetal resource (BH or priority) → new shoots → in
+ * sylleptic mode, a second round for the lateral buds made in this step → pipe-model
+ * diameters. Choices where the paper is open, each tested:
+ *  - Proleptic (default): a bud formed in step m first competes in step m + 1.
+ *    Sylleptic: after the shoots of a step are made, the environment and resource
+ *    passes run once more in which only the lateral buds formed in that step may
+ *    grow (their shoots count as the same season).
+ *  - Sympodial: a terminal bud that has grown its shoot ends it with a flower (or
+ *    aborts with sympodial_abort); growth passes to lateral buds.
+ *  - All n metamers of a shoot use the bud's V of that step; each new metamer's
+ *    direction is normalize(previous + ξV + ηT), the first one's "previous" being
+ *    the bud direction (P09 §4.3).
+ *  - A lateral bud points at branch_angle from its internode, towards the node's
+ *    phyllotactic side vector; each metamer's side vector is its predecessor's,
+ *    carried onto the new internode's normal plane and turned by the divergence
+ *    angle. With two buds per node the second points the opposite way.
+ *  - A new metamer whose end would lie below the ground or inside an obstacle is not
+ *    made; the shoot stops there and its bud stays dormant.
+ *  - Shedding (P09 §4.4) looks at each lateral branch: if its light (the sum of its
+ *    buds' Q) divided by its internode count is below shed_threshold, the branch is
+ *    removed; the bud it came from does not regrow (state NONE). Shedding pauses
+ *    while growth is constrained to a bud (edit.h), as the other buds' Q is then
+ *    held at 0.
+ *  - The priority model's light per bud divides a branch's Q by its number of
+ *    living (dormant) buds, lit or not.
+ *  - Pipe model (P09 §4.5): an axis tip internode has the leaf diameter; going
+ *    down, d^n = d_main^n + Σ d_lat^n, and no internode ever gets thinner
+ *    (memory of shed and pruned branches).
+ *  - Shadow: dormant buds cast shadow; flowers, aborted buds and grown-out buds do
+ *    not. Obstacles shade their own voxels fully and cast a bud's pyramid from every
+ *    voxel of their top surface.
+ */
+#ifndef MERISTEM_SCENE_H
+#define MERISTEM_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <meristem/params.h>
+#include <meristem/result.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct mer_scene mer_scene;
+
+#define MER_NO_NODE UINT32_MAX
+
+typedef enum mer_bud_state {
+    MER_BUD_NONE = 0,    /* no bud: it grew into a shoot, or was cut */
+    MER_BUD_DORMANT = 1, /* alive; grows when it receives resource */
+    MER_BUD_FLOWER = 2,
+    MER_BUD_ABORTED = 3
+} mer_bud_state;
+
+/* Limits, in one place. */
+#define MER_NODES_MAX (UINT32_C(50) * 1000 * 1000)
+#define MER_PLANTS_MAX 10000u
+#define MER_OBSTACLES_MAX 1000u
+
+/* Creates a scene from `params` (NULL or all-zero: defaults) and `seed`: validates
+ * the parameters, builds the grids, places params->seedlings seedlings along x
+ * (centred on the origin, on the ground) and, under space colonization, fills the
+ * initial marker volume. `*out` is owned by the caller (mer_scene_free). Cost
+ * O(voxels + markers). Errors: those of mer_params_validate, MER_ERR_NOMEM. */
+mer_result mer_scene_new(const mer_params *params, uint64_t seed, mer_scene **out,
+                         mer_error *err);
+
+/* Frees `s` and everything it owns (NULL is fine). */
+void mer_scene_free(mer_scene *s);
+
+/* The scene's resolved parameters (borrowed; valid until the next set_params). */
+const mer_params *mer_scene_params(const mer_scene *s);
+
+/* Replaces the parameters (and with them the schedule) between steps. Grids are
+ * rebuilt when their geometry changes; the tree is kept. On error nothing changes.
+ * Cost O(voxels + buds·q_max² + markers) when grids are rebuilt, else O(1). */
+mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_error *err);
+
+/* Replaces only the developmental schedule (apical control per order, λ and η
+ * keyframes, η per order), between steps; the rest of the parameters stay.
+ * `schedule` not NULL. Validated as by mer_params_validate (fields are named
+ * "schedule.lambda_keys", "schedule.eta_keys", ...); on error nothing changes.
+ * O(1). */
+mer_result mer_scene_set_schedule(mer_scene *s, const mer_schedule *schedule, mer_error *err);
+
+/* Adds a seedling (one internode of length l0 pointing up, with its terminal bud
+ * and lateral buds, turned about the vertical by an angle drawn from the scene's
+ * generator) whose base is at `base`. Its root id goes to `*root` (may be
+ * NULL). MER_ERR_RANGE if the base is below the ground or inside an obstacle;
+ * MER_ERR_LIMIT past MER_PLANTS_MAX. O(q_max²). */
+mer_result mer_scene_add_plant(mer_scene *s, const float base[3], uint32_t *root,
+                               mer_error *err);
+
+/* Number of plants ever added (a plant whose root was pruned stays counted). */
+uint32_t mer_scene_plant_count(const mer_scene *s);
+
+/* Obstacles (P09 §4.4 Fig. 11, §6): an axis-aligned box [min, max] or a sphere.
+ * They remove the markers inside them, shade (see above) and block shoots.
+ * MER_ERR_RANGE for an empty box or radius <= 0; MER_ERR_LIMIT past
+ * MER_OBSTACLES_MAX. O(markers + voxels covered·q_max²). */
+mer_result mer_scene_add_box(mer_scene *s, const float min[3], const float max[3],
+                             mer_error *err);
+mer_result mer_scene_add_sphere(mer_scene *s, const float center[3], float radius,
+                                mer_error *err);
+
+/* Adds `count` markers (xyz triples, caller-owned) to the set S. Markers inside
+ * obstacles or below the ground are dropped. O(count). */
+mer_result mer_scene_add_markers(mer_scene *s, const float *xyz, size_t count, mer_error *err);
+
+/* Adds `count` markers uniformly distributed in a volume (params.h
+ * mer_volume_kind; `size` as documented there), drawn from the scene's generator.
+ * MER_ERR_RANGE for a bad kind or size. O(count). */
+mer_result mer_scene_fill_markers(mer_scene *s, uint32_t kind, const float center[3],
+                                  const float size[3], uint32_t count, mer_error *err);
+
+/* Live markers, and a copy of their positions (see mer_markers_positions). */
+size_t mer_scene_marker_count(const mer_scene *s);
+size_t mer_scene_markers(const mer_scene *s, float *out, size_t cap);
+
+/* Called after each step with the number of steps done and asked for. */
+typedef void (*mer_progress_fn)(void *ctx, uint32_t done, uint32_t total);
+
+/* Runs `count` steps. `progress` (may be NULL) is called after each step. `cancel`
+ * (may be NULL) is read before each step; when it is non-zero the run stops there,
+ * leaving whole steps only. `*done` (may be NULL) gets the steps completed.
+ * Returns MER_OK when stopped by `cancel` too (compare *done with count);
+ * MER_ERR_LIMIT if the tree would pass MER_NODES_MAX (the steps before stay);
+ * MER_ERR_NOMEM (the scene stays consistent; the failing step may be partial).
+ * Cost per step O(nodes + buds · environment query). */
+mer_result mer_scene_step(mer_scene *s, uint32_t count, mer_progress_fn progress, void *ctx,
+                          const volatile int *cancel, uint32_t *done, mer_error *err);
+
+/* Steps completed so far. */
+uint32_t mer_scene_step_index(const mer_scene *s);
+
+typedef struct mer_summary {
+    uint32_t step;
+    uint32_t plants;
+    uint32_t internodes;   /* alive */
+    uint32_t buds;         /* dormant buds */
+    uint32_t flowers;
+    uint32_t markers;      /* live markers */
+    uint32_t node_bound;   /* ids ever issued */
+    float height;          /* highest internode end above the lowest plant base */
+    float crown_width;     /* larger horizontal extent (x or z) of the internodes */
+    float crown_base;      /* lowest base of a living lateral branch, above the lowest plant base (height if none) */
+    float crown_depth;     /* height − crown_base */
+    float bbox_min[3];     /* of all live internodes (zeros when none) */
+    float bbox_max[3];
+} mer_summary;
+
+/* Fills `*out` (not NULL). O(nodes). */
+void mer_scene_summary(const mer_scene *s, mer_summary *out);
+
+/* Read-only view of one node (metamer). */
+typedef struct mer_node {
+    uint32_t id;
+    uint32_t parent;       /* MER_NO_NODE for a plant's root */
+    uint32_t plant;        /* index in creation order */
+    uint32_t order;        /* axis order, trunk 0 */
+    uint32_t alive;        /* 0: pruned or shed */
+    uint32_t born;         /* step in which it was made */
+    uint32_t main_child;   /* MER_NO_NODE if none */
+    uint32_t lateral_child[2];
+    uint32_t terminal_bud; /* mer_bud_state */
+    uint32_t lateral_bud[2];
+    float base[3];
+    float dir[3];          /* unit */
+    float bud_dir[2][3];   /* unit directions of the lateral buds (phyllotaxis, branch angle) */
+    float length;
+    float diameter;
+    float q;               /* light collected by the buds of the subtree at the last step (BH Q) */
+} mer_node;
+
+/* One past the highest node id issued. */
+uint32_t mer_scene_node_bound(const mer_scene *s);
+
+/* Fills `*out` for node `id`; dead nodes are reported with alive = 0.
+ * MER_ERR_RANGE (field "node") if id >= mer_scene_node_bound. O(1). */
+mer_result mer_scene_node(const mer_scene *s, uint32_t id, mer_node *out, mer_error *err);
+
+/* A 64-bit FNV-1a hash of the step, every node's data, bud states and markers:
+ * equal hashes for equal scenes, for determinism checks. O(nodes + markers). */
+uint64_t mer_scene_hash(const mer_scene *s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

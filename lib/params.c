@@ -1,0 +1,294 @@
+/* meristem — the parameter table: names, paper symbols, defaults, ranges. */
+#include "config.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <meristem/params.h>
+
+typedef enum { F_FLOAT, F_U32 } field_kind;
+
+typedef struct field {
+    const char *name;
+    const char *symbol;
+    size_t offset;
+    field_kind kind;
+    double def, min, max;
+    int min_open; /* 1: the range excludes min */
+} field;
+
+#define FF(name, sym, member, def, lo, hi, open) \
+    { name, sym, offsetof(mer_params, member), F_FLOAT, def, lo, hi, open }
+#define FU(name, sym, member, def, lo, hi) \
+    { name, sym, offsetof(mer_params, member), F_U32, def, lo, hi, 0 }
+#define NEVER_D 4294967295.0
+
+static const field fields[] = {
+    FU("environment", "", environment, MER_ENV_SHADOW, 0, 1),
+    FU("fate", "", fate, MER_FATE_BH, 0, 1),
+    FF("internode_length", "l0", internode_length, 1.0, 0.0, 100.0, 1),
+    FU("max_shoot", "", max_shoot, 16, 1, 1000),
+    FF("rho", "ρ", rho, 2.0, 0.0, 100.0, 1),
+    FF("theta", "θ", theta, 90.0, 0.0, 360.0, 1),
+    FF("r", "r", r, 4.0, 0.0, 100.0, 1),
+    FF("marker_cell", "", marker_cell, 4.0, 0.05, 1000.0, 0),
+    FF("shadow_a", "a", shadow_a, 0.1, 0.0, 1000.0, 1),
+    FF("shadow_b", "b", shadow_b, 2.0, 1.0, 1000.0, 1),
+    FF("shadow_c", "C", shadow_c, 1.0, 0.0, 1e6, 0),
+    FU("q_max", "q_max", q_max, 6, 0, 32),
+    FF("voxel", "", voxel, 1.0, 0.01, 1000.0, 0),
+    FU("shadow_dir", "", shadow_dir, MER_SHADOW_DIR_NEIGHBOUR, 0, 1),
+    FF("bounds_min.x", "", bounds_min[0], -50.0, -1e5, 1e5, 0),
+    FF("bounds_min.y", "", bounds_min[1], 0.0, -1e5, 1e5, 0),
+    FF("bounds_min.z", "", bounds_min[2], -50.0, -1e5, 1e5, 0),
+    FF("bounds_max.x", "", bounds_max[0], 50.0, -1e5, 1e5, 0),
+    FF("bounds_max.y", "", bounds_max[1], 100.0, -1e5, 1e5, 0),
+    FF("bounds_max.z", "", bounds_max[2], 50.0, -1e5, 1e5, 0),
+    FF("ground", "", ground, 0.0, -1e5, 1e5, 0),
+    FU("ground_enabled", "", ground_enabled, 1, 0, 1),
+    FF("alpha", "α", alpha, 2.0, 0.0, 1e6, 1),
+    FF("lambda", "λ", lambda, 0.5, 0.0, 1.0, 0),
+    FF("w_max", "w_max", w_max, 1.0, 0.0, 1e6, 1),
+    FF("w_min", "w_min", w_min, 0.006, 0.0, 1e6, 1),
+    FF("kappa", "κ", kappa, 0.5, 0.0, 1.0, 1),
+    FU("sylleptic", "", sylleptic, 0, 0, 1),
+    FU("sympodial", "", sympodial, 0, 0, 1),
+    FU("sympodial_abort", "", sympodial_abort, 0, 0, 1),
+    FF("divergence", "", divergence, 137.5, 0.0, 360.0, 0),
+    FU("buds_per_node", "", buds_per_node, 1, 1, 2),
+    FF("branch_angle", "", branch_angle, 45.0, 0.0, 180.0, 0),
+    FF("xi", "ξ", xi, 0.3, 0.0, 100.0, 0),
+    FF("eta", "η", eta, 0.05, -100.0, 100.0, 0),
+    FF("shed_threshold", "", shed_threshold, 0.0, 0.0, 1e6, 0),
+    FF("pipe_n", "n", pipe_n, 2.5, 1.0, 10.0, 0),
+    FF("leaf_diameter", "d_leaf", leaf_diameter, 0.05, 0.0, 100.0, 1),
+    FU("seedlings", "", seedlings, 1, 0, 1000),
+    FF("seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
+    FU("marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),
+    FU("marker_count", "|S|", marker_count, 20000, 0, 20000000),
+    FF("marker_center.x", "", marker_center[0], 0.0, -1e5, 1e5, 0),
+    FF("marker_center.y", "", marker_center[1], 12.0, -1e5, 1e5, 0),
+    FF("marker_center.z", "", marker_center[2], 0.0, -1e5, 1e5, 0),
+    FF("marker_size.x", "", marker_size[0], 10.0, 0.0, 1e5, 0),
+    FF("marker_size.y", "", marker_size[1], 10.0, 0.0, 1e5, 0),
+    FF("marker_size.z", "", marker_size[2], 10.0, 0.0, 1e5, 0),
+    FU("apical_off.0", "", schedule.apical_off[0], NEVER_D, 0, NEVER_D),
+    FU("apical_off.1", "", schedule.apical_off[1], NEVER_D, 0, NEVER_D),
+    FU("apical_off.2", "", schedule.apical_off[2], NEVER_D, 0, NEVER_D),
+    FU("apical_off.3", "", schedule.apical_off[3], NEVER_D, 0, NEVER_D),
+    FU("apical_off.4", "", schedule.apical_off[4], NEVER_D, 0, NEVER_D),
+    FU("apical_off.5", "", schedule.apical_off[5], NEVER_D, 0, NEVER_D),
+    FU("apical_off.6", "", schedule.apical_off[6], NEVER_D, 0, NEVER_D),
+    FU("apical_off.7", "", schedule.apical_off[7], NEVER_D, 0, NEVER_D),
+    FF("eta_order_scale.0", "", schedule.eta_order_scale[0], 1.0, -100.0, 100.0, 0),
+    FF("eta_order_scale.1", "", schedule.eta_order_scale[1], 1.0, -100.0, 100.0, 0),
+    FF("eta_order_scale.2", "", schedule.eta_order_scale[2], 1.0, -100.0, 100.0, 0),
+    FF("eta_order_scale.3", "", schedule.eta_order_scale[3], 1.0, -100.0, 100.0, 0),
+    FF("eta_order_scale.4", "", schedule.eta_order_scale[4], 1.0, -100.0, 100.0, 0),
+    FF("eta_order_scale.5", "", schedule.eta_order_scale[5], 1.0, -100.0, 100.0, 0),
+    FF("eta_order_scale.6", "", schedule.eta_order_scale[6], 1.0, -100.0, 100.0, 0),
+    FF("eta_order_scale.7", "", schedule.eta_order_scale[7], 1.0, -100.0, 100.0, 0),
+};
+
+#define NFIELDS (sizeof fields / sizeof fields[0])
+
+static void field_store(mer_params *p, const field *f, double v)
+{
+    char *base = (char *)p + f->offset;
+    if (f->kind == F_FLOAT) {
+        float x = (float)v;
+        memcpy(base, &x, sizeof x);
+    } else {
+        uint32_t x = (uint32_t)v;
+        memcpy(base, &x, sizeof x);
+    }
+}
+
+static double field_load(const mer_params *p, const field *f)
+{
+    const char *base = (const char *)p + f->offset;
+    if (f->kind == F_FLOAT) {
+        float x;
+        memcpy(&x, base, sizeof x);
+        return (double)x;
+    }
+    uint32_t x;
+    memcpy(&x, base, sizeof x);
+    return (double)x;
+}
+
+mer_params mer_params_default(void)
+{
+    mer_params p;
+    memset(&p, 0, sizeof p);
+    for (size_t i = 0; i < NFIELDS; i++)
+        field_store(&p, &fields[i], fields[i].def);
+    return p;
+}
+
+static int is_all_zero(const mer_params *p)
+{
+    static const mer_params zero;
+    return memcmp(p, &zero, sizeof zero) == 0;
+}
+
+void mer_params_resolve(const mer_params *in, mer_params *out)
+{
+    if (in == NULL || is_all_zero(in))
+        *out = mer_params_default();
+    else if (in != out)
+        *out = *in;
+}
+
+static mer_result check_field(const field *f, double v, mer_error *err)
+{
+    int bad = isnan(v) || v > f->max || (f->min_open ? v <= f->min : v < f->min);
+    if (!bad && f->kind == F_U32 && floor(v) != v)
+        bad = 1;
+    if (!bad)
+        return MER_OK;
+    if (f->kind == F_U32)
+        return mer_error_set(err, MER_ERR_RANGE, f->name,
+                             "%s must be an integer from %.0f to %.0f, got %g",
+                             f->name, f->min, f->max, v);
+    return mer_error_set(err, MER_ERR_RANGE, f->name, "%s must be in %s%g, %g], got %g",
+                         f->name, f->min_open ? "(" : "[", f->min, f->max, v);
+}
+
+static mer_result check_keys(const mer_keyframe *k, uint32_t n, const char *name,
+                             double lo, double hi, mer_error *err)
+{
+    if (n > MER_KEYS_MAX)
+        return mer_error_set(err, MER_ERR_RANGE, name, "%s count must be from 0 to %d, got %u",
+                             name, MER_KEYS_MAX, (unsigned)n);
+    for (uint32_t i = 0; i < n; i++) {
+        if (!(k[i].step >= 0.0f) || (i > 0 && !(k[i].step > k[i - 1].step)))
+            return mer_error_set(err, MER_ERR_RANGE, name,
+                                 "%s keyframe steps must be >= 0 and strictly increasing", name);
+        if (!((double)k[i].value >= lo && (double)k[i].value <= hi))
+            return mer_error_set(err, MER_ERR_RANGE, name,
+                                 "%s keyframe values must be in [%g, %g], got %g", name, lo, hi,
+                                 (double)k[i].value);
+    }
+    return MER_OK;
+}
+
+mer_result mer_params_validate(const mer_params *in, mer_error *err)
+{
+    mer_params p;
+    mer_params_resolve(in, &p);
+    for (size_t i = 0; i < NFIELDS; i++) {
+        mer_result rc = check_field(&fields[i], field_load(&p, &fields[i]), err);
+        if (rc != MER_OK)
+            return rc;
+    }
+    static const char *const axes[3] = {"bounds_max.x", "bounds_max.y", "bounds_max.z"};
+    double cells_v = 1.0, cells_m = 1.0;
+    for (int a = 0; a < 3; a++) {
+        double ext = (double)p.bounds_max[a] - (double)p.bounds_min[a];
+        if (!(ext > 0.0))
+            return mer_error_set(err, MER_ERR_RANGE, axes[a],
+                                 "%s must exceed the matching bounds_min", axes[a]);
+        cells_v *= ceil(ext / (double)p.voxel);
+        cells_m *= ceil(ext / (double)p.marker_cell);
+    }
+    if (cells_v > (double)MER_GRID_CELLS_MAX)
+        return mer_error_set(err, MER_ERR_LIMIT, "voxel",
+                             "the shadow grid would have %.0f voxels, more than %u; raise voxel or shrink bounds",
+                             cells_v, (unsigned)MER_GRID_CELLS_MAX);
+    if (cells_m > (double)MER_GRID_CELLS_MAX)
+        return mer_error_set(err, MER_ERR_LIMIT, "marker_cell",
+                             "the marker grid would have %.0f cells, more than %u; raise marker_cell",
+                             cells_m, (unsigned)MER_GRID_CELLS_MAX);
+    if (p.w_min > p.w_max)
+        return mer_error_set(err, MER_ERR_RANGE, "w_min", "w_min must be at most w_max (%g), got %g",
+                             (double)p.w_max, (double)p.w_min);
+    mer_result rc = check_keys(p.schedule.lambda_keys, p.schedule.lambda_key_count,
+                               "schedule.lambda_keys", 0.0, 1.0, err);
+    if (rc == MER_OK)
+        rc = check_keys(p.schedule.eta_keys, p.schedule.eta_key_count, "schedule.eta_keys",
+                        -100.0, 100.0, err);
+    return rc;
+}
+
+static const field *find(const char *name)
+{
+    if (name == NULL)
+        return NULL;
+    for (size_t i = 0; i < NFIELDS; i++)
+        if (strcmp(fields[i].name, name) == 0)
+            return &fields[i];
+    return NULL;
+}
+
+mer_result mer_params_set(mer_params *p, const char *name, double value, mer_error *err)
+{
+    const field *f = find(name);
+    if (f == NULL)
+        return mer_error_set(err, MER_ERR_INVALID, name, "unknown parameter '%s'",
+                             name != NULL ? name : "(null)");
+    mer_result rc = check_field(f, value, err);
+    if (rc != MER_OK)
+        return rc;
+    mer_params_resolve(p, p);
+    field_store(p, f, value);
+    return MER_OK;
+}
+
+mer_result mer_params_get(const mer_params *in, const char *name, double *value, mer_error *err)
+{
+    const field *f = find(name);
+    if (f == NULL)
+        return mer_error_set(err, MER_ERR_INVALID, name, "unknown parameter '%s'",
+                             name != NULL ? name : "(null)");
+    mer_params p;
+    mer_params_resolve(in, &p);
+    *value = field_load(&p, f);
+    return MER_OK;
+}
+
+size_t mer_params_field_count(void) { return NFIELDS; }
+
+const char *mer_params_field_name(size_t i) { return i < NFIELDS ? fields[i].name : NULL; }
+
+const char *mer_params_field_symbol(size_t i) { return i < NFIELDS ? fields[i].symbol : NULL; }
+
+void mer_params_field_range(size_t i, double *min, double *max)
+{
+    *min = i < NFIELDS ? fields[i].min : 0.0;
+    *max = i < NFIELDS ? fields[i].max : 0.0;
+}
+
+float mer_keyframes_eval(const mer_keyframe *keys, uint32_t n, float step, float fallback)
+{
+    if (n == 0)
+        return fallback;
+    if (step <= keys[0].step)
+        return keys[0].value;
+    for (uint32_t i = 1; i < n; i++) {
+        if (step <= keys[i].step) {
+            float t = (step - keys[i - 1].step) / (keys[i].step - keys[i - 1].step);
+            return keys[i - 1].value + t * (keys[i].value - keys[i - 1].value);
+        }
+    }
+    return keys[n - 1].value;
+}
+
+float mer_params_lambda_at(const mer_params *p, uint32_t step)
+{
+    return mer_keyframes_eval(p->schedule.lambda_keys, p->schedule.lambda_key_count,
+                              (float)step, p->lambda);
+}
+
+float mer_params_eta_at(const mer_params *p, uint32_t step, uint32_t order)
+{
+    uint32_t k = order < MER_ORDERS_MAX ? order : MER_ORDERS_MAX - 1;
+    return mer_keyframes_eval(p->schedule.eta_keys, p->schedule.eta_key_count, (float)step,
+                              p->eta) * p->schedule.eta_order_scale[k];
+}
+
+int mer_params_apical_at(const mer_params *p, uint32_t step, uint32_t order)
+{
+    uint32_t k = order < MER_ORDERS_MAX ? order : MER_ORDERS_MAX - 1;
+    return step < p->schedule.apical_off[k];
+}

@@ -1,0 +1,174 @@
+/* meristem — presets named after the paper's figures. */
+#include "config.h"
+
+#include <string.h>
+
+#include <meristem/presets.h>
+
+typedef struct preset {
+    const char *name;
+    const char *description;
+    void (*apply)(mer_params *p);
+} preset;
+
+static void set_apical(mer_params *p, uint32_t main_stem, uint32_t first, uint32_t rest)
+{
+    p->schedule.apical_off[0] = main_stem;
+    p->schedule.apical_off[1] = first;
+    for (int k = 2; k < MER_ORDERS_MAX; k++)
+        p->schedule.apical_off[k] = rest;
+}
+
+static void bh(mer_params *p, float lambda)
+{
+    p->fate = MER_FATE_BH;
+    p->alpha = 2.0f;        /* α = 2, Fig. 7 */
+    p->lambda = lambda;
+}
+
+static void p_default(mer_params *p) { (void)p; }
+static void fig7_046(mer_params *p) { bh(p, 0.46f); }
+static void fig7_048(mer_params *p) { bh(p, 0.48f); }
+static void fig7_050(mer_params *p) { bh(p, 0.50f); }
+static void fig7_052(mer_params *p) { bh(p, 0.52f); }
+static void fig7_054(mer_params *p) { bh(p, 0.54f); }
+
+static void priority(mer_params *p, float kappa)
+{
+    p->fate = MER_FATE_PRIORITY;
+    /* The paper gives no α for the priority model. It concentrates the resource on
+     * the best-lit buds, so little is lost to ⌊v⌋ and α = 2 makes it grow several
+     * times faster than BH; α = 1 gives a comparable pace. */
+    p->alpha = 1.0f;
+    p->w_max = 1.0f;        /* Fig. 9 */
+    p->w_min = 0.006f;
+    p->kappa = kappa;
+}
+
+static void fig9_050(mer_params *p) { priority(p, 0.5f); }
+static void fig9_035(mer_params *p) { priority(p, 0.35f); }
+static void fig10_left(mer_params *p)
+{
+    priority(p, 0.5f);
+    set_apical(p, 8, 8, 8); /* removed early from the main stem and the laterals */
+}
+static void fig10_center(mer_params *p)
+{
+    priority(p, 0.5f);
+    set_apical(p, 40, 0, 0); /* only on the main stem, removed late */
+}
+static void fig10_right(mer_params *p)
+{
+    priority(p, 0.5f);
+    set_apical(p, 8, MER_NEVER, 0); /* removed early on the main stem, kept on order 1 */
+}
+static void fig11_animation(mer_params *p)
+{
+    priority(p, 0.5f);
+    set_apical(p, 25, 25, 25); /* excurrent when young, decurrent when old */
+}
+static void fig6_sylleptic(mer_params *p)
+{
+    bh(p, 0.5f);
+    p->sylleptic = 1;
+    p->eta = 0.0f;
+}
+static void fig6_sympodial(mer_params *p)
+{
+    bh(p, 0.5f);
+    p->sympodial = 1;
+}
+static void fig12(mer_params *p, float eta, float xi)
+{
+    bh(p, 0.5f);
+    p->eta = eta;
+    p->xi = xi;
+}
+static void fig12a(mer_params *p) { fig12(p, 0.1f, 0.1f); }   /* small up η, small ξ */
+static void fig12b(mer_params *p) { fig12(p, -0.1f, 0.1f); }  /* small down η, small ξ */
+static void fig12c(mer_params *p) { fig12(p, -0.5f, 0.6f); }  /* large down η, large ξ */
+static void fig12d(mer_params *p) { fig12(p, -0.5f, 0.1f); }  /* large down η, small ξ */
+static void fig13(mer_params *p)
+{
+    bh(p, 0.5f);
+    p->schedule.eta_key_count = 2;                 /* downward tropism rises near the end */
+    p->schedule.eta_keys[0] = (mer_keyframe){25.0f, 0.05f};
+    p->schedule.eta_keys[1] = (mer_keyframe){35.0f, -0.4f};
+}
+static void fig14(mer_params *p)
+{
+    bh(p, 0.56f);
+    p->q_max = 8;              /* a deep, soft, dense penumbra (a = 0.2, b = 1.3) shades */
+    p->shadow_b = 1.3f;        /* the lower crown */
+    p->shadow_a = 0.2f;
+    p->shed_threshold = 0.25f; /* shed branches whose light per internode is < 0.25 */
+}
+static void fig15_brushed(mer_params *p)
+{
+    p->environment = MER_ENV_MARKERS;
+    p->fate = MER_FATE_BH;
+    p->lambda = 0.5f;
+    /* The first light stroke of Fig. 15a: a thin column of markers above the seedling. */
+    p->marker_volume = MER_VOLUME_CYLINDER;
+    p->marker_count = 300;
+    p->marker_center[0] = 0.0f;
+    p->marker_center[1] = 8.0f;
+    p->marker_center[2] = 0.0f;
+    p->marker_size[0] = 0.8f;
+    p->marker_size[1] = 7.0f;
+    p->marker_size[2] = 0.8f;
+}
+static void fig4_colonization(mer_params *p)
+{
+    p->environment = MER_ENV_MARKERS;
+    bh(p, 0.5f);
+}
+
+static const preset presets[] = {
+    {"default", "the defaults: shadow propagation, extended BH with λ = 0.5", p_default},
+    {"fig7-bh-0.46", "Fig. 7: extended BH, λ = 0.46, α = 2 (decurrent)", fig7_046},
+    {"fig7-bh-0.48", "Fig. 7: extended BH, λ = 0.48, α = 2", fig7_048},
+    {"fig7-bh-0.50", "Fig. 7: extended BH, λ = 0.50, α = 2", fig7_050},
+    {"fig7-bh-0.52", "Fig. 7: extended BH, λ = 0.52, α = 2", fig7_052},
+    {"fig7-bh-0.54", "Fig. 7: extended BH, λ = 0.54, α = 2 (excurrent)", fig7_054},
+    {"fig9-priority-k0.5", "Fig. 9 left: priority model, w_max 1, w_min 0.006, κ = 0.5", fig9_050},
+    {"fig9-priority-k0.35", "Fig. 9 right: priority model, κ = 0.35 (more excurrent)", fig9_035},
+    {"fig10-left", "Fig. 10 left: apical control removed early from stem and laterals (step 8)", fig10_left},
+    {"fig10-center", "Fig. 10 centre: apical control on the main stem only, removed late (step 40)", fig10_center},
+    {"fig10-right", "Fig. 10 right: removed early on the main stem, kept on first-order laterals", fig10_right},
+    {"fig11-animation", "Fig. 11: apical control everywhere until step 25, then removed", fig11_animation},
+    {"fig6-sylleptic", "Fig. 6 left: sylleptic development, a decurrent shrub", fig6_sylleptic},
+    {"fig6-sympodial", "Fig. 6 right: proleptic, sympodial (terminal buds flower)", fig6_sympodial},
+    {"fig12a", "Fig. 12a: small upward tropism η = 0.1, small ξ = 0.1", fig12a},
+    {"fig12b", "Fig. 12b: small downward tropism η = -0.1, small ξ = 0.1", fig12b},
+    {"fig12c", "Fig. 12c: large downward tropism η = -0.5, large ξ = 0.6", fig12c},
+    {"fig12d", "Fig. 12d: large downward tropism η = -0.5, small ξ = 0.1", fig12d},
+    {"fig13-tropism-late", "Fig. 13: downward tropism rising from step 25 to 35", fig13},
+    {"fig14-tall-bole", "Fig. 14: shedding (threshold 0.25) under a deep, dense penumbra (q_max 8, a 0.2, b 1.3) raises a tall bole", fig14},
+    {"fig15-brushed", "Fig. 15: space colonization from a seedling and one light stroke; brush to go on", fig15_brushed},
+    {"fig4-colonization", "Fig. 4: space colonization in an ellipsoid of 20000 markers", fig4_colonization},
+};
+
+#define NPRESETS (sizeof presets / sizeof presets[0])
+
+size_t mer_preset_count(void) { return NPRESETS; }
+
+const char *mer_preset_name(size_t i) { return i < NPRESETS ? presets[i].name : NULL; }
+
+const char *mer_preset_description(size_t i)
+{
+    return i < NPRESETS ? presets[i].description : NULL;
+}
+
+mer_result mer_preset_params(const char *name, mer_params *out, mer_error *err)
+{
+    for (size_t i = 0; name != NULL && i < NPRESETS; i++) {
+        if (strcmp(presets[i].name, name) == 0) {
+            *out = mer_params_default();
+            presets[i].apply(out);
+            return MER_OK;
+        }
+    }
+    return mer_error_set(err, MER_ERR_INVALID, "preset", "unknown preset '%s'",
+                         name != NULL ? name : "(null)");
+}

@@ -1,0 +1,266 @@
+/* meristem — shadow propagation grid (P09 §4.1). */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <meristem/params.h>
+#include <meristem/shadow.h>
+
+#define FIX 4096.0f   /* fixed-point units per a */
+#define QMAX_LIMIT 32
+
+struct mer_shadow {
+    float bmin[3];
+    float voxel, inv_voxel;
+    int dim[3];
+    size_t nvox;
+    float a, b;
+    uint32_t q_max;
+    uint32_t delta[QMAX_LIMIT + 1]; /* round(4096·b^(−q)): Δs in units of a/4096 */
+    uint32_t *s;
+};
+
+mer_result mer_shadow_new(const float bmin[3], const float bmax[3], float voxel, float a,
+                          float b, uint32_t q_max, mer_shadow **out, mer_error *err)
+{
+    *out = NULL;
+    if (!(voxel > 0.0f))
+        return mer_error_set(err, MER_ERR_RANGE, "voxel", "voxel must be > 0");
+    if (!(a > 0.0f))
+        return mer_error_set(err, MER_ERR_RANGE, "shadow_a", "shadow_a must be > 0");
+    if (!(b > 1.0f))
+        return mer_error_set(err, MER_ERR_RANGE, "shadow_b", "shadow_b must be > 1");
+    if (q_max > QMAX_LIMIT)
+        return mer_error_set(err, MER_ERR_RANGE, "q_max", "q_max must be from 0 to %d", QMAX_LIMIT);
+    double cells = 1.0;
+    int dim[3];
+    for (int i = 0; i < 3; i++) {
+        double ext = (double)bmax[i] - (double)bmin[i];
+        if (!(ext > 0.0))
+            return mer_error_set(err, MER_ERR_RANGE, "bounds_max",
+                                 "bounds_max must exceed bounds_min on every axis");
+        double d = ceil(ext / (double)voxel);
+        cells *= d;
+        if (cells > (double)MER_GRID_CELLS_MAX)
+            return mer_error_set(err, MER_ERR_LIMIT, "voxel",
+                                 "the shadow grid would exceed %u voxels; raise voxel",
+                                 (unsigned)MER_GRID_CELLS_MAX);
+        dim[i] = (int)d;
+    }
+    mer_shadow *sh = calloc(1, sizeof *sh);
+    if (sh == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
+    memcpy(sh->bmin, bmin, sizeof sh->bmin);
+    memcpy(sh->dim, dim, sizeof sh->dim);
+    sh->voxel = voxel;
+    sh->inv_voxel = 1.0f / voxel;
+    sh->nvox = (size_t)dim[0] * (size_t)dim[1] * (size_t)dim[2];
+    sh->a = a;
+    sh->b = b;
+    sh->q_max = q_max;
+    for (uint32_t q = 0; q <= q_max; q++)
+        sh->delta[q] = (uint32_t)lround((double)FIX * pow((double)b, -(double)q)); /* a·b^(−q) */
+    sh->s = calloc(sh->nvox, sizeof *sh->s);
+    if (sh->s == NULL) {
+        free(sh);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
+    }
+    *out = sh;
+    return MER_OK;
+}
+
+void mer_shadow_free(mer_shadow *sh)
+{
+    if (sh == NULL)
+        return;
+    free(sh->s);
+    free(sh);
+}
+
+void mer_shadow_clear(mer_shadow *sh) { memset(sh->s, 0, sh->nvox * sizeof *sh->s); }
+
+void mer_shadow_dims(const mer_shadow *sh, int dim[3]) { memcpy(dim, sh->dim, sizeof sh->dim); }
+
+int mer_shadow_voxel_of(const mer_shadow *sh, const float p[3], int ijk[3])
+{
+    int inside = 1;
+    for (int a = 0; a < 3; a++) {
+        float f = (p[a] - sh->bmin[a]) * sh->inv_voxel;
+        if (!(f >= 0.0f)) {
+            ijk[a] = 0;
+            inside = 0;
+        } else if (f >= (float)sh->dim[a]) {
+            ijk[a] = sh->dim[a] - 1;
+            inside = 0;
+        } else {
+            ijk[a] = (int)f;
+        }
+    }
+    return inside;
+}
+
+static size_t idx(const mer_shadow *sh, int i, int j, int k)
+{
+    /* x fastest, so each pyramid row is contiguous. */
+    return ((size_t)j * (size_t)sh->dim[2] + (size_t)k) * (size_t)sh->dim[0] + (size_t)i;
+}
+
+void mer_shadow_cast(mer_shadow *sh, const int ijk[3], int sign, float weight)
+{
+    const int I = ijk[0], J = ijk[1], K = ijk[2];
+    for (uint32_t q = 0; q <= sh->q_max; q++) {
+        int j = J - (int)q;
+        if (j < 0)
+            break;
+        uint32_t d = weight == 1.0f ? sh->delta[q] : (uint32_t)lroundf((float)sh->delta[q] * weight);
+        if (sign < 0)
+            d = (uint32_t)0 - d; /* unsigned wrap: exact inverse of the addition */
+        int i0 = I - (int)q, i1 = I + (int)q, k0 = K - (int)q, k1 = K + (int)q;
+        if (i0 < 0) i0 = 0;
+        if (k0 < 0) k0 = 0;
+        if (i1 >= sh->dim[0]) i1 = sh->dim[0] - 1;
+        if (k1 >= sh->dim[2]) k1 = sh->dim[2] - 1;
+        for (int k = k0; k <= k1; k++) {
+            uint32_t *row = sh->s + idx(sh, 0, j, k);
+            for (int i = i0; i <= i1; i++)
+                row[i] += d;
+        }
+    }
+}
+
+void mer_shadow_cast_at(mer_shadow *sh, const float p[3], int sign)
+{
+    int ijk[3];
+    mer_shadow_voxel_of(sh, p, ijk);
+    mer_shadow_cast(sh, ijk, sign, 1.0f);
+}
+
+void mer_shadow_add_voxel(mer_shadow *sh, const int ijk[3], float amount)
+{
+    for (int a = 0; a < 3; a++)
+        if (ijk[a] < 0 || ijk[a] >= sh->dim[a])
+            return;
+    long v = lroundf(amount / sh->a * FIX);
+    sh->s[idx(sh, ijk[0], ijk[1], ijk[2])] += (uint32_t)v; /* wraps for negative v */
+}
+
+static float value_raw(const mer_shadow *sh, int i, int j, int k)
+{
+    if (i < 0 || j < 0 || k < 0 || i >= sh->dim[0] || j >= sh->dim[1] || k >= sh->dim[2])
+        return 0.0f;
+    return (float)(int32_t)sh->s[idx(sh, i, j, k)] * (sh->a / FIX);
+}
+
+float mer_shadow_value(const mer_shadow *sh, const int ijk[3])
+{
+    return value_raw(sh, ijk[0], ijk[1], ijk[2]);
+}
+
+float mer_shadow_light(const mer_shadow *sh, const float p[3], float c)
+{
+    int ijk[3];
+    mer_shadow_voxel_of(sh, p, ijk);
+    float q = c - mer_shadow_value(sh, ijk) + sh->a;  /* Q = max(C − s + a, 0) */
+    return q > 0.0f ? q : 0.0f;
+}
+
+/* The 26 neighbour offsets in (dk, dj, di) order and their unit directions
+ * (components 0, ±1, ±1/√2, ±1/√3), a constant table: no initialisation race
+ * between sessions stepping in parallel. */
+typedef struct nb {
+    int di, dj, dk;
+    float u[3];
+} nb;
+
+static const nb neighbours[26] = {
+    {-1, -1, -1, {-0.577350269f, -0.577350269f, -0.577350269f}},
+    {0, -1, -1, {0.0f, -0.707106781f, -0.707106781f}},
+    {1, -1, -1, {0.577350269f, -0.577350269f, -0.577350269f}},
+    {-1, 0, -1, {-0.707106781f, 0.0f, -0.707106781f}},
+    {0, 0, -1, {0.0f, 0.0f, -1.000000000f}},
+    {1, 0, -1, {0.707106781f, 0.0f, -0.707106781f}},
+    {-1, 1, -1, {-0.577350269f, 0.577350269f, -0.577350269f}},
+    {0, 1, -1, {0.0f, 0.707106781f, -0.707106781f}},
+    {1, 1, -1, {0.577350269f, 0.577350269f, -0.577350269f}},
+    {-1, -1, 0, {-0.707106781f, -0.707106781f, 0.0f}},
+    {0, -1, 0, {0.0f, -1.000000000f, 0.0f}},
+    {1, -1, 0, {0.707106781f, -0.707106781f, 0.0f}},
+    {-1, 0, 0, {-1.000000000f, 0.0f, 0.0f}},
+    {1, 0, 0, {1.000000000f, 0.0f, 0.0f}},
+    {-1, 1, 0, {-0.707106781f, 0.707106781f, 0.0f}},
+    {0, 1, 0, {0.0f, 1.000000000f, 0.0f}},
+    {1, 1, 0, {0.707106781f, 0.707106781f, 0.0f}},
+    {-1, -1, 1, {-0.577350269f, -0.577350269f, 0.577350269f}},
+    {0, -1, 1, {0.0f, -0.707106781f, 0.707106781f}},
+    {1, -1, 1, {0.577350269f, -0.577350269f, 0.577350269f}},
+    {-1, 0, 1, {-0.707106781f, 0.0f, 0.707106781f}},
+    {0, 0, 1, {0.0f, 0.0f, 1.000000000f}},
+    {1, 0, 1, {0.707106781f, 0.0f, 0.707106781f}},
+    {-1, 1, 1, {-0.577350269f, 0.577350269f, 0.577350269f}},
+    {0, 1, 1, {0.0f, 0.707106781f, 0.707106781f}},
+    {1, 1, 1, {0.577350269f, 0.577350269f, 0.577350269f}},
+};
+
+void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float dir[3],
+                          float theta, uint32_t mode, float out[3])
+{
+    out[0] = out[1] = out[2] = 0.0f;
+    int c[3];
+    mer_shadow_voxel_of(sh, p, c);
+    if (mode == MER_SHADOW_DIR_GRADIENT) {
+        float g[3] = {
+            0.5f * (value_raw(sh, c[0] + 1, c[1], c[2]) - value_raw(sh, c[0] - 1, c[1], c[2])),
+            0.5f * (value_raw(sh, c[0], c[1] + 1, c[2]) - value_raw(sh, c[0], c[1] - 1, c[2])),
+            0.5f * (value_raw(sh, c[0], c[1], c[2] + 1) - value_raw(sh, c[0], c[1], c[2] - 1)),
+        };
+        float len = sqrtf(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        if (len > 0.0f)
+            for (int a = 0; a < 3; a++)
+                out[a] = -g[a] / len;
+        return;
+    }
+    float cos_half = theta >= 360.0f ? -1.0f : cosf(theta * 0.5f * 0.017453292519943295f);
+    int interior = c[0] > 0 && c[1] > 0 && c[2] > 0 && c[0] < sh->dim[0] - 1 &&
+                   c[1] < sh->dim[1] - 1 && c[2] < sh->dim[2] - 1;
+    const uint32_t *centre = sh->s + idx(sh, c[0], c[1], c[2]);
+    const ptrdiff_t sx = 1, sz = sh->dim[0], sy = (ptrdiff_t)sh->dim[0] * sh->dim[2];
+    int32_t best = 0;
+    float best_dot = 0.0f;
+    int found = -1;
+    for (int n = 0; n < 26; n++) {
+        const nb *x = &neighbours[n];
+        float dot = x->u[0] * dir[0] + x->u[1] * dir[1] + x->u[2] * dir[2];
+        if (dot < cos_half)
+            continue;
+        int32_t sv;
+        if (interior) {
+            sv = (int32_t)centre[x->di * sx + x->dj * sy + x->dk * sz];
+        } else {
+            int i = c[0] + x->di, j = c[1] + x->dj, k = c[2] + x->dk;
+            int in = i >= 0 && j >= 0 && k >= 0 && i < sh->dim[0] && j < sh->dim[1] && k < sh->dim[2];
+            sv = in ? (int32_t)sh->s[idx(sh, i, j, k)] : 0;
+        }
+        if (found < 0 || sv < best || (sv == best && dot > best_dot)) {
+            found = n;
+            best = sv;
+            best_dot = dot;
+        }
+    }
+    if (found >= 0)
+        memcpy(out, neighbours[found].u, 3 * sizeof *out);
+}
+
+uint64_t mer_shadow_hash(const mer_shadow *sh)
+{
+    uint64_t h = UINT64_C(1469598103934665603);
+    for (size_t i = 0; i < sh->nvox; i++) {
+        uint32_t v = sh->s[i];
+        for (int b = 0; b < 4; b++) {
+            h ^= (v >> (8 * b)) & 0xFFu;
+            h *= UINT64_C(1099511628211);
+        }
+    }
+    return h;
+}

@@ -1,0 +1,31 @@
+/* meristem — JSON views of library values, shared by meristemd and the CLI.
+ * lib never sees JSON; this is where its structs become documents. */
+#ifndef MERISTEM_CODEC_H
+#define MERISTEM_CODEC_H
+
+#include <jansson.h>
+
+#include <meristem/mesh.h>
+#include <meristem/scene.h>
+
+/* The scene summary as an object (new reference; NULL when out of memory):
+ * step, plants, internodes, buds, flowers, markers, height, crown_width,
+ * crown_base, crown_depth, bounds {min, max}, hash (hex digest of the scene). */
+json_t *mer_json_summary(const mer_scene *scene);
+
+/* A float as the shortest decimal that reads back as the same float, so 0.55f
+ * prints as 0.55, not 0.550000011920929 (new reference). */
+json_t *mer_json_float(float x);
+
+/* A parameter value: integral values as integers (exact, e.g. marker_count),
+ * others as mer_json_float (parameters are floats). */
+json_t *mer_json_param(double v);
+
+/* json_dumps flags for replies: compact, reals with 15 significant digits
+ * (enough for every double that came from a float via mer_json_float). */
+#define MER_JSON_DUMP_FLAGS (JSON_COMPACT | JSON_REAL_PRECISION(15))
+
+/* Parses a colour mode name ("none", "order", "light", "age"). -1 if unknown. */
+int mer_color_mode_parse(const char *name);
+
+#endif

@@ -1,0 +1,25 @@
+/* meristemd — a small pool of worker threads for work that may take seconds
+ * (stepping, meshing), so libmicrohttpd's threads never wait on a tree: the
+ * connection is suspended, the job runs here, and it resumes the connection. */
+#ifndef MERISTEMD_JOBS_H
+#define MERISTEMD_JOBS_H
+
+#include <stddef.h>
+
+typedef struct mer_jobs mer_jobs;
+typedef void (*mer_job_fn)(void *arg);
+
+/* Starts `threads` workers. NULL on failure. */
+mer_jobs *mer_jobs_start(size_t threads);
+
+/* Queues fn(arg); runs in submission order across the workers. 0, or -1 when
+ * out of memory or stopping. */
+int mer_jobs_submit(mer_jobs *jobs, mer_job_fn fn, void *arg);
+
+/* Jobs queued and not yet started. */
+size_t mer_jobs_pending(mer_jobs *jobs);
+
+/* Runs every queued job, then joins the workers and frees the pool. NULL is fine. */
+void mer_jobs_stop(mer_jobs *jobs);
+
+#endif

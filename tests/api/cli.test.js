@@ -1,0 +1,67 @@
+'use strict';
+// The offline command line as a pipeline engineer uses it: grow from a preset,
+// read the summary JSON, write the GLB (validated later by the conformance test).
+const test = require('node:test');
+const assert = require('node:assert/strict');
+const fs = require('node:fs');
+const path = require('node:path');
+const { spawnSync } = require('node:child_process');
+
+const exe = path.join(process.env.MER_BUILDDIR, 'server', 'meristem');
+const out = (name) => path.join(process.env.MER_ARTIFACTS, name);
+const run = (args) => spawnSync(exe, args, { encoding: 'utf8' });
+
+test('meristem grow prints the summary and writes a GLB', () => {
+  const r = run(['grow', '--preset', 'fig7-bh-0.54', '--steps', '12', '--seed', '3', '--leaves',
+    '-o', out('cli-fig7.glb')]);
+  assert.equal(r.status, 0, r.stderr);
+  const s = JSON.parse(r.stdout);
+  assert.equal(s.step, 12);
+  assert.equal(s.preset, 'fig7-bh-0.54');
+  assert.equal(s.seed, 3);
+  assert.ok(s.internodes > 100, `${s.internodes} internodes`);
+  assert.ok(s.height > 5);
+  const glb = fs.readFileSync(out('cli-fig7.glb'));
+  assert.equal(glb.subarray(0, 4).toString('latin1'), 'glTF');
+  assert.equal(glb.length, s.bytes);
+});
+
+test('the same preset, seed and steps give byte-identical GLBs', () => {
+  for (const name of ['cli-same-a.glb', 'cli-same-b.glb'])
+    assert.equal(run(['grow', '--steps', '10', '--seed', '5', '-o', out(name)]).status, 0);
+  assert.ok(fs.readFileSync(out('cli-same-a.glb')).equals(fs.readFileSync(out('cli-same-b.glb'))));
+  fs.rmSync(out('cli-same-b.glb'));
+});
+
+test('--set overrides a parameter and --color, --markers, .gltf work', () => {
+  const r = run(['grow', '--preset', 'fig4-colonization', '--steps', '10', '--set', 'theta=120',
+    '--markers', '--color', 'light', '-o', out('cli-colonization.gltf')]);
+  assert.equal(r.status, 0, r.stderr);
+  const doc = JSON.parse(fs.readFileSync(out('cli-colonization.gltf'), 'utf8'));
+  assert.equal(doc.asset.extras.preset, 'fig4-colonization');
+  assert.ok(doc.nodes.some((n) => n.name === 'markers'));
+  assert.ok('COLOR_0' in doc.meshes[0].primitives[0].attributes);
+});
+
+test('mistakes are named with the allowed range', () => {
+  let r = run(['grow', '--preset', 'nope']);
+  assert.equal(r.status, 1);
+  assert.match(r.stderr, /unknown preset 'nope'/);
+  r = run(['grow', '--set', 'lambda=2']);
+  assert.equal(r.status, 1);
+  assert.match(r.stderr, /lambda/);
+  r = run(['grow', '--detail', '9']);
+  assert.equal(r.status, 2);
+  assert.match(r.stderr, /--detail wants an integer from 1 to 5/);
+  r = run(['grow', '--color', 'purple']);
+  assert.equal(r.status, 2);
+});
+
+test('meristem presets lists every preset with a description', () => {
+  const r = run(['presets']);
+  assert.equal(r.status, 0);
+  const list = JSON.parse(r.stdout);
+  assert.ok(list.length >= 10);
+  for (const p of list) assert.ok(p.name && p.description);
+  assert.ok(list.some((p) => p.name === 'default'));
+});

@@ -1,0 +1,76 @@
+'use strict';
+// --token and --cors-origin as a person deploying meristemd would rely on them.
+const test = require('node:test');
+const assert = require('node:assert/strict');
+const fs = require('node:fs');
+const os = require('node:os');
+const path = require('node:path');
+const { startDaemon } = require('../support/daemon.js');
+
+test('with --token, every /v1 route but health wants the bearer token', async (t) => {
+  const d = await startDaemon(['--token', 's3cret-token']);
+  t.after(() => d.stop());
+  assert.equal((await fetch(`${d.url}/v1/health`)).status, 200);
+  for (const [method, p] of [['GET', '/v1/sessions'], ['POST', '/v1/sessions'], ['GET', '/v1/presets'], ['GET', '/v1/metrics']]) {
+    const r = await fetch(d.url + p, { method });
+    assert.equal(r.status, 401, `${method} ${p}`);
+    assert.equal(r.headers.get('content-type'), 'application/problem+json');
+    assert.equal(r.headers.get('www-authenticate'), 'Bearer');
+    const wrong = await fetch(d.url + p, { method, headers: { Authorization: 'Bearer s3cret-tokeN' } });
+    assert.equal(wrong.status, 401);
+  }
+  const ok = await fetch(`${d.url}/v1/sessions`, { method: 'POST', headers: { Authorization: 'Bearer s3cret-token' } });
+  assert.equal(ok.status, 201);
+  // The static page needs no token: it asks the person for one.
+  assert.equal((await fetch(`${d.url}/`)).status, 200);
+});
+
+test('--token-file reads the token', async (t) => {
+  const file = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-token-')), 'token');
+  fs.writeFileSync(file, 'from-a-file\n');
+  const d = await startDaemon(['--token-file', file]);
+  t.after(() => d.stop());
+  assert.equal((await fetch(`${d.url}/v1/sessions`)).status, 401);
+  assert.equal((await fetch(`${d.url}/v1/sessions`, { headers: { Authorization: 'Bearer from-a-file' } })).status, 200);
+});
+
+test('CORS is off by default and allows exactly --cors-origin', async (t) => {
+  const off = await startDaemon();
+  t.after(() => off.stop());
+  let r = await fetch(`${off.url}/v1/sessions`, { headers: { Origin: 'http://example.test' } });
+  assert.equal(r.headers.get('access-control-allow-origin'), null);
+  assert.equal((await fetch(`${off.url}/v1/sessions`, { method: 'OPTIONS', headers: { Origin: 'http://example.test' } })).status, 405);
+
+  const on = await startDaemon(['--cors-origin', 'http://app.test']);
+  t.after(() => on.stop());
+  r = await fetch(`${on.url}/v1/sessions`, { headers: { Origin: 'http://app.test' } });
+  assert.equal(r.headers.get('access-control-allow-origin'), 'http://app.test');
+  r = await fetch(`${on.url}/v1/sessions`, { headers: { Origin: 'http://evil.test' } });
+  assert.equal(r.headers.get('access-control-allow-origin'), null);
+  const pre = await fetch(`${on.url}/v1/sessions`, { method: 'OPTIONS', headers: { Origin: 'http://app.test', 'Access-Control-Request-Method': 'POST' } });
+  assert.equal(pre.status, 204);
+  assert.match(pre.headers.get('access-control-allow-methods'), /POST/);
+  assert.match(pre.headers.get('access-control-allow-headers'), /Authorization/);
+});
+
+test('--max-sessions is a 429 with a detail', async (t) => {
+  const d = await startDaemon(['--max-sessions', '2']);
+  t.after(() => d.stop());
+  for (let i = 0; i < 2; i++) assert.equal((await fetch(`${d.url}/v1/sessions`, { method: 'POST' })).status, 201);
+  const r = await fetch(`${d.url}/v1/sessions`, { method: 'POST' });
+  assert.equal(r.status, 429);
+  assert.match((await r.json()).detail, /--max-sessions/);
+});
+
+test('--max-internodes stops growth and then refuses with 409', async (t) => {
+  const d = await startDaemon(['--max-internodes', '300']);
+  t.after(() => d.stop());
+  const s = await (await fetch(`${d.url}/v1/sessions`, { method: 'POST' })).json();
+  const step = () => fetch(`${d.url}/v1/sessions/${s.id}/edits`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{"op":"step","count":50}' });
+  const first = await (await step()).json();
+  assert.equal(first.interrupted, 'internode limit');
+  assert.ok(first.internodes >= 300 && first.step < 50);
+  const again = await step();
+  assert.equal(again.status, 409);
+  assert.match((await again.json()).detail, /--max-internodes/);
+});

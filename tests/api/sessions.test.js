@@ -1,0 +1,277 @@
+'use strict';
+// Sessions over HTTP against a real meristemd: every route and edit op, every
+// refusal with its status and problem body (and the session unchanged after it),
+// all-or-none batches, ETag/304, GLB replies, cancel.
+const { test, before, after } = require('node:test');
+const assert = require('node:assert/strict');
+const fs = require('node:fs');
+const path = require('node:path');
+const { startDaemon, api } = require('../support/daemon.js');
+
+let d;
+const J = (method, p, body, headers) => api(d.url, method, p, body, headers);
+const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
+
+before(async () => { d = await startDaemon(['--max-steps', '200', '--max-markers', '5000']); });
+after(() => d.stop());
+
+async function create(body = {}) {
+  const r = await J('POST', '/v1/sessions', body);
+  assert.equal(r.status, 201, JSON.stringify(r.body));
+  return r;
+}
+
+// The state a refused request must leave untouched.
+async function state(id) {
+  const r = await J('GET', `/v1/sessions/${id}`);
+  return { revision: r.body.revision, hash: r.body.hash, step: r.body.step };
+}
+
+function problem(r, status, slug, detail, field) {
+  assert.equal(r.status, status, JSON.stringify(r.body));
+  assert.equal(r.headers.get('content-type'), 'application/problem+json');
+  assert.equal(r.body.status, status);
+  assert.equal(r.body.type, `urn:meristem:problem:${slug}`);
+  assert.ok(r.body.title);
+  if (detail) assert.match(r.body.detail, detail);
+  if (field !== undefined) assert.equal(r.body.field, field);
+}
+
+test('POST /v1/sessions with {} gives the default preset, seed 0', async () => {
+  const r = await create();
+  assert.match(r.headers.get('location'), /^\/v1\/sessions\/[0-9a-f]{32}$/);
+  assert.equal(r.headers.get('meristem-revision'), '0');
+  const s = r.body;
+  assert.equal(s.id, r.headers.get('location').split('/').pop());
+  assert.equal(s.revision, 0);
+  assert.equal(s.step, 0);
+  assert.equal(s.preset, 'default');
+  assert.equal(s.seed, 0);
+  assert.equal(s.plants, 1);
+  assert.equal(typeof s.params.lambda, 'number');
+  assert.equal(s.schedule.apical_off.length, 8);
+  assert.deepEqual(s.running, { active: false, done: 0, total: 0 });
+  // An empty body is {} too, for curl users.
+  const e = await fetch(`${d.url}/v1/sessions`, { method: 'POST' });
+  assert.equal(e.status, 201);
+});
+
+test('session ids are random 128-bit values, not counters', async () => {
+  const a = (await create()).body.id, b = (await create()).body.id;
+  assert.notEqual(a, b);
+  let differing = 0;
+  for (let i = 0; i < 32; i++) if (a[i] !== b[i]) differing++;
+  assert.ok(differing > 16, `${a} vs ${b}`);
+});
+
+test('create with a preset, seed, params and a scene', async () => {
+  const r = await create({
+    preset: 'fig4-colonization', seed: 7, params: { theta: 100, rho: 1.5 },
+    scene: {
+      plants: [[-5, 0, 0], [5, 0, 0]],
+      markers: [{ volume: 'box', center: [0, 10, 0], size: [8, 6, 4], count: 3000 }],
+      obstacles: [{ box: { min: [-1, 0, -1], max: [1, 4, 1] } }, { sphere: { center: [0, 20, 0], radius: 2 } }],
+    },
+  });
+  const s = r.body;
+  assert.equal(s.preset, 'fig4-colonization');
+  assert.equal(s.seed, 7);
+  assert.equal(s.plants, 2);
+  assert.equal(s.params.theta, 100);
+  assert.equal(s.params.rho, 1.5);
+  assert.ok(s.markers > 20000, `${s.markers} markers: the preset's and the box's`);
+});
+
+test('GET /v1/sessions lists sessions; GET /v1/presets lists presets and parameters', async () => {
+  const { body: { id } } = await create();
+  const list = await J('GET', '/v1/sessions');
+  assert.equal(list.status, 200);
+  assert.ok(list.body.sessions.some((s) => s.id === id));
+  assert.ok(!('params' in list.body.sessions[0]));
+  const p = await J('GET', '/v1/presets');
+  assert.ok(p.body.presets.length >= 10);
+  const lambda = p.body.parameters.find((f) => f.name === 'lambda');
+  assert.equal(lambda.symbol, 'λ');
+  assert.deepEqual([lambda.min, lambda.max], [0, 1]);
+});
+
+test('every edit op, one at a time, moves the revision on', async () => {
+  const { body: { id } } = await create({ preset: 'fig7-bh-0.54', seed: 3 });
+  const E = (edit) => J('POST', `/v1/sessions/${id}/edits`, edit);
+  let r = await E({ op: 'step', count: 8 });
+  assert.equal(r.status, 200);
+  assert.equal(r.body.revision, 1);
+  assert.equal(r.body.step, 8);
+  assert.equal(r.headers.get('meristem-revision'), '1');
+  const grown = r.body.internodes;
+
+  r = await E({ op: 'add_markers', points: [[0, 30, 0], [1, 31, 0], [2, 32, 1]] });
+  assert.equal(r.body.revision, 2);
+  assert.equal(r.body.markers, 3);
+
+  r = await E({ op: 'add_markers', center: [0, 25, 0], radius: 3, pressure: 1, count: 40,
+    symmetry: { rotational: 3, center: [0, 0, 0], mirror: { point: [0, 0, 0], normal: [1, 0, 0] } } });
+  assert.equal(r.body.revision, 3);
+  assert.ok(r.body.markers > 3);
+
+  r = await E({ op: 'bend', node: 1, axis: [0, 0, 1], angle: 20 });
+  assert.equal(r.body.revision, 4);
+
+  r = await E({ op: 'set_apical_schedule', apical_off: [5, null], lambda_keys: [[0, 0.5], [20, 0.55]] });
+  assert.equal(r.body.revision, 5);
+  assert.equal(r.body.schedule.apical_off[0], 5);
+  assert.equal(r.body.schedule.apical_off[1], null);
+  assert.deepEqual(r.body.schedule.lambda_keys, [[0, 0.5], [20, 0.55]]);
+
+  r = await E({ op: 'set_params', params: { xi: 0.25, eta: -0.1 } });
+  assert.equal(r.body.params.xi, 0.25);
+  assert.ok(Math.abs(r.body.params.eta + 0.1) < 1e-6);
+
+  r = await E({ op: 'prune', node: 1 });
+  assert.equal(r.body.revision, 7);
+  assert.ok(r.body.internodes < grown, `${r.body.internodes} < ${grown}`);
+
+  r = await E({ op: 'add_markers', center: [0, 3, 0], radius: 2, constrain: { node: 0, bud: 1 } });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  r = await E({ op: 'release' });
+  assert.equal(r.body.revision, 9);
+});
+
+test('a batch applies in order, and all or none', async () => {
+  const { body: { id } } = await create({ seed: 4 });
+  let r = await J('POST', `/v1/sessions/${id}/edits`, { edits: [{ op: 'step', count: 3 }, { op: 'step', count: 2 }] });
+  assert.equal(r.body.step, 5);
+  assert.equal(r.body.revision, 1);  // one batch, one revision
+  const before = await state(id);
+  // The prune fails after the step ran: the step must be undone too.
+  r = await J('POST', `/v1/sessions/${id}/edits`, { edits: [{ op: 'step', count: 2 }, { op: 'prune', node: 4000000 }] });
+  problem(r, 404, 'unknown-node', /never part of this tree/, 'edits[1].node');
+  assert.deepEqual(await state(id), before);
+  // A node that was pruned is a conflict, and again nothing changes.
+  await J('POST', `/v1/sessions/${id}/edits`, { op: 'prune', node: 1 });
+  const pruned = await state(id);
+  r = await J('POST', `/v1/sessions/${id}/edits`, { edits: [{ op: 'step', count: 1 }, { op: 'bend', node: 1, axis: [1, 0, 0], angle: 10 }] });
+  problem(r, 409, 'dead-node', /pruned or shed/, 'edits[1].node');
+  assert.deepEqual(await state(id), pruned);
+});
+
+test('refusals: status, problem detail, and nothing changed', async () => {
+  const { body: { id } } = await create();
+  await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 2 });
+  const before = await state(id);
+  const E = (body, headers) => J('POST', `/v1/sessions/${id}/edits`, body, headers);
+
+  problem(await E('{"op": "step",\n "count": }'), 400, 'malformed-json', /line 2, column \d+/);
+  problem(await E('{"op": "step", "op": "prune"}'), 400, 'malformed-json', /duplicate/);
+  problem(await E('['.repeat(40) + ']'.repeat(40)), 400, 'malformed-json', /nested deeper than 32/);
+  problem(await E({ op: 'grow' }), 400, 'unknown-op', /unknown op 'grow'/, 'op');
+  problem(await E({ op: 'step', count: 1, speed: 2 }), 400, 'unknown-field', /unknown field 'speed'/, 'speed');
+  problem(await E({ op: 'step', count: 'ten' }), 422, 'invalid-field', /count must be an integer/, 'count');
+  problem(await E({ op: 'step', count: 0 }), 422, 'out-of-range', /from 1 to 200, got 0/, 'count');
+  problem(await E({ op: 'step', count: 500 }), 422, 'out-of-range', /from 1 to 200/, 'count');
+  problem(await E({ edits: [{ op: 'step', count: 150 }, { op: 'step', count: 100 }] }), 422, 'out-of-range', /--max-steps/);
+  problem(await E({ op: 'bend', node: 1, axis: [0, 0, 0], angle: 10 }), 422, 'out-of-range', /zero vector/, 'axis');
+  problem(await E({ op: 'add_markers', points: [[0, 1]] }), 422, 'invalid-field', /array of 3 numbers/, 'points[0]');
+  problem(await E({ op: 'add_markers', center: [0, 1, 0], radius: 1, pressure: 2 }), 422, 'out-of-range', /pressure must be from/, 'pressure');
+  problem(await E({ op: 'add_markers', points: Array.from({ length: 5001 }, () => [0, 1, 0]) }), 422, 'out-of-range', /--max-markers/);
+  problem(await E({ op: 'set_params', params: { lambda: 1.5 } }), 422, 'out-of-range', /lambda/, 'params.lambda');
+  problem(await E({ op: 'set_params', params: { nonsense: 1 } }), 400, 'unknown-field', /unknown parameter/, 'params.nonsense');
+  problem(await E({ op: 'set_apical_schedule', lambda_keys: [[5, 0.5], [2, 0.6]] }), 422, 'out-of-range', /increasing step order/);
+  problem(await E({ op: 'step', count: 1 }, { 'Content-Type': 'text/plain' }), 415, 'unsupported-media-type', /application\/json/);
+  const big = await fetch(`${d.url}/v1/sessions/${id}/edits`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: `{"op":"add_markers","points":[${'[0,1,0],'.repeat(1200000)}[0,1,0]]}` });
+  assert.equal(big.status, 413);
+  assert.equal(big.headers.get('content-type'), 'application/problem+json');
+  problem(await J('POST', `/v1/sessions/${'0'.repeat(32)}/edits`, { op: 'step' }), 404, 'unknown-session', /no session/);
+  problem(await J('GET', '/v1/sessions/nope'), 404, 'unknown-session');
+  const m = await J('PUT', `/v1/sessions/${id}`, {});
+  problem(m, 405, 'method-not-allowed');
+  assert.equal(m.headers.get('allow'), 'GET, DELETE');
+  problem(await J('POST', '/v1/sessions', { preset: 'nope' }), 422, 'invalid-field', /unknown preset/, 'preset');
+  problem(await J('POST', '/v1/sessions', { seed: -1 }), 422, 'out-of-range', /seed/, 'seed');
+  problem(await J('POST', '/v1/sessions', { colour: 1 }), 400, 'unknown-field', /colour/);
+  problem(await J('POST', '/v1/sessions', { scene: { markers: [{ volume: 'torus', center: [0, 0, 0], size: [1, 1, 1], count: 5 }] } }), 422, 'invalid-field', /box, sphere/, 'scene.markers[0].volume');
+
+  assert.deepEqual(await state(id), before);
+});
+
+test('snapshots: GLB, ETag by revision and options, 304, options as query', async () => {
+  const { body: { id } } = await create({ preset: 'fig7-bh-0.54', seed: 5 });
+  await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 10 });
+  const url = `${d.url}/v1/sessions/${id}/snapshot.glb`;
+  const r = await fetch(url);
+  assert.equal(r.status, 200);
+  assert.equal(r.headers.get('content-type'), 'model/gltf-binary');
+  const etag = r.headers.get('etag');
+  assert.equal(etag, '"r1-d3l0m0c0q1"');
+  const glb = Buffer.from(await r.arrayBuffer());
+  assert.equal(glb.subarray(0, 4).toString('latin1'), 'glTF');
+  artifact('api-snapshot.glb', glb);
+  assert.equal((await fetch(url, { headers: { 'If-None-Match': etag } })).status, 304);
+  const leafy = await fetch(`${url}?detail=5&leaves=1&color=order&quantize=0`);
+  assert.equal(leafy.headers.get('etag'), '"r1-d5l1m0c1q0"');
+  const leafyBytes = Buffer.from(await leafy.arrayBuffer());
+  assert.ok(leafyBytes.length > glb.length);
+  artifact('api-snapshot-leaves.glb', leafyBytes);
+  problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?detail=9`), 422, 'out-of-range', /detail must be an integer from 1 to 5/, 'detail');
+  // After an edit the old ETag no longer matches.
+  await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 1 });
+  assert.equal((await fetch(url, { headers: { 'If-None-Match': etag } })).status, 200);
+});
+
+test('edits answer with the GLB when asked', async () => {
+  const { body: { id } } = await create({ seed: 6 });
+  const r = await fetch(`${d.url}/v1/sessions/${id}/edits`, {
+    method: 'POST', headers: { 'Content-Type': 'application/json', Accept: 'model/gltf-binary' },
+    body: JSON.stringify({ op: 'step', count: 5 }),
+  });
+  assert.equal(r.status, 200);
+  assert.equal(r.headers.get('content-type'), 'model/gltf-binary');
+  assert.equal(r.headers.get('meristem-revision'), '1');
+  const glb = Buffer.from(await r.arrayBuffer());
+  artifact('api-edit-reply.glb', glb);
+  const json = JSON.parse(glb.subarray(20, 20 + glb.readUInt32LE(12)).toString('utf8'));
+  assert.equal(json.asset.extras.session, id);
+  assert.equal(json.asset.extras.revision, 1);
+  assert.equal(json.asset.extras.step, 5);
+});
+
+test('cancel stops a long step at a whole step, and the journal agrees', async () => {
+  const { body: { id } } = await create({ preset: 'fig7-bh-0.54', seed: 8 });
+  const long = J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 200 });
+  // Wait until it is running, then cancel.
+  for (let i = 0; i < 200; i++) {
+    const s = await J('GET', `/v1/sessions/${id}`);
+    if (s.body.running.active && s.body.running.done > 2) break;
+    await new Promise((res) => setTimeout(res, 10));
+  }
+  const c = await J('POST', `/v1/sessions/${id}/cancel`);
+  assert.equal(c.status, 202);
+  const r = await long;
+  assert.equal(r.status, 200);
+  assert.equal(r.body.interrupted, 'cancelled');
+  assert.ok(r.body.step > 0 && r.body.step < 200, `stopped at step ${r.body.step}`);
+  assert.equal(r.body.steps_done, r.body.step);
+  assert.equal(r.body.revision, 1);
+  assert.equal((await J('POST', `/v1/sessions/${id}/cancel`)).body.cancelling, false);
+});
+
+test('DELETE ends a session and removes its journal', async () => {
+  const { body: { id } } = await create();
+  const file = path.join(d.dataDir, `${id}.journal`);
+  assert.ok(fs.existsSync(file));
+  assert.equal((await J('DELETE', `/v1/sessions/${id}`)).status, 204);
+  assert.ok(!fs.existsSync(file));
+  problem(await J('GET', `/v1/sessions/${id}`), 404, 'unknown-session');
+  problem(await J('DELETE', `/v1/sessions/${id}`), 404, 'unknown-session');
+});
+
+test('GET /v1/metrics speaks Prometheus', async () => {
+  const r = await fetch(`${d.url}/v1/metrics`);
+  assert.equal(r.status, 200);
+  assert.match(r.headers.get('content-type'), /^text\/plain; version=0\.0\.4/);
+  const text = await r.text();
+  assert.match(text, /meristem_requests_total\{route="\/v1\/sessions",status="201"\} \d+/);
+  assert.match(text, /meristem_step_seconds_count \d+/);
+  assert.match(text, /meristem_sessions \d+/);
+  assert.match(text, /meristem_internodes \d+/);
+});

@@ -1,0 +1,102 @@
+/* meristem benchmark: meshing and GLB encoding (issue "Tree geometry and glTF
+ * snapshots"). Grows a tree to about N internodes, then meshes and encodes it
+ * several times and prints the best time, triangles per second and bytes per
+ * internode. Not a test: nothing here passes or fails on time.
+ *
+ *   tests/bench/bench_mesh [INTERNODES] [DETAIL]   (default 10000 3)
+ */
+#include "config.h"
+
+#include <malloc.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include <meristem.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void stop_at(void *ctx, uint32_t done, uint32_t total)
+{
+    (void)done;
+    (void)total;
+    struct { mer_scene *scene; uint32_t target; volatile int cancel; } *run = ctx;
+    mer_summary s;
+    mer_scene_summary(run->scene, &s);
+    if (s.internodes >= run->target)
+        run->cancel = 1;
+}
+
+int main(int argc, char **argv)
+{
+    uint32_t target = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000;
+    uint32_t detail = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 3;
+    // As meristemd does: keep freed memory for the next snapshot instead of
+    // handing it back to the kernel and faulting it in again.
+    mallopt(M_MMAP_THRESHOLD, 256 << 20);
+    mallopt(M_TRIM_THRESHOLD, 512 << 20);
+    mer_params p;
+    mer_error err;
+    if (mer_preset_params("fig7-bh-0.54", &p, &err) != MER_OK)
+        return 1;
+    // Room for a big tree: the paper's 200^3 grid.
+    p.bounds_min[0] = p.bounds_min[2] = -100.0f;
+    p.bounds_max[0] = p.bounds_max[2] = 100.0f;
+    p.bounds_max[1] = 200.0f;
+    mer_scene *scene = NULL;
+    if (mer_scene_new(&p, 1, &scene, &err) != MER_OK) {
+        fprintf(stderr, "bench_mesh: %s\n", err.message);
+        return 1;
+    }
+    struct { mer_scene *scene; uint32_t target; volatile int cancel; } run = {scene, target, 0};
+    if (mer_scene_step(scene, 400, stop_at, &run, &run.cancel, NULL, &err) != MER_OK) {
+        fprintf(stderr, "bench_mesh: %s\n", err.message);
+        return 1;
+    }
+    mer_summary sum;
+    mer_scene_summary(scene, &sum);
+
+    mer_mesh_options opt = {.detail = detail};
+    double best_mesh = 1e9, best_glb = 1e9, cold = 0;
+    size_t bytes = 0;
+    uint32_t triangles = 0, vertices = 0;
+    const int reps = sum.internodes > 100000 ? 3 : 20;
+    for (int r = 0; r < reps; r++) {
+        double t0 = now();
+        mer_mesh *mesh = NULL;
+        if (mer_mesh_build(scene, &opt, &mesh, &err) != MER_OK) {
+            fprintf(stderr, "bench_mesh: %s\n", err.message);
+            return 1;
+        }
+        double t1 = now();
+        uint8_t *glb = NULL;
+        if (mer_gltf_write_tree(mesh, NULL, NULL, &glb, &bytes, &err) != MER_OK) {
+            fprintf(stderr, "bench_mesh: %s\n", err.message);
+            return 1;
+        }
+        double t2 = now();
+        triangles = mesh->bark.index_count / 3;
+        vertices = mesh->bark.vertex_count;
+        mer_gltf_free(glb);
+        mer_mesh_free(mesh);
+        if (r == 0)
+            cold = t2 - t0;
+        if (t1 - t0 < best_mesh)
+            best_mesh = t1 - t0;
+        if (t2 - t1 < best_glb)
+            best_glb = t2 - t1;
+    }
+    double total = best_mesh + best_glb;
+    printf("mesh+glb  internodes %u  steps %u  detail %u  vertices %u  triangles %u  "
+           "mesh %.1f ms  glb %.1f ms  total %.1f ms (first run %.1f ms)  %.1f Mtriangles/s  %zu bytes  "
+           "%.1f bytes/internode\n",
+           sum.internodes, sum.step, detail, vertices, triangles, 1e3 * best_mesh, 1e3 * best_glb,
+           1e3 * total, 1e3 * cold, (double)triangles / total / 1e6, bytes, (double)bytes / sum.internodes);
+    mer_scene_free(scene);
+    return 0;
+}

@@ -1,0 +1,27 @@
+# `make bench`: the figures behind the performance targets, printed, never
+# judged (these machines are noisy). Built only on demand.
+#  - bench: the Table 1 workloads (P09 §6): steps, internodes, seconds,
+#    internodes per second, peak memory; each workload in its own process so
+#    its peak memory is its own.
+#  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree.
+# `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
+EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh
+tests_bench_bench_SOURCES = tests/bench/bench.c
+tests_bench_bench_LDADD = lib/libmeristem-core.la
+tests_bench_bench_mesh_SOURCES = tests/bench/bench_mesh.c
+tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
+# It encodes GLB through tinygltf: link with the C++ driver.
+nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
+CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
+EXTRA_DIST += tests/bench/http-bench.sh
+
+BENCH_WORKLOADS = table1-fig10-left table1-fig10-center table1-fig10-right colonization-1M-markers
+
+bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
+	@for w in $(BENCH_WORKLOADS); do ./tests/bench/bench$(EXEEXT) $$w || exit 1; done
+	@./tests/bench/bench_mesh$(EXEEXT) 10000
+	@./tests/bench/bench_mesh$(EXEEXT) 700000
+
+bench-http: server/meristemd$(EXEEXT)
+	@$(SHELL) $(srcdir)/tests/bench/http-bench.sh server/meristemd$(EXEEXT)
+.PHONY: bench bench-http
