@@ -16,6 +16,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh.c \
 	lib/scene_private.h \
 	lib/vec_private.h \
+	lib/tinygltf_private.h \
 	lib/version.c \
 	lib/gltf.cc
 lib_libmeristem_core_la_LIBADD = -lm

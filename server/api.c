@@ -44,6 +44,22 @@ static struct MHD_Response *json_response(const json_t *j, size_t *size)
     return r;
 }
 
+/* Queues `text` (taken over, freed by libmicrohttpd) as `content_type`. */
+static enum MHD_Result reply_text(mer_request *req, unsigned status, char *text,
+                                  const char *content_type)
+{
+    if (text == NULL)
+        return MHD_NO;
+    size_t size = strlen(text);
+    struct MHD_Response *r = MHD_create_response_from_buffer(size, text, MHD_RESPMEM_MUST_FREE);
+    if (r == NULL) {
+        free(text);
+        return MHD_NO;
+    }
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
+    return mer_reply(req, status, r, size);
+}
+
 static struct MHD_Response *refusal_response(const mer_refusal *why, size_t *size)
 {
     return mer_problem_response(why->status, why->slug, mer_status_title(why->status), why->detail,
@@ -219,25 +235,23 @@ enum MHD_Result mer_api_presets(mer_request *req, const char *id)
     for (size_t i = 0; i < mer_preset_count(); i++) {
         mer_params p;
         mer_preset_params(mer_preset_name(i), &p, NULL);
-        json_t *values = json_object();
-        for (size_t f = 0; f < mer_params_field_count(); f++) {
-            double v;
-            if (mer_params_get(&p, mer_params_field_name(f), &v, NULL) == MER_OK)
-                json_object_set_new(values, mer_params_field_name(f), mer_json_param(v));
-        }
-        json_array_append_new(presets, json_pack("{s:s, s:s, s:o}", "name", mer_preset_name(i),
+        json_array_append_new(presets, json_pack("{s:s, s:s, s:o, s:o}", "name", mer_preset_name(i),
                                                  "description", mer_preset_description(i),
-                                                 "params", values));
+                                                 "params", mer_json_params(&p),
+                                                 "schedule", mer_json_schedule(&p.schedule)));
     }
     mer_params d = mer_params_default();
     for (size_t f = 0; f < mer_params_field_count(); f++) {
+        const char *name = mer_params_field_name(f);
+        if (mer_param_in_schedule(name))
+            continue;  // set_apical_schedule's business
         double lo, hi, v = 0;
         mer_params_field_range(f, &lo, &hi);
-        mer_params_get(&d, mer_params_field_name(f), &v, NULL);
-        json_array_append_new(fields, json_pack("{s:s, s:s, s:f, s:f, s:f}", "name",
-                                                mer_params_field_name(f), "symbol",
-                                                mer_params_field_symbol(f), "min", lo, "max", hi,
-                                                "default", v));
+        mer_params_get(&d, name, &v, NULL);
+        json_array_append_new(fields, json_pack("{s:s, s:s, s:o, s:o, s:o}", "name", name, "symbol",
+                                                mer_params_field_symbol(f), "min", mer_json_param(lo),
+                                                "max", mer_json_param(hi), "default",
+                                                mer_json_param(v)));
     }
     json_t *body = json_pack("{s:o, s:o}", "presets", presets, "parameters", fields);
     enum MHD_Result ok = mer_reply_json(req, 200, body);
@@ -253,16 +267,7 @@ enum MHD_Result mer_api_metrics(mer_request *req, const char *id)
     mer_registry_totals(req->app->registry, &sessions, &internodes);
     char *text = mer_metrics_render(req->app->metrics, sessions, internodes,
                                     mer_jobs_pending(req->app->jobs));
-    if (text == NULL)
-        return MHD_NO;
-    size_t size = strlen(text);
-    struct MHD_Response *r = MHD_create_response_from_buffer(size, text, MHD_RESPMEM_MUST_FREE);
-    if (r == NULL) {
-        free(text);
-        return MHD_NO;
-    }
-    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8");
-    return mer_reply(req, 200, r, size);
+    return reply_text(req, 200, text, "text/plain; version=0.0.4; charset=utf-8");
 }
 
 enum MHD_Result mer_api_list(mer_request *req, const char *id)
@@ -283,21 +288,17 @@ enum MHD_Result mer_api_get(mer_request *req, const char *id)
     uint64_t revision = 0;
     char *text = mer_session_summary_text(s, true, &revision);
     mer_session_unref(s);
-    if (text == NULL)
-        return MHD_NO;
     req->revision = (long long)revision;
-    size_t size = strlen(text);
-    struct MHD_Response *r = MHD_create_response_from_buffer(size, text, MHD_RESPMEM_MUST_FREE);
-    if (r == NULL) {
-        free(text);
-        return MHD_NO;
-    }
-    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
-    return mer_reply(req, 200, r, size);
+    return reply_text(req, 200, text, "application/json");
 }
 
 enum MHD_Result mer_api_delete(mer_request *req, const char *id)
 {
+    mer_session *s = mer_registry_get(req->app->registry, id);
+    if (s != NULL) {
+        req->revision = (long long)mer_session_revision(s);
+        mer_session_unref(s);
+    }
     if (mer_registry_delete(req->app->registry, id) != 0) {
         mer_refusal why = {0};
         mer_refuse(&why, 404, "unknown-session", "", "there is no session %.64s", id);
@@ -425,12 +426,12 @@ static void run_snapshot(void *arg)
     job *j = arg;
     mer_refusal why = {0};
     mer_snapshot *snap = NULL;
+    j->req->revision = (long long)mer_session_revision(j->session);
     if (mer_session_snapshot(j->session, &j->snap, &snap, j->etag, &why) != 0) {
         finish_refused(j, &why);
     } else {
         size_t size = 0;
         struct MHD_Response *r = glb_response(snap, j->etag, &size);
-        j->req->revision = (long long)mer_session_revision(j->session);
         mer_request_finish(j->req, 200, r, size);
     }
     job_free(j);
@@ -502,6 +503,7 @@ enum MHD_Result mer_api_snapshot(mer_request *req, const char *id)
     if (s == NULL)
         return refuse(req, &why);
     mer_snapshot_options snap;
+    req->revision = (long long)mer_session_revision(s);
     if (snapshot_options(req, &snap, &why) != 0) {
         mer_session_unref(s);
         return refuse(req, &why);

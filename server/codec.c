@@ -54,3 +54,39 @@ int mer_color_mode_parse(const char *name)
             return i;
     return -1;
 }
+
+bool mer_param_in_schedule(const char *name)
+{
+    return strncmp(name, "apical_off.", 11) == 0 || strncmp(name, "eta_order_scale.", 16) == 0;
+}
+
+json_t *mer_json_params(const mer_params *p)
+{
+    json_t *o = json_object();
+    for (size_t i = 0; i < mer_params_field_count(); i++) {
+        const char *name = mer_params_field_name(i);
+        double v;
+        if (!mer_param_in_schedule(name) && mer_params_get(p, name, &v, NULL) == MER_OK)
+            json_object_set_new(o, name, mer_json_param(v));
+    }
+    return o;
+}
+
+json_t *mer_json_schedule(const mer_schedule *s)
+{
+    json_t *apical = json_array(), *scale = json_array(), *lk = json_array(), *ek = json_array();
+    for (int k = 0; k < MER_ORDERS_MAX; k++) {
+        json_array_append_new(apical, s->apical_off[k] == MER_NEVER
+                                          ? json_null()
+                                          : json_integer((json_int_t)s->apical_off[k]));
+        json_array_append_new(scale, mer_json_float(s->eta_order_scale[k]));
+    }
+    for (uint32_t k = 0; k < s->lambda_key_count; k++)
+        json_array_append_new(lk, json_pack("[o, o]", mer_json_float(s->lambda_keys[k].step),
+                                            mer_json_float(s->lambda_keys[k].value)));
+    for (uint32_t k = 0; k < s->eta_key_count; k++)
+        json_array_append_new(ek, json_pack("[o, o]", mer_json_float(s->eta_keys[k].step),
+                                            mer_json_float(s->eta_keys[k].value)));
+    return json_pack("{s:o, s:o, s:o, s:o}", "apical_off", apical, "eta_order_scale", scale,
+                     "lambda_keys", lk, "eta_keys", ek);
+}

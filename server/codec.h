@@ -3,6 +3,8 @@
 #ifndef MERISTEM_CODEC_H
 #define MERISTEM_CODEC_H
 
+#include <stdbool.h>
+
 #include <jansson.h>
 
 #include <meristem/mesh.h>
@@ -20,6 +22,16 @@ json_t *mer_json_float(float x);
 /* A parameter value: integral values as integers (exact, e.g. marker_count),
  * others as mer_json_float (parameters are floats). */
 json_t *mer_json_param(double v);
+
+/* Every named parameter but those of the schedule, by name (new reference). */
+json_t *mer_json_params(const mer_params *p);
+
+/* The apical-control schedule: apical_off by order (null: never),
+ * eta_order_scale, lambda_keys and eta_keys as [step, value] (new reference). */
+json_t *mer_json_schedule(const mer_schedule *s);
+
+/* True for the named fields that belong to the schedule (apical_off.N, ...). */
+bool mer_param_in_schedule(const char *name);
 
 /* json_dumps flags for replies: compact, reals with 15 significant digits
  * (enough for every double that came from a float via mer_json_float). */

@@ -84,18 +84,29 @@ static int bad_type(mer_refusal *why, const char *where, const char *key, const 
     return mer_refuse(why, 422, "invalid-field", f, "%s must be %s", f, want);
 }
 
+/* The field `key` of `obj`; NULL when absent, which is a refusal (returned
+ * through *failed) only when it is required. */
+static const json_t *field(const json_t *obj, const char *key, const char *where, bool required,
+                           int *failed, mer_refusal *why)
+{
+    const json_t *v = json_object_get(obj, key);
+    *failed = 0;
+    if (v == NULL && required) {
+        char f[96];
+        path(f, sizeof f, where, key);
+        *failed = mer_refuse(why, 422, "missing-field", f, "%s is required", f);
+    }
+    return v;
+}
+
 static int get_number(const json_t *obj, const char *key, const char *where, double lo, double hi,
                       bool required, double fallback, double *out, mer_refusal *why)
 {
-    const json_t *v = json_object_get(obj, key);
+    int failed;
+    const json_t *v = field(obj, key, where, required, &failed, why);
     if (v == NULL) {
-        if (required) {
-            char f[96];
-            path(f, sizeof f, where, key);
-            return mer_refuse(why, 422, "missing-field", f, "%s is required", f);
-        }
         *out = fallback;
-        return 0;
+        return failed;
     }
     if (!json_is_number(v))
         return bad_type(why, where, key, "a number");
@@ -113,15 +124,11 @@ static int get_number(const json_t *obj, const char *key, const char *where, dou
 static int get_uint(const json_t *obj, const char *key, const char *where, uint64_t lo, uint64_t hi,
                     bool required, uint64_t fallback, uint64_t *out, mer_refusal *why)
 {
-    const json_t *v = json_object_get(obj, key);
+    int failed;
+    const json_t *v = field(obj, key, where, required, &failed, why);
     if (v == NULL) {
-        if (required) {
-            char f[96];
-            path(f, sizeof f, where, key);
-            return mer_refuse(why, 422, "missing-field", f, "%s is required", f);
-        }
         *out = fallback;
-        return 0;
+        return failed;
     }
     if (!json_is_integer(v))
         return bad_type(why, where, key, "an integer");
@@ -200,8 +207,10 @@ static int decode_step(const json_t *o, const char *w, const mer_edit_limits *li
         get_uint(o, "count", w, 1, lim->max_steps, false, 1, &n, why))
         return -1;
     *steps += n;
+    char f[96];
+    path(f, sizeof f, w, "count");
     if (*steps > lim->max_steps)
-        return mer_refuse(why, 422, "out-of-range", w,
+        return mer_refuse(why, 422, "out-of-range", f,
                           "a request may step at most %u times (meristemd --max-steps), this one "
                           "asks for %llu", lim->max_steps, (unsigned long long)*steps);
     e->count = (uint32_t)n;
@@ -316,8 +325,10 @@ static int decode_markers(const json_t *o, const char *w, const mer_edit_limits 
                  (uint64_t)(y->tiles[0] > 1 ? y->tiles[0] : 1) * (y->tiles[1] > 1 ? y->tiles[1] : 1);
     }
     *markers += count * copies;
+    char count_field[96];
+    path(count_field, sizeof count_field, w, "count");
     if (*markers > lim->max_markers)
-        return mer_refuse(why, 422, "out-of-range", w,
+        return mer_refuse(why, 422, "out-of-range", count_field,
                           "a request may add at most %u markers (meristemd --max-markers); this "
                           "dab may add up to %llu with its symmetric copies",
                           lim->max_markers, (unsigned long long)*markers);
@@ -658,6 +669,15 @@ static int apply_one(const edit *e, const char *w, mer_scene *s, step_ctx *sc, u
             rc = mer_scene_constrain(s, e->node, e->bud, &err);
         if (rc == MER_OK)
             rc = mer_scene_brush(s, &e->brush, e->has_symmetry ? &e->symmetry : NULL, NULL, &err);
+        // Name the request's fields, not the library's.
+        static const char *const names[][2] = {{"slot", "constrain.bud"},
+                                               {"mirror_normal", "symmetry.mirror.normal"},
+                                               {"tiles", "symmetry.tiles"},
+                                               {"rotational", "symmetry.rotational"},
+                                               {"max_count", "count"}};
+        for (size_t k = 0; rc != MER_OK && k < sizeof names / sizeof names[0]; k++)
+            if (strcmp(err.field, names[k][0]) == 0)
+                snprintf(err.field, sizeof err.field, "%s", names[k][1]);
         break;
     case OP_PRUNE:
         rc = mer_scene_prune(s, e->node, &err);

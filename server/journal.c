@@ -111,8 +111,7 @@ int mer_journal_append(mer_journal *j, const char *payload, size_t size, char *e
     return 0;
 }
 
-mer_journal *mer_journal_create(const char *path, const char *first, size_t size,
-                                mer_fsync_mode mode, char *error)
+static mer_journal *journal_new(const char *path, mer_fsync_mode mode, char *error)
 {
     mer_journal *j = calloc(1, sizeof *j);
     if (j == NULL) {
@@ -121,6 +120,16 @@ mer_journal *mer_journal_create(const char *path, const char *first, size_t size
     }
     snprintf(j->path, sizeof j->path, "%s", path);
     j->mode = mode;
+    j->fd = -1;
+    return j;
+}
+
+mer_journal *mer_journal_create(const char *path, const char *first, size_t size,
+                                mer_fsync_mode mode, char *error)
+{
+    mer_journal *j = journal_new(path, mode, error);
+    if (j == NULL)
+        return NULL;
     j->fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
     if (j->fd < 0) {
         fail(error, "cannot create", path);
@@ -194,13 +203,9 @@ mer_journal *mer_journal_open(const char *path, mer_fsync_mode mode, mer_journal
     if (dropped != NULL)
         *dropped = size - at;
 
-    mer_journal *j = calloc(1, sizeof *j);
-    if (j == NULL) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "out of memory for a journal");
+    mer_journal *j = journal_new(path, mode, error);
+    if (j == NULL)
         return NULL;
-    }
-    snprintf(j->path, sizeof j->path, "%s", path);
-    j->mode = mode;
     j->size = (off_t)at;
     j->records = index;
     j->fd = open(path, O_WRONLY | O_APPEND | O_CLOEXEC);

@@ -144,7 +144,8 @@ long mer_registry_restore(mer_registry *r, FILE *log)
         names[n++] = strdup(e->d_name);
     }
     closedir(dir);
-    qsort(names, n, sizeof *names, cmp_names);
+    if (n > 1)
+        qsort(names, n, sizeof *names, cmp_names);
     long restored = 0;
     for (size_t i = 0; i < n; i++) {
         char path[4200], error[MER_JOURNAL_ERROR_MAX];

@@ -26,7 +26,7 @@ enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response
         if (origin != NULL && strcmp(origin, cors) == 0) {
             MHD_add_response_header(response, "Access-Control-Allow-Origin", cors);
             MHD_add_response_header(response, "Access-Control-Expose-Headers",
-                                    "ETag, Location, Meristem-Revision");
+                                    "ETag, Location, Meristem-Revision, Meristem-Interrupted");
             MHD_add_response_header(response, "Vary", "Origin");
         }
     }

@@ -76,6 +76,7 @@ static int lib_refusal(mer_refusal *why, mer_result rc, const mer_error *err, co
                       err->message);
 }
 
+/* Every key of `obj` must be allowed; `where` is its path ("" at the top). */
 static int only(const json_t *obj, const char *const *allowed, const char *where, mer_refusal *why)
 {
     const char *key;
@@ -85,8 +86,12 @@ static int only(const json_t *obj, const char *const *allowed, const char *where
         bool ok = false;
         for (const char *const *a = allowed; *a && !ok; a++)
             ok = strcmp(*a, key) == 0;
-        if (!ok)
-            return mer_refuse(why, 400, "unknown-field", where, "unknown field '%s' in %s", key, where);
+        if (!ok) {
+            char f[96];
+            snprintf(f, sizeof f, "%.60s%s%.30s", where, where[0] ? "." : "", key);
+            return mer_refuse(why, 400, "unknown-field", f, "unknown field '%s' in %s", key,
+                              where[0] ? where : "the session request");
+        }
     }
     return 0;
 }
@@ -94,6 +99,8 @@ static int only(const json_t *obj, const char *const *allowed, const char *where
 static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_refusal *why)
 {
     static const char *const kinds[] = {"box", "sphere", NULL};
+    static const char *const box_fields[] = {"min", "max", NULL};
+    static const char *const sphere_fields[] = {"center", "radius", NULL};
     if (!json_is_object(o) || json_object_size(o) != 1)
         return mer_refuse(why, 422, "invalid-field", w,
                           "%s must be {\"box\": {...}} or {\"sphere\": {...}}", w);
@@ -101,24 +108,37 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
         return -1;
     mer_error err = {0};
     mer_result rc;
-    char f[80];
+    char f[80], g[96];
     const json_t *b = json_object_get(o, "box");
     if (b != NULL) {
         float lo[3], hi[3];
         snprintf(f, sizeof f, "%s.box", w);
-        if (!json_is_object(b) || vec3(json_object_get(b, "min"), f, lo, why) ||
-            vec3(json_object_get(b, "max"), f, hi, why))
-            return why->status ? -1 : mer_refuse(why, 422, "invalid-field", f, "%s needs min and max", f);
+        if (!json_is_object(b))
+            return mer_refuse(why, 422, "invalid-field", f, "%s must be {\"min\", \"max\"}", f);
+        if (only(b, box_fields, f, why))
+            return -1;
+        snprintf(g, sizeof g, "%s.min", f);
+        if (vec3(json_object_get(b, "min"), g, lo, why))
+            return -1;
+        snprintf(g, sizeof g, "%s.max", f);
+        if (vec3(json_object_get(b, "max"), g, hi, why))
+            return -1;
         rc = mer_scene_add_box(scene, lo, hi, &err);
     } else {
         const json_t *sp = json_object_get(o, "sphere");
         float c[3];
         snprintf(f, sizeof f, "%s.sphere", w);
-        const json_t *r = json_is_object(sp) ? json_object_get(sp, "radius") : NULL;
-        if (!json_is_object(sp) || vec3(json_object_get(sp, "center"), f, c, why))
-            return why->status ? -1 : mer_refuse(why, 422, "invalid-field", f, "%s needs center and radius", f);
+        if (!json_is_object(sp))
+            return mer_refuse(why, 422, "invalid-field", f, "%s must be {\"center\", \"radius\"}", f);
+        if (only(sp, sphere_fields, f, why))
+            return -1;
+        snprintf(g, sizeof g, "%s.center", f);
+        if (vec3(json_object_get(sp, "center"), g, c, why))
+            return -1;
+        const json_t *r = json_object_get(sp, "radius");
+        snprintf(g, sizeof g, "%s.radius", f);
         if (!json_is_number(r))
-            return mer_refuse(why, 422, "invalid-field", f, "%s.radius must be a number", f);
+            return mer_refuse(why, 422, "invalid-field", g, "%s must be a number", g);
         rc = mer_scene_add_sphere(scene, c, (float)json_number_value(r), &err);
     }
     return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
@@ -160,7 +180,8 @@ static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_ref
 
 /* Builds the scene a create request describes. Deterministic: the journal's
  * first record rebuilds the same scene. */
-static mer_scene *scene_from_spec(const json_t *spec, mer_refusal *why)
+static mer_scene *scene_from_spec(const json_t *spec, const mer_edit_limits *limits,
+                                  mer_refusal *why)
 {
     static const char *const allowed[] = {"preset", "seed", "params", "scene", NULL};
     static const char *const scene_fields[] = {"plants", "markers", "obstacles", NULL};
@@ -168,7 +189,7 @@ static mer_scene *scene_from_spec(const json_t *spec, mer_refusal *why)
         mer_refuse(why, 422, "invalid-field", "body", "the body must be a JSON object ({} for defaults)");
         return NULL;
     }
-    if (only(spec, allowed, "the session", why))
+    if (only(spec, allowed, "", why))
         return NULL;
     const json_t *preset = json_object_get(spec, "preset");
     if (preset != NULL && !json_is_string(preset)) {
@@ -209,6 +230,21 @@ static mer_scene *scene_from_spec(const json_t *spec, mer_refusal *why)
         lib_refusal(why, MER_ERR_RANGE, &err, "params");
         return NULL;
     }
+    uint64_t marker_total = p.environment == MER_ENV_MARKERS ? p.marker_count : 0;
+    const json_t *vols = sc ? json_object_get(sc, "markers") : NULL;
+    size_t vi;
+    const json_t *vol;
+    json_array_foreach(vols, vi, vol) {
+        const json_t *c = json_object_get(vol, "count");
+        if (json_is_integer(c) && json_integer_value(c) > 0)
+            marker_total += (uint64_t)json_integer_value(c);
+    }
+    if (marker_total > limits->max_markers) {
+        mer_refuse(why, 422, "out-of-range", vols ? "scene.markers" : "params.marker_count",
+                   "a session may start with at most %u markers (meristemd --max-markers); this one "
+                   "asks for %llu", limits->max_markers, (unsigned long long)marker_total);
+        return NULL;
+    }
     mer_scene *scene = NULL;
     mer_result rc = mer_scene_new(&p, seed ? (uint64_t)json_integer_value(seed) : 0, &scene, &err);
     if (rc != MER_OK) {
@@ -218,17 +254,13 @@ static mer_scene *scene_from_spec(const json_t *spec, mer_refusal *why)
     size_t i;
     const json_t *item;
     char w[48];
-    json_array_foreach(plants, i, item) {
-        float base[3];
-        snprintf(w, sizeof w, "scene.plants[%zu]", i);
-        if (vec3(item, w, base, why) != 0 ||
-            ((rc = mer_scene_add_plant(scene, base, NULL, &err)) != MER_OK &&
-             lib_refusal(why, rc, &err, w)))
-            goto fail;
-    }
+    // Obstacles first: plants are checked against them, and they clear the
+    // markers filled after them.
     const json_t *obstacles = sc ? json_object_get(sc, "obstacles") : NULL;
-    if (obstacles != NULL && !json_is_array(obstacles)) {
-        mer_refuse(why, 422, "invalid-field", "scene.obstacles", "scene.obstacles must be an array");
+    const json_t *markers = sc ? json_object_get(sc, "markers") : NULL;
+    if ((obstacles != NULL && !json_is_array(obstacles)) || (markers != NULL && !json_is_array(markers))) {
+        const char *f = obstacles != NULL && !json_is_array(obstacles) ? "scene.obstacles" : "scene.markers";
+        mer_refuse(why, 422, "invalid-field", f, "%s must be an array", f);
         goto fail;
     }
     json_array_foreach(obstacles, i, item) {
@@ -236,10 +268,16 @@ static mer_scene *scene_from_spec(const json_t *spec, mer_refusal *why)
         if (add_obstacle(scene, item, w, why) != 0)
             goto fail;
     }
-    const json_t *markers = sc ? json_object_get(sc, "markers") : NULL;
-    if (markers != NULL && !json_is_array(markers)) {
-        mer_refuse(why, 422, "invalid-field", "scene.markers", "scene.markers must be an array");
-        goto fail;
+    json_array_foreach(plants, i, item) {
+        float base[3];
+        snprintf(w, sizeof w, "scene.plants[%zu]", i);
+        if (vec3(item, w, base, why) != 0)
+            goto fail;
+        if ((rc = mer_scene_add_plant(scene, base, NULL, &err)) != MER_OK) {
+            mer_refuse(why, rc == MER_ERR_LIMIT ? 409 : 422, rc == MER_ERR_LIMIT ? "limit" : "out-of-range",
+                       w, "%s: %s", w, err.message);
+            goto fail;
+        }
     }
     json_array_foreach(markers, i, item) {
         snprintf(w, sizeof w, "scene.markers[%zu]", i);
@@ -254,39 +292,6 @@ fail:
 
 /* ---------------------------------------------------------------- summary */
 
-static json_t *schedule_json(const mer_schedule *s)
-{
-    json_t *apical = json_array(), *scale = json_array(), *lk = json_array(), *ek = json_array();
-    for (int k = 0; k < MER_ORDERS_MAX; k++) {
-        json_array_append_new(apical, s->apical_off[k] == MER_NEVER
-                                          ? json_null()
-                                          : json_integer((json_int_t)s->apical_off[k]));
-        json_array_append_new(scale, mer_json_float(s->eta_order_scale[k]));
-    }
-    for (uint32_t k = 0; k < s->lambda_key_count; k++)
-        json_array_append_new(lk, json_pack("[o, o]", mer_json_float(s->lambda_keys[k].step),
-                                            mer_json_float(s->lambda_keys[k].value)));
-    for (uint32_t k = 0; k < s->eta_key_count; k++)
-        json_array_append_new(ek, json_pack("[o, o]", mer_json_float(s->eta_keys[k].step),
-                                            mer_json_float(s->eta_keys[k].value)));
-    return json_pack("{s:o, s:o, s:o, s:o}", "apical_off", apical, "eta_order_scale", scale,
-                     "lambda_keys", lk, "eta_keys", ek);
-}
-
-static json_t *params_json(const mer_params *p)
-{
-    json_t *o = json_object();
-    for (size_t i = 0; i < mer_params_field_count(); i++) {
-        const char *name = mer_params_field_name(i);
-        double v;
-        if (strncmp(name, "apical_off.", 11) == 0 || strncmp(name, "eta_order_scale.", 16) == 0)
-            continue;  // in the schedule
-        if (mer_params_get(p, name, &v, NULL) == MER_OK)
-            json_object_set_new(o, name, mer_json_param(v));
-    }
-    return o;
-}
-
 /* The summary of the scene as it is (caller holds `work`). */
 static json_t *build_summary(mer_session *s, uint64_t revision)
 {
@@ -298,8 +303,8 @@ static json_t *build_summary(mer_session *s, uint64_t revision)
     json_object_set_new(j, "preset", json_string(preset ? json_string_value(preset) : "default"));
     json_object_set_new(j, "seed", json_integer(seed ? json_integer_value(seed) : 0));
     const mer_params *p = mer_scene_params(s->scene);
-    json_object_set_new(j, "params", params_json(p));
-    json_object_set_new(j, "schedule", schedule_json(&p->schedule));
+    json_object_set_new(j, "params", mer_json_params(p));
+    json_object_set_new(j, "schedule", mer_json_schedule(&p->schedule));
     return j;
 }
 
@@ -404,7 +409,7 @@ mer_session *mer_session_create(const mer_session_config *cfg, const char *id, c
         mer_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
         return NULL;
     }
-    s->scene = scene_from_spec(spec, why);
+    s->scene = scene_from_spec(spec, &cfg->limits, why);
     if (s->scene == NULL) {
         session_free(s, false);
         return NULL;
@@ -445,7 +450,9 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         const json_t *id = json_object_get(doc, "id");
         if (create == NULL || !json_is_string(id) || strcmp(json_string_value(id), r->s->id) != 0)
             goto done;
-        r->s->scene = scene_from_spec(create, &why);
+        // Replay builds what was accepted once, whatever today's limits say.
+        const mer_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
+        r->s->scene = scene_from_spec(create, &unlimited, &why);
         r->s->spec = json_deep_copy(create);
         rc = r->s->scene != NULL ? 0 : -1;
     } else {

@@ -45,8 +45,9 @@ static const opt_spec specs[] = {
      "open connections at once"},
     {"max-connections-per-ip", OPT_LONG, 1, 65536, "256", NUM(per_ip_limit),
      "open connections from one address"},
-    {"connection-memory", OPT_LONG, 4096, 1L << 24, "65536", NUM(memory_limit),
-     "header buffer bytes per connection"},
+    {"connection-memory", OPT_LONG, 4096, 1L << 24, "16384", NUM(memory_limit),
+     "header buffer bytes per connection (libmicrohttpd clears it for every request, so "
+     "bigger is slower)"},
     {"timeout", OPT_LONG, 1, 86400, "60", NUM(timeout), "seconds an idle connection is kept"},
     {"quiet", OPT_FLAG, 0, 0, NULL, NUM(quiet), "no request log on stdout"},
     {"workers", OPT_LONG, 1, 256, "2", NUM(workers), "threads that step and mesh trees"},

@@ -31,6 +31,7 @@ TESTS += tests/api/cli.test.js
 TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
 TESTS += tests/api/security.test.js
+TESTS += tests/api/proto.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/conformance/validate.test.js
@@ -49,6 +50,7 @@ EXTRA_DIST += \
 	tests/api/sessions.test.js \
 	tests/api/durability.test.js \
 	tests/api/security.test.js \
+	tests/api/proto.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \

@@ -12,7 +12,7 @@ let d;
 const J = (method, p, body, headers) => api(d.url, method, p, body, headers);
 const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
 
-before(async () => { d = await startDaemon(['--max-steps', '200', '--max-markers', '5000']); });
+before(async () => { d = await startDaemon(['--max-steps', '200', '--max-markers', '30000']); });
 after(() => d.stop());
 
 async function create(body = {}) {
@@ -173,7 +173,8 @@ test('refusals: status, problem detail, and nothing changed', async () => {
   problem(await E({ op: 'bend', node: 1, axis: [0, 0, 0], angle: 10 }), 422, 'out-of-range', /zero vector/, 'axis');
   problem(await E({ op: 'add_markers', points: [[0, 1]] }), 422, 'invalid-field', /array of 3 numbers/, 'points[0]');
   problem(await E({ op: 'add_markers', center: [0, 1, 0], radius: 1, pressure: 2 }), 422, 'out-of-range', /pressure must be from/, 'pressure');
-  problem(await E({ op: 'add_markers', points: Array.from({ length: 5001 }, () => [0, 1, 0]) }), 422, 'out-of-range', /--max-markers/);
+  problem(await E({ op: 'add_markers', points: Array.from({ length: 30001 }, () => [0, 1, 0]) }), 422, 'out-of-range', /--max-markers/);
+  problem(await J('POST', '/v1/sessions', { scene: { markers: [{ volume: 'box', center: [0, 5, 0], size: [1, 1, 1], count: 30001 }] } }), 422, 'out-of-range', /at most 30000 markers/, 'scene.markers');
   problem(await E({ op: 'set_params', params: { lambda: 1.5 } }), 422, 'out-of-range', /lambda/, 'params.lambda');
   problem(await E({ op: 'set_params', params: { nonsense: 1 } }), 400, 'unknown-field', /unknown parameter/, 'params.nonsense');
   problem(await E({ op: 'set_apical_schedule', lambda_keys: [[5, 0.5], [2, 0.6]] }), 422, 'out-of-range', /increasing step order/);
