@@ -198,3 +198,14 @@ mer_result mer_scene_constrain(mer_scene *s, uint32_t node, uint32_t slot, mer_e
 }
 
 void mer_scene_unconstrain(mer_scene *s) { s->con_node = MER_NO_NODE; }
+
+int mer_scene_constraint(const mer_scene *s, uint32_t *node, uint32_t *slot)
+{
+    if (s->con_node == MER_NO_NODE)
+        return 0;
+    if (node != NULL)
+        *node = s->con_node;
+    if (slot != NULL)
+        *slot = s->con_slot;
+    return 1;
+}

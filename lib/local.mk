@@ -9,6 +9,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/markers.c \
 	lib/shadow.c \
 	lib/tree.c \
+	lib/solid.c \
 	lib/scene.c \
 	lib/grow.c \
 	lib/edit.c \

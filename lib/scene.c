@@ -1,6 +1,7 @@
 /* meristem — scenes: creation, environment set-up, read access (P09 §3, §4.1, §6). */
 #include "config.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -75,6 +76,8 @@ void mer_scene_free(mer_scene *s)
                       s->nint, s->vin, s->qb, s->vb, s->quiet, s->mark, s->roots, s->obs, s->bkey,
                       s->bpos, s->bdir, s->bq, s->bv, s->bquiet, s->pq, s->pv, s->pbuds, s->prank,
                       s->pscr, s->ptarget, s->stack};
+    for (uint32_t o = 0; o < s->nobs; o++)
+        merp_solid_free(s->obs[o].solid);
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
         free(arrays[i]);
     mer_markers_free(s->markers);
@@ -255,6 +258,120 @@ mer_result mer_scene_add_sphere(mer_scene *s, const float center[3], float radiu
     memcpy(o.a, center, sizeof o.a);
     o.r = radius;
     return add_obstacle(s, &o, err);
+}
+
+/* The checks mer_scene_add_mesh and mer_scene_fill_mesh_markers share. */
+static mer_result check_mesh(const float *xyz, size_t triangles, mer_error *err)
+{
+    if (triangles == 0 || xyz == NULL)
+        return mer_error_set(err, MER_ERR_INVALID, "triangles", "a mesh needs at least one triangle");
+    if (triangles > MER_MESH_TRIANGLES_MAX)
+        return mer_error_set(err, MER_ERR_LIMIT, "triangles",
+                             "a mesh holds at most %u triangles, got %zu",
+                             (unsigned)MER_MESH_TRIANGLES_MAX, triangles);
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (size_t i = 0; i < 9 * triangles; i++) {
+        float x = xyz[i];
+        if (!isfinite(x))
+            return mer_error_set(err, MER_ERR_INVALID, "xyz",
+                                 "coordinate %zu of triangle %zu is not a finite number",
+                                 i % 9, i / 9);
+        if (!(fabsf(x) <= MER_MESH_COORD_MAX))
+            return mer_error_set(err, MER_ERR_RANGE, "xyz",
+                                 "mesh coordinates must lie in [-%g, %g]; triangle %zu has %g",
+                                 (double)MER_MESH_COORD_MAX, (double)MER_MESH_COORD_MAX, i / 9,
+                                 (double)x);
+        int a = (int)(i % 3);
+        if (i < 3 || x < lo[a])
+            lo[a] = x;
+        if (i < 3 || x > hi[a])
+            hi[a] = x;
+    }
+    for (int a = 0; a < 3; a++)
+        if (!(hi[a] > lo[a]))
+            return mer_error_set(err, MER_ERR_RANGE, "xyz",
+                                 "the mesh is flat along %c: it encloses no volume", "xyz"[a]);
+    return MER_OK;
+}
+
+mer_result mer_scene_add_mesh(mer_scene *s, const float *xyz, size_t triangles, mer_error *err)
+{
+    mer_result rc = check_mesh(xyz, triangles, err);
+    if (rc != MER_OK)
+        return rc;
+    if (s->nobs >= MER_OBSTACLES_MAX) /* before the voxelization, which costs */
+        return mer_error_set(err, MER_ERR_LIMIT, "obstacles", "a scene holds at most %u obstacles",
+                             MER_OBSTACLES_MAX);
+    merp_obstacle o;
+    memset(&o, 0, sizeof o);
+    o.kind = MERP_OBS_MESH;
+    rc = merp_solid_new(xyz, triangles, &o.solid, err);
+    if (rc != MER_OK)
+        return rc;
+    merp_solid_bounds(o.solid, o.a, o.b);
+    rc = add_obstacle(s, &o, err);
+    if (rc != MER_OK)
+        merp_solid_free(o.solid);
+    return rc;
+}
+
+mer_result mer_scene_fill_mesh_markers(mer_scene *s, const float *xyz, size_t triangles,
+                                       uint32_t count, mer_error *err)
+{
+    mer_result rc = check_mesh(xyz, triangles, err);
+    if (rc != MER_OK)
+        return rc;
+    if (count > MER_MESH_FILL_MAX)
+        return mer_error_set(err, MER_ERR_LIMIT, "count",
+                             "a mesh volume takes at most %u markers, got %u",
+                             (unsigned)MER_MESH_FILL_MAX, (unsigned)count);
+    if (count == 0)
+        return MER_OK;
+    merp_solid *solid;
+    rc = merp_solid_new(xyz, triangles, &solid, err);
+    if (rc != MER_OK)
+        return rc;
+    size_t ncand = merp_solid_candidates(solid, NULL);
+    uint32_t *cand = malloc((ncand ? ncand : 1) * sizeof *cand);
+    float *pts = malloc((size_t)count * 3 * sizeof *pts);
+    if (cand == NULL || pts == NULL) {
+        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for mesh markers");
+        goto done;
+    }
+    merp_solid_candidates(solid, cand);
+    /* Rejection sampling: a cell drawn uniformly among those that may hold inside
+     * points (equal volumes), a point uniform in it, kept if inside. Uniform over
+     * the inside, and far fewer misses than drawing from the bounding box. */
+    mer_rng saved = s->rng;
+    uint64_t budget = (uint64_t)count * MER_MESH_FILL_TRIES + MER_MESH_FILL_TRIES_MIN;
+    uint64_t tries = 0;
+    for (uint32_t i = 0; i < count && rc == MER_OK; i++) {
+        for (;;) {
+            if (ncand == 0 || tries++ >= budget) {
+                s->rng = saved;
+                rc = mer_error_set(err, MER_ERR_RANGE, "xyz",
+                                   "the mesh encloses too little volume: %u of %u markers "
+                                   "placed in %llu draws",
+                                   (unsigned)i, (unsigned)count, (unsigned long long)budget);
+                break;
+            }
+            uint32_t c = cand[mer_rng_below(&s->rng, (uint32_t)ncand)];
+            float f[3];
+            for (int a = 0; a < 3; a++)
+                f[a] = mer_rng_float(&s->rng);
+            float *p = pts + 3 * (size_t)i;
+            merp_solid_cell_point(solid, c, f, p);
+            if (merp_solid_inside(solid, p))
+                break;
+        }
+    }
+    if (rc == MER_OK)
+        rc = mer_scene_add_markers(s, pts, count, err);
+done:
+    free(cand);
+    free(pts);
+    merp_solid_free(solid);
+    return rc;
 }
 
 mer_result mer_scene_add_markers(mer_scene *s, const float *xyz, size_t count, mer_error *err)
@@ -469,6 +586,22 @@ uint64_t mer_scene_hash(const mer_scene *s)
         h = fnv(h, s->side + 3 * i, 12);
         h = fnv(h, &s->len[i], 4);
         h = fnv(h, &s->dn[i], 4);
+    }
+    /* Obstacles only when there are some, so obstacle-free scenes keep the
+     * hashes they always had. */
+    if (s->nobs > 0) {
+        h = fnv(h, &s->nobs, sizeof s->nobs);
+        for (uint32_t o = 0; o < s->nobs; o++) {
+            const merp_obstacle *ob = &s->obs[o];
+            h = fnv(h, &ob->kind, sizeof ob->kind);
+            h = fnv(h, ob->a, sizeof ob->a);
+            h = fnv(h, ob->b, sizeof ob->b);
+            h = fnv(h, &ob->r, sizeof ob->r);
+            if (ob->solid != NULL) {
+                uint64_t d = merp_solid_digest(ob->solid);
+                h = fnv(h, &d, sizeof d);
+            }
+        }
     }
     size_t m = mer_markers_count(s->markers);
     float *xyz = malloc((m ? m : 1) * 3 * sizeof *xyz);

@@ -1,4 +1,4 @@
-/* meristem — the scene's full struct and the helpers scene.c, tree.c, grow.c and
+/* meristem — the scene's full struct and the helpers scene.c, tree.c, grow.c, solid.c and
  * edit.c share. Not installed. Helpers use the `merp_` prefix: they are not part
  * of the API, and the library's version script (mer_*) keeps them unexported. */
 #ifndef MERISTEM_SCENE_PRIVATE_H
@@ -15,13 +15,17 @@
 
 #define MERP_BRANCH_FLAG UINT32_C(0x80000000)
 
-enum { MERP_OBS_BOX = 1, MERP_OBS_SPHERE = 2 };
+enum { MERP_OBS_BOX = 1, MERP_OBS_SPHERE = 2, MERP_OBS_MESH = 3 };
+
+/* A triangle mesh's solid inside, voxelized once (solid.c). */
+typedef struct merp_solid merp_solid;
 
 typedef struct merp_obstacle {
     uint32_t kind;
-    float a[3]; /* box min, or sphere centre */
-    float b[3]; /* box max */
+    float a[3]; /* box min, sphere centre, or mesh bounding-box min */
+    float b[3]; /* box max, or mesh bounding-box max */
     float r;    /* sphere radius */
+    merp_solid *solid; /* mesh only; owned by the scene's obstacle array */
 } merp_obstacle;
 
 struct mer_scene {
@@ -87,5 +91,23 @@ void merp_shadow_obstacle(mer_scene *s, const merp_obstacle *o, int sign);
 int merp_blocked(const mer_scene *s, const float p[3]);
 void merp_side_next(const float side_prev[3], const float d[3], float divergence_deg,
                     float out[3]);
+
+/* solid.c: the inside of a triangle soup (9 floats per triangle, finite, not
+ * empty; checked by the caller). The definition, its robustness and costs are at
+ * the top of solid.c. merp_solid_new copies the triangles; O(triangles + cells +
+ * triangle-cell pairs), the pairs bounded there. */
+mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, mer_error *err);
+void merp_solid_free(merp_solid *s);
+/* 1 inside, 0 outside. O(1) away from the surface, else O(the triangles listed
+ * in the few cells each axis walks). */
+int merp_solid_inside(const merp_solid *s, const float p[3]);
+void merp_solid_bounds(const merp_solid *s, float lo[3], float hi[3]);
+/* FNV-1a of the triangles' bytes, computed once. */
+uint64_t merp_solid_digest(const merp_solid *s);
+/* The cells that may hold inside points (IN or SURFACE), by index, into `out`
+ * (NULL: count only). Returns their number. O(cells). */
+size_t merp_solid_candidates(const merp_solid *s, uint32_t *out);
+/* The point at fractions f (each in [0, 1)) across cell `cell`. */
+void merp_solid_cell_point(const merp_solid *s, uint32_t cell, const float f[3], float out[3]);
 
 #endif

@@ -168,6 +168,8 @@ mer_result merp_kill(mer_scene *s, uint32_t root, mer_error *err)
 
 static int inside_obstacle(const merp_obstacle *o, const float *p)
 {
+    if (o->kind == MERP_OBS_MESH)
+        return merp_solid_inside(o->solid, p); /* checks its bounding box first */
     if (o->kind == MERP_OBS_BOX)
         return p[0] >= o->a[0] && p[0] <= o->b[0] && p[1] >= o->a[1] && p[1] <= o->b[1] &&
                p[2] >= o->a[2] && p[2] <= o->b[2];
@@ -195,7 +197,7 @@ void merp_shadow_obstacle(mer_scene *s, const merp_obstacle *o, int sign)
     int dim[3];
     mer_shadow_dims(s->shadow, dim);
     float lo[3], hi[3];
-    if (o->kind == MERP_OBS_BOX) {
+    if (o->kind == MERP_OBS_BOX || o->kind == MERP_OBS_MESH) {
         memcpy(lo, o->a, sizeof lo);
         memcpy(hi, o->b, sizeof hi);
     } else {

@@ -90,3 +90,43 @@ json_t *mer_json_schedule(const mer_schedule *s)
     return json_pack("{s:o, s:o, s:o, s:o}", "apical_off", apical, "eta_order_scale", scale,
                      "lambda_keys", lk, "eta_keys", ek);
 }
+
+int mer_base64_decode(const char *in, uint8_t **out, size_t *size)
+{
+    size_t n = strlen(in);
+    while (n > 0 && in[n - 1] == '=')
+        n--;
+    if (n % 4 == 1)
+        return -1;
+    uint8_t *buf = malloc(n / 4 * 3 + 3);
+    if (buf == NULL)
+        return -1;
+    size_t o = 0;
+    uint32_t acc = 0;
+    for (size_t i = 0; i < n; i++) {
+        char c = in[i];
+        int v = c >= 'A' && c <= 'Z' ? c - 'A'
+              : c >= 'a' && c <= 'z' ? c - 'a' + 26
+              : c >= '0' && c <= '9' ? c - '0' + 52
+              : c == '+' ? 62 : c == '/' ? 63 : -1;
+        if (v < 0) {
+            free(buf);
+            return -1;
+        }
+        acc = acc << 6 | (uint32_t)v;
+        if (i % 4 == 3) {
+            buf[o++] = (uint8_t)(acc >> 16);
+            buf[o++] = (uint8_t)(acc >> 8);
+            buf[o++] = (uint8_t)acc;
+        }
+    }
+    if (n % 4 == 2) {
+        buf[o++] = (uint8_t)(acc >> 4);
+    } else if (n % 4 == 3) {
+        buf[o++] = (uint8_t)(acc >> 10);
+        buf[o++] = (uint8_t)(acc >> 2);
+    }
+    *out = buf;
+    *size = o;
+    return 0;
+}

@@ -4,6 +4,8 @@
 #define MERISTEM_CODEC_H
 
 #include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
 
 #include <jansson.h>
 
@@ -36,6 +38,11 @@ bool mer_param_in_schedule(const char *name);
 /* json_dumps flags for replies: compact, reals with 15 significant digits
  * (enough for every double that came from a float via mer_json_float). */
 #define MER_JSON_DUMP_FLAGS (JSON_COMPACT | JSON_REAL_PRECISION(15))
+
+/* Decodes standard base64 (RFC 4648 §4, padding optional, no whitespace)
+ * into *out (caller frees). 0, or -1 for a character outside the alphabet or a
+ * bad length. */
+int mer_base64_decode(const char *in, uint8_t **out, size_t *size);
 
 /* Parses a colour mode name ("none", "order", "light", "age"). -1 if unknown. */
 int mer_color_mode_parse(const char *name);

@@ -96,9 +96,28 @@ static int only(const json_t *obj, const char *const *allowed, const char *where
     return 0;
 }
 
+/* The triangles of a base64 glTF/GLB in a request (caller frees *xyz with
+ * mer_gltf_free). */
+static int gltf_triangles(const json_t *v, const char *f, float **xyz, size_t *triangles,
+                          mer_refusal *why)
+{
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    if (!json_is_string(v) || mer_base64_decode(json_string_value(v), &bytes, &size) != 0)
+        return mer_refuse(why, 422, "invalid-field", f,
+                          "%s must be a base64 string of a .glb, or of a .gltf with embedded buffers", f);
+    mer_error err = {0};
+    mer_result rc = mer_gltf_read_triangles(bytes, size, MER_MESH_TRIANGLES_MAX, xyz, triangles, &err);
+    free(bytes);
+    if (rc != MER_OK)
+        return mer_refuse(why, rc == MER_ERR_LIMIT ? 413 : 422, "invalid-gltf", f, "%s: %s", f,
+                          err.message);
+    return 0;
+}
+
 static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_refusal *why)
 {
-    static const char *const kinds[] = {"box", "sphere", NULL};
+    static const char *const kinds[] = {"box", "sphere", "gltf", NULL};
     static const char *const box_fields[] = {"min", "max", NULL};
     static const char *const sphere_fields[] = {"center", "radius", NULL};
     if (!json_is_object(o) || json_object_size(o) != 1)
@@ -109,6 +128,17 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
     mer_error err = {0};
     mer_result rc;
     char f[80], g[96];
+    const json_t *mesh = json_object_get(o, "gltf");
+    if (mesh != NULL) {
+        float *xyz = NULL;
+        size_t triangles = 0;
+        snprintf(f, sizeof f, "%s.gltf", w);
+        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
+            return -1;
+        rc = mer_scene_add_mesh(scene, xyz, triangles, &err);
+        mer_gltf_free(xyz);
+        return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
+    }
     const json_t *b = json_object_get(o, "box");
     if (b != NULL) {
         float lo[3], hi[3];
@@ -144,13 +174,35 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
     return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
 }
 
+/* A marker volume: a shape ({"volume", "center", "size", "count"}) or the
+ * inside of a triangle mesh ({"gltf", "count"}). */
 static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_refusal *why)
 {
     static const char *const allowed[] = {"volume", "center", "size", "count", NULL};
+    static const char *const mesh_fields[] = {"gltf", "count", NULL};
     if (!json_is_object(m))
         return mer_refuse(why, 422, "invalid-field", w, "%s must be an object", w);
-    if (only(m, allowed, w, why))
+    const json_t *mesh = json_object_get(m, "gltf");
+    if (only(m, mesh != NULL ? mesh_fields : allowed, w, why))
         return -1;
+    const json_t *count = json_object_get(m, "count");
+    char cf[80];
+    snprintf(cf, sizeof cf, "%s.count", w);
+    if (!json_is_integer(count) || json_integer_value(count) < 1 || json_integer_value(count) > 2000000)
+        return mer_refuse(why, 422, "out-of-range", cf, "%s must be an integer from 1 to 2000000", cf);
+    if (mesh != NULL) {
+        float *xyz = NULL;
+        size_t triangles = 0;
+        char f[80];
+        snprintf(f, sizeof f, "%s.gltf", w);
+        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
+            return -1;
+        mer_error err = {0};
+        mer_result rc = mer_scene_fill_mesh_markers(scene, xyz, triangles,
+                                                    (uint32_t)json_integer_value(count), &err);
+        mer_gltf_free(xyz);
+        return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
+    }
     const json_t *v = json_object_get(m, "volume");
     uint32_t kind = 0;
     for (size_t i = 0; json_is_string(v) && i < sizeof volumes / sizeof volumes[0]; i++)
@@ -168,13 +220,9 @@ static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_ref
     snprintf(f, sizeof f, "%s.size", w);
     if (vec3(json_object_get(m, "size"), f, size, why))
         return -1;
-    const json_t *c = json_object_get(m, "count");
-    snprintf(f, sizeof f, "%s.count", w);
-    if (!json_is_integer(c) || json_integer_value(c) < 1 || json_integer_value(c) > 2000000)
-        return mer_refuse(why, 422, "out-of-range", f, "%s must be an integer from 1 to 2000000", f);
     mer_error err = {0};
     mer_result rc = mer_scene_fill_markers(scene, kind, center, size,
-                                           (uint32_t)json_integer_value(c), &err);
+                                           (uint32_t)json_integer_value(count), &err);
     return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, w);
 }
 
@@ -303,6 +351,11 @@ static json_t *build_summary(mer_session *s, uint64_t revision)
     json_object_set_new(j, "preset", json_string(preset ? json_string_value(preset) : "default"));
     json_object_set_new(j, "seed", json_integer(seed ? json_integer_value(seed) : 0));
     const mer_params *p = mer_scene_params(s->scene);
+    uint32_t node, slot;
+    json_object_set_new(j, "constraint", mer_scene_constraint(s->scene, &node, &slot)
+                                             ? json_pack("{s:i, s:i}", "node", (json_int_t)node,
+                                                         "bud", (json_int_t)slot)
+                                             : json_null());
     json_object_set_new(j, "params", mer_json_params(p));
     json_object_set_new(j, "schedule", mer_json_schedule(&p->schedule));
     return j;

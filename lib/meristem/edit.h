@@ -77,6 +77,11 @@ mer_result mer_scene_constrain(mer_scene *s, uint32_t node, uint32_t slot, mer_e
 /* Lifts the constraint (no-op when none). O(1). */
 void mer_scene_unconstrain(mer_scene *s);
 
+/* The growth constraint: returns 1 and fills `*node` and `*slot` (either may be
+ * NULL) when growth is constrained to a bud, else 0 and leaves them. Pruning the
+ * constrained node (or an ancestor) lifts the constraint. O(1). */
+int mer_scene_constraint(const mer_scene *s, uint32_t *node, uint32_t *slot);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,8 +1,8 @@
 /* meristem — a scene: plants growing in one shared environment (P09 §3, §4, §6).
  *
  * A scene holds one or more plants (trees of metamers), the environment they share
- * (marker set for space colonization, shadow grid for shadow propagation, box and
- * sphere obstacles, the ground plane), the parameters and developmental schedule,
+ * (marker set for space colonization, shadow grid for shadow propagation, box,
+ * sphere and triangle-mesh obstacles, the ground plane), the parameters and developmental schedule,
  * and one deterministic random generator. Same parameters, seed and sequence of
  * calls give bit-identical scenes (mer_scene_hash).
  *
@@ -84,6 +84,11 @@ typedef enum mer_bud_state {
 #define MER_NODES_MAX (UINT32_C(50) * 1000 * 1000)
 #define MER_PLANTS_MAX 10000u
 #define MER_OBSTACLES_MAX 1000u
+#define MER_MESH_TRIANGLES_MAX 1000000u  /* triangles in one mesh obstacle or volume */
+#define MER_MESH_COORD_MAX 1e6f          /* |coordinate| of a mesh vertex */
+#define MER_MESH_FILL_MAX 20000000u      /* markers one mer_scene_fill_mesh_markers makes */
+#define MER_MESH_FILL_TRIES 64u          /* draws allowed per marker, on average... */
+#define MER_MESH_FILL_TRIES_MIN 4096u    /* ...plus these, per call */
 
 /* Creates a scene from `params` (NULL or all-zero: defaults) and `seed`: validates
  * the parameters, builds the grids, places params->seedlings seedlings along x
@@ -130,6 +135,56 @@ mer_result mer_scene_add_box(mer_scene *s, const float min[3], const float max[3
                              mer_error *err);
 mer_result mer_scene_add_sphere(mer_scene *s, const float center[3], float radius,
                                 mer_error *err);
+
+/* Triangle meshes (a glTF/GLB via mer_gltf_read_triangles, or built by hand):
+ * `xyz` holds `triangles` triangles, 9 floats each (three world-space vertices),
+ * caller-owned and copied. The mesh's inside is solid:
+ *
+ *   a point is inside when it lies in the mesh's bounding box and at least two of
+ *   the three axis rays from it (+x, +y, +z) cross the triangles an odd number of
+ *   times.
+ *
+ * For a closed mesh that is exactly its interior, whatever the winding (flipped
+ * or mixed windings give the same solid). A slightly open mesh (a missing
+ * triangle, a crack) still works: a hole misleads only the rays through it, and
+ * the majority vote outweighs one misled axis. Rays through shared edges and
+ * vertices count once (a consistent tie rule), rays grazing a face count none.
+ * Points exactly on the surface may fall either way.
+ *
+ * Cost: the inside is voxelized once when the mesh is given, into a cache grid of
+ * its own (up to 128 cells along its longest side, independent of the scene's
+ * grids), so a point query is O(1) away from the surface and O(the triangles in a
+ * few cells) near it. For a closed mesh the cache changes no answer; for an open
+ * one, rays are judged from cell centres (lib/solid.c says how), a close
+ * approximation. Building costs O(triangles + cells + triangle-cell pairs), the
+ * pairs bounded (the cache coarsens for huge triangles): about 0.4 s for a
+ * million triangles. Memory: 36 bytes per triangle, a byte per cell, 4 bytes per
+ * triangle-cell pair.
+ *
+ * Errors (nothing changes): MER_ERR_INVALID "triangles" when there is none (or
+ * `xyz` is NULL), MER_ERR_LIMIT "triangles" past MER_MESH_TRIANGLES_MAX,
+ * MER_ERR_INVALID "xyz" for a coordinate that is not finite, MER_ERR_RANGE "xyz"
+ * for one past ±MER_MESH_COORD_MAX or a mesh that is flat along an axis,
+ * MER_ERR_NOMEM. */
+
+/* Adds a mesh obstacle: like a box or sphere it removes the markers inside it,
+ * shades (its voxels fully, and a pyramid from each voxel of its top surface) and
+ * blocks shoots. MER_ERR_LIMIT "obstacles" past MER_OBSTACLES_MAX; the other
+ * errors as above. It counts in mer_scene_hash (by a digest of its triangles).
+ * O(build + markers + voxels in its box · q_max²). */
+mer_result mer_scene_add_mesh(mer_scene *s, const float *xyz, size_t triangles, mer_error *err);
+
+/* Adds `count` markers uniformly distributed inside the mesh (a marker volume),
+ * drawn from the scene's generator: deterministic. Rejection sampling: a cache
+ * cell that may hold inside points is drawn uniformly, then a point uniform in
+ * it, kept if inside. At most count·MER_MESH_FILL_TRIES + MER_MESH_FILL_TRIES_MIN
+ * draws; past that (a mesh with almost no inside, e.g. an open sheet)
+ * MER_ERR_RANGE "xyz", no marker is added and the generator is left as it was.
+ * As with mer_scene_add_markers, markers inside obstacles (this mesh too, if it
+ * was added as one) or below the ground are dropped. MER_ERR_LIMIT "count" past
+ * MER_MESH_FILL_MAX; the other errors as above. O(build + count). */
+mer_result mer_scene_fill_mesh_markers(mer_scene *s, const float *xyz, size_t triangles,
+                                       uint32_t count, mer_error *err);
 
 /* Adds `count` markers (xyz triples, caller-owned) to the set S. Markers inside
  * obstacles or below the ground are dropped. O(count). */
@@ -207,7 +262,7 @@ uint32_t mer_scene_node_bound(const mer_scene *s);
  * MER_ERR_RANGE (field "node") if id >= mer_scene_node_bound. O(1). */
 mer_result mer_scene_node(const mer_scene *s, uint32_t id, mer_node *out, mer_error *err);
 
-/* A 64-bit FNV-1a hash of the step, every node's data, bud states and markers:
+/* A 64-bit FNV-1a hash of the step, every node's data, bud states, obstacles and markers:
  * equal hashes for equal scenes, for determinism checks. O(nodes + markers). */
 uint64_t mer_scene_hash(const mer_scene *s);
 

@@ -82,6 +82,46 @@ test('create with a preset, seed, params and a scene', async () => {
   assert.ok(s.markers > 20000, `${s.markers} markers: the preset's and the box's`);
 });
 
+// A box as a .gltf with its buffer embedded, base64 as the API wants it.
+function boxGltf(min, max) {
+  const [a, b] = [min, max];
+  const v = [[a[0], a[1], a[2]], [b[0], a[1], a[2]], [b[0], b[1], a[2]], [a[0], b[1], a[2]],
+    [a[0], a[1], b[2]], [b[0], a[1], b[2]], [b[0], b[1], b[2]], [a[0], b[1], b[2]]];
+  const idx = [0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5];
+  const pos = Buffer.from(new Float32Array(v.flat()).buffer);
+  const ind = Buffer.from(new Uint16Array(idx).buffer);
+  const data = Buffer.concat([pos, ind]);
+  const doc = {
+    asset: { version: '2.0' }, scene: 0, scenes: [{ nodes: [0] }], nodes: [{ mesh: 0 }],
+    meshes: [{ primitives: [{ attributes: { POSITION: 0 }, indices: 1 }] }],
+    buffers: [{ byteLength: data.length, uri: `data:application/octet-stream;base64,${data.toString('base64')}` }],
+    bufferViews: [{ buffer: 0, byteOffset: 0, byteLength: pos.length }, { buffer: 0, byteOffset: pos.length, byteLength: ind.length }],
+    accessors: [{ bufferView: 0, componentType: 5126, count: 8, type: 'VEC3', min: a, max: b },
+      { bufferView: 1, componentType: 5123, count: 36, type: 'SCALAR' }],
+  };
+  return Buffer.from(JSON.stringify(doc)).toString('base64');
+}
+
+test('a glTF mesh as an obstacle: a roof stops the tree; as a marker volume', async () => {
+  const roof = boxGltf([-30, 6, -30], [30, 7, 30]);
+  const open = (await create({ seed: 2 })).body.id;
+  const roofed = (await create({ seed: 2, scene: { obstacles: [{ gltf: roof }] } })).body.id;
+  const grow = async (id) => (await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 12 })).body;
+  const [a, b] = [await grow(open), await grow(roofed)];
+  assert.ok(a.height > 8, `open tree ${a.height}`);
+  assert.ok(b.height <= 6.01, `the roofed tree stays under the roof: ${b.height}`);
+  // A plant inside the mesh is refused, naming the plant.
+  problem(await J('POST', '/v1/sessions', { scene: { plants: [[0, 6.5, 0]], obstacles: [{ gltf: roof }] } }),
+    422, 'out-of-range', /scene\.plants\[0\]/, 'scene.plants[0]');
+  problem(await J('POST', '/v1/sessions', { scene: { obstacles: [{ gltf: 'not base64!' }] } }), 422, 'invalid-field', /base64/, 'scene.obstacles[0].gltf');
+  problem(await J('POST', '/v1/sessions', { scene: { obstacles: [{ gltf: Buffer.from('{"asset":{}}').toString('base64') }] } }), 422, 'invalid-gltf', /glTF/, 'scene.obstacles[0].gltf');
+  // The inside of a mesh filled with markers.
+  const base = (await create({ preset: 'fig4-colonization', seed: 1 })).body.markers;
+  const filled = (await create({ preset: 'fig4-colonization', seed: 1,
+    scene: { markers: [{ gltf: boxGltf([20, 5, 20], [24, 9, 24]), count: 500 }] } })).body.markers;
+  assert.equal(filled - base, 500);
+});
+
 test('GET /v1/sessions lists sessions; GET /v1/presets lists presets and parameters', async () => {
   const { body: { id } } = await create();
   const list = await J('GET', '/v1/sessions');
@@ -133,8 +173,10 @@ test('every edit op, one at a time, moves the revision on', async () => {
 
   r = await E({ op: 'add_markers', center: [0, 3, 0], radius: 2, constrain: { node: 0, bud: 1 } });
   assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.deepEqual(r.body.constraint, { node: 0, bud: 1 });
   r = await E({ op: 'release' });
   assert.equal(r.body.revision, 9);
+  assert.equal(r.body.constraint, null);
 });
 
 test('a batch applies in order, and all or none', async () => {

@@ -45,20 +45,28 @@ wrk -t2 -c64 -d5s "$base/v1/sessions/$id" | grep -E 'Requests/sec|Latency'
 # A one-step edit changes the tree, so each sample needs its own copy of the
 # 10,000-internode tree: the same preset, seed and steps give the same tree.
 steps=$(curl -sS "$base/v1/sessions/$id" | sed -n 's/.*"step":\([0-9]*\).*/\1/p')
-echo "== one-step edit answered with the GLB, on 100 copies of that tree (step $steps)"
-: >"$data/times"
-i=0
-while [ $i -lt 100 ]; do
-  sid=$(post "$base/v1/sessions" -d '{"preset":"fig7-bh-0.54","seed":1}' | sed -n 's/.*"id":"\([0-9a-f]*\)".*/\1/p')
-  post "$base/v1/sessions/$sid/edits" -d "{\"op\":\"step\",\"count\":$steps}" >/dev/null
-  post -o /dev/null -w '%{time_total}\n' -H 'Accept: model/gltf-binary' \
-    "$base/v1/sessions/$sid/edits" -d '{"op":"step","count":1}' >>"$data/times"
-  curl -sS -X DELETE "$base/v1/sessions/$sid"
-  i=$((i + 1))
-done
-sort -n "$data/times" | awk '{ t[NR] = $1 * 1000 } END {
-  printf "   p50 %.1f ms  p90 %.1f ms  p99 %.1f ms  max %.1f ms  (%d samples)\n",
-         t[int(NR * 0.5)], t[int(NR * 0.9)], t[int(NR * 0.99)], t[NR], NR }'
+edit_latency() {
+  echo "== one-step edit answered with the GLB, 100 copies of that tree (step $steps), $1"
+  : >"$data/times"
+  i=0
+  while [ $i -lt 100 ]; do
+    sid=$(post "$base/v1/sessions" -d '{"preset":"fig7-bh-0.54","seed":1}' | sed -n 's/.*"id":"\([0-9a-f]*\)".*/\1/p')
+    post "$base/v1/sessions/$sid/edits" -d "{\"op\":\"step\",\"count\":$steps}" >/dev/null
+    post -o /dev/null -w '%{time_total}\n' -H 'Accept: model/gltf-binary' \
+      "$base/v1/sessions/$sid/edits" -d '{"op":"step","count":1}' >>"$data/times"
+    curl -sS -X DELETE "$base/v1/sessions/$sid"
+    i=$((i + 1))
+  done
+  sort -n "$data/times" | awk '{ t[NR] = $1 * 1000 } END {
+    printf "   p50 %.1f ms  p90 %.1f ms  p99 %.1f ms  max %.1f ms  (%d samples)\n",
+           t[int(NR * 0.5)], t[int(NR * 0.9)], t[int(NR * 0.99)], t[NR], NR }'
+}
+edit_latency "--fsync=always (the default: every reply waits for the disk)"
+kill $pid; wait $pid 2>/dev/null || true
+rm -rf "$data/j"
+start --fsync=interval
+id=$(post "$base/v1/sessions" -d '{"preset":"fig7-bh-0.54","seed":1}' | sed -n 's/.*"id":"\([0-9a-f]*\)".*/\1/p')
+edit_latency "--fsync=interval"
 kill $pid; wait $pid 2>/dev/null || true
 rm -rf "$data/j"
 

@@ -42,6 +42,11 @@ tests_unit_test_scene_SOURCES = tests/unit/test_scene.c
 tests_unit_test_scene_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_scene_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_obstacles
+tests_unit_test_obstacles_SOURCES = tests/unit/test_obstacles.c
+tests_unit_test_obstacles_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_obstacles_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_presets
 tests_unit_test_presets_SOURCES = tests/unit/test_presets.c
 tests_unit_test_presets_CPPFLAGS = $(UNIT_CPPFLAGS)
