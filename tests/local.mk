@@ -34,6 +34,7 @@ TESTS += tests/api/security.test.js
 TESTS += tests/api/proto.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
+TESTS += tests/browser/brush.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
@@ -54,6 +55,7 @@ EXTRA_DIST += \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
+	tests/browser/brush.test.js \
 	tests/conformance/validate.test.js
 
 clean-local: clean-artifacts
@@ -62,3 +64,4 @@ clean-artifacts:
 .PHONY: clean-artifacts
 EXTRA_DIST += build-aux/tap-driver.sh
 include tests/bench/local.mk
+include tests/gallery/local.mk

@@ -13,6 +13,7 @@ fi
 rm -rf "$out.tmp"
 mkdir -p "$out.tmp"
 while [ $# -gt 0 ] && [ "$1" != -- ]; do
+  case $1 in */*) mkdir -p "$out.tmp/${1%/*}" ;; esac
   cp "$src/$1" "$out.tmp/$1"
   shift
 done

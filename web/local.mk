@@ -4,7 +4,8 @@
 # node_modules/three/... paths, so web/ itself also works as a web root while
 # editing the page. `make install` installs the same tree as $(pkgdatadir)/web.
 webdir = $(pkgdatadir)/web
-WEB_FILES = index.html style.css favicon.svg
+WEB_FILES = index.html style.css favicon.svg \
+	js/app.js js/api.js js/viewer.js js/brush.js js/tools.js js/panels.js
 THREE_PARTS = \
 	LICENSE \
 	build/three.module.js \
@@ -14,9 +15,12 @@ THREE_PARTS = \
 	examples/jsm/utils/BufferGeometryUtils.js \
 	examples/jsm/utils/SkeletonUtils.js
 EXTRA_DIST += web/index.html web/style.css web/favicon.svg \
-	web/package.json web/package-lock.json web/assemble.sh
+	web/js/app.js web/js/api.js web/js/viewer.js web/js/brush.js web/js/tools.js web/js/panels.js \
+	web/package.json web/package-lock.json web/assemble.sh web/GALLERY.md
 
 webroot/.stamp: $(srcdir)/web/index.html $(srcdir)/web/style.css $(srcdir)/web/favicon.svg \
+		$(srcdir)/web/js/app.js $(srcdir)/web/js/api.js $(srcdir)/web/js/viewer.js \
+		$(srcdir)/web/js/brush.js $(srcdir)/web/js/tools.js $(srcdir)/web/js/panels.js \
 		$(srcdir)/web/package-lock.json $(srcdir)/web/assemble.sh
 	$(AM_V_GEN)$(SHELL) $(srcdir)/web/assemble.sh '$(srcdir)/web' '$(WEB_MODULES_DIR)' webroot \
 		$(WEB_FILES) -- $(THREE_PARTS)
