@@ -228,9 +228,11 @@ enum MHD_Result mer_api_health(mer_request *req, const char *id)
     return mer_reply(req, 200, r, health_size);
 }
 
-enum MHD_Result mer_api_presets(mer_request *req, const char *id)
+/* The presets never change while meristemd runs: their JSON is built once. */
+static char *presets_text;
+
+static void build_presets(void)
 {
-    (void)id;
     json_t *presets = json_array(), *fields = json_array();
     for (size_t i = 0; i < mer_preset_count(); i++) {
         mer_params p;
@@ -254,9 +256,24 @@ enum MHD_Result mer_api_presets(mer_request *req, const char *id)
                                                 mer_json_param(v)));
     }
     json_t *body = json_pack("{s:o, s:o}", "presets", presets, "parameters", fields);
-    enum MHD_Result ok = mer_reply_json(req, 200, body);
+    presets_text = json_dumps(body, MER_JSON_DUMP_FLAGS);
     json_decref(body);
-    return ok;
+}
+
+enum MHD_Result mer_api_presets(mer_request *req, const char *id)
+{
+    (void)id;
+    static pthread_once_t once = PTHREAD_ONCE_INIT;
+    pthread_once(&once, build_presets);
+    if (presets_text == NULL)
+        return MHD_NO;
+    size_t size = strlen(presets_text);
+    struct MHD_Response *r =
+        MHD_create_response_from_buffer(size, presets_text, MHD_RESPMEM_PERSISTENT);
+    if (r == NULL)
+        return MHD_NO;
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+    return mer_reply(req, 200, r, size);
 }
 
 enum MHD_Result mer_api_metrics(mer_request *req, const char *id)

@@ -16,7 +16,7 @@ THREE_PARTS = \
 	examples/jsm/utils/SkeletonUtils.js
 EXTRA_DIST += web/index.html web/style.css web/favicon.svg \
 	web/js/app.js web/js/api.js web/js/viewer.js web/js/brush.js web/js/tools.js web/js/panels.js \
-	web/package.json web/package-lock.json web/assemble.sh web/GALLERY.md
+	web/package.json web/package-lock.json web/assemble.sh
 
 webroot/.stamp: $(srcdir)/web/index.html $(srcdir)/web/style.css $(srcdir)/web/favicon.svg \
 		$(srcdir)/web/js/app.js $(srcdir)/web/js/api.js $(srcdir)/web/js/viewer.js \

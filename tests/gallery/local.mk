@@ -1,5 +1,5 @@
 # `make gallery`: every preset grown for a few tens of steps and rendered to
-# gallery/PRESET.png through the brush client in headless Chromium (web/GALLERY.md).
+# gallery/PRESET.png through the brush client in headless Chromium (README.md, section Gallery).
 gallery: all
 	$(MKDIR_P) gallery
 	MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_builddir)/webroot' \
