@@ -40,6 +40,12 @@ static void priority(mer_params *p, float kappa)
      * the best-lit buds, so little is lost to ⌊v⌋ and α = 2 makes it grow several
      * times faster than BH; α = 1 gives a comparable pace. */
     p->alpha = 1.0f;
+    /* These trees outgrow the default 100-high box within 25 steps (the shadow
+     * grid then reuses its top layer and the crown flattens): give them the
+     * paper's 200³ grid (§6). */
+    p->bounds_min[0] = p->bounds_min[2] = -100.0f;
+    p->bounds_max[0] = p->bounds_max[2] = 100.0f;
+    p->bounds_max[1] = 200.0f;
     p->w_max = 1.0f;        /* Fig. 9 */
     p->w_min = 0.006f;
     p->kappa = kappa;
@@ -97,11 +103,26 @@ static void fig13(mer_params *p)
 }
 static void fig14(mer_params *p)
 {
-    bh(p, 0.56f);
-    p->q_max = 8;              /* a deep, soft, dense penumbra (a = 0.2, b = 1.3) shades */
-    p->shadow_b = 1.3f;        /* the lower crown */
-    p->shadow_a = 0.2f;
-    p->shed_threshold = 0.25f; /* shed branches whose light per internode is < 0.25 */
+    /* P09 §4.4: a bole forms when the lower branches fall into the shade of the crown
+     * above and are shed. The shadow of a bud reaches q_max voxels down, so the crown
+     * must overhang the lower branches: the young tree is excurrent (λ 0.55, a tall
+     * leader with short laterals) and becomes decurrent (λ falls to 0.42 from step 10
+     * to 18), so its crown spreads over the early branches. Coarse voxels (2) and a
+     * slow attenuation (b 1.3) carry the crown's shadow 16 units down; a light per
+     * internode under 0.22 sheds a branch. Grown for 40 steps, the tree stands about
+     * 130 tall: the scene is made 160 high. */
+    bh(p, 0.55f);
+    p->alpha = 3.0f;
+    p->schedule.lambda_key_count = 3;
+    p->schedule.lambda_keys[0] = (mer_keyframe){0.0f, 0.55f};
+    p->schedule.lambda_keys[1] = (mer_keyframe){10.0f, 0.55f};
+    p->schedule.lambda_keys[2] = (mer_keyframe){18.0f, 0.42f};
+    p->voxel = 2.0f;
+    p->shadow_a = 0.05f;
+    p->shadow_b = 1.3f;
+    p->q_max = 8;
+    p->bounds_max[1] = 160.0f;
+    p->shed_threshold = 0.22f;
 }
 static void fig15_brushed(mer_params *p)
 {
@@ -144,7 +165,7 @@ static const preset presets[] = {
     {"fig12c", "Fig. 12c: large downward tropism η = -0.5, large ξ = 0.6", fig12c},
     {"fig12d", "Fig. 12d: large downward tropism η = -0.5, small ξ = 0.1", fig12d},
     {"fig13-tropism-late", "Fig. 13: downward tropism rising from step 25 to 35", fig13},
-    {"fig14-tall-bole", "Fig. 14: shedding (threshold 0.25) under a deep, dense penumbra (q_max 8, a 0.2, b 1.3) raises a tall bole", fig14},
+    {"fig14-tall-bole", "Fig. 14: shedding (threshold 0.22) under a crown that turns decurrent (λ 0.55 to 0.42) raises a tall bole; grow 40 steps", fig14},
     {"fig15-brushed", "Fig. 15: space colonization from a seedling and one light stroke; brush to go on", fig15_brushed},
     {"fig4-colonization", "Fig. 4: space colonization in an ellipsoid of 20000 markers", fig4_colonization},
 };
