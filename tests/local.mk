@@ -35,6 +35,7 @@ TESTS += tests/api/proto.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
+TESTS += tests/browser/controls.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
@@ -56,6 +57,7 @@ EXTRA_DIST += \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
 	tests/browser/brush.test.js \
+	tests/browser/controls.test.js \
 	tests/conformance/validate.test.js
 
 clean-local: clean-artifacts
