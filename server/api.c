@@ -152,7 +152,6 @@ static int query_uint(mer_request *req, const char *key, uint32_t lo, uint32_t h
 
 static int snapshot_options(mer_request *req, mer_snapshot_options *o, mer_refusal *why)
 {
-    static const char *const known[] = {"detail", "leaves", "markers", "color", "quantize"};
     memset(o, 0, sizeof *o);
     o->mesh.detail = 3;
     uint32_t quantize = 1;
@@ -174,7 +173,6 @@ static int snapshot_options(mer_request *req, mer_snapshot_options *o, mer_refus
                               "color must be none, order, light or age, got '%.40s'", color);
         o->mesh.color = (uint32_t)mode;
     }
-    (void)known;
     return 0;
 }
 

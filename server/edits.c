@@ -586,11 +586,6 @@ int mer_batch_decode(const json_t *body, const mer_edit_limits *lim, mer_batch *
     return 0;
 }
 
-size_t mer_batch_size(const mer_batch *b)
-{
-    return b->count;
-}
-
 void mer_batch_free(mer_batch *b)
 {
     if (b == NULL)

@@ -48,7 +48,6 @@ typedef struct mer_batch mer_batch;
 int mer_batch_decode(const json_t *body, const mer_edit_limits *limits, mer_batch **out,
                      mer_refusal *why);
 
-size_t mer_batch_size(const mer_batch *b);
 void mer_batch_free(mer_batch *b);
 
 /* How a batch went: steps done of those asked, and whether it stopped early. */

@@ -37,17 +37,6 @@ enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response
     return ok;
 }
 
-enum MHD_Result mer_reply_bytes(mer_request *req, unsigned status, const char *content_type,
-                                const void *body, size_t size)
-{
-    struct MHD_Response *response =
-        MHD_create_response_from_buffer(size, (void *)body, MHD_RESPMEM_MUST_COPY);
-    if (response == NULL)
-        return MHD_NO;
-    MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
-    return mer_reply(req, status, response, size);
-}
-
 enum MHD_Result mer_reply_json(mer_request *req, unsigned status, const json_t *json)
 {
     char *text = json_dumps(json, MER_JSON_DUMP_FLAGS);

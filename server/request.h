@@ -52,10 +52,6 @@ struct MHD_Response *mer_problem_response(unsigned status, const char *slug, con
 /* The reason phrase for a status, for problem titles. */
 const char *mer_status_title(unsigned status);
 
-/* Queues `body` (copied) with `status` and `content_type`. Returns libmicrohttpd's verdict. */
-enum MHD_Result mer_reply_bytes(mer_request *req, unsigned status, const char *content_type,
-                                const void *body, size_t size);
-
 /* Queues `json` (borrowed, compact, UTF-8) as application/json. */
 enum MHD_Result mer_reply_json(mer_request *req, unsigned status, const json_t *json);
 
