@@ -8,12 +8,16 @@
 #define TINYGLTF_IMPLEMENTATION
 #include "tinygltf_private.h"
 
+#include <meshoptimizer.h>
+
 #include <array>
 #include <cfloat>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <new>
 #include <sstream>
+#include <stdexcept>
 
 #include <meristem/gltf.h>
 #include <meristem/mesh.h>
@@ -23,7 +27,7 @@ namespace {
 
 // One run of bytes in the BIN chunk, filled from caller memory at write time so
 // the big arrays are copied exactly once.
-enum class Fill { Copy, U32ToF32, U32ToU16, QuantizePosition, QuantizeNormal };
+enum class Fill { Copy, U32ToF32, U32ToU16, QuantizePosition, QuantizeNormal, QuantizeColor };
 
 struct Blob {
     const void *src;
@@ -57,8 +61,15 @@ inline int8_t quantize_normal(float n)
     return static_cast<int8_t>(round_clamped(static_cast<double>(n) * 127.0, 127));
 }
 
+// A colour channel in [0, 1] as a normalized UNSIGNED_BYTE.
+inline uint8_t quantize_unit(float c)
+{
+    return static_cast<uint8_t>(std::max(0, round_clamped(static_cast<double>(c) * 255.0, 255)));
+}
+
 // Output bytes per element: Copy keeps the source width; a quantized position
-// is 3 SHORTs padded to 8 bytes, a quantized normal 3 BYTEs padded to 4.
+// is 3 SHORTs padded to 8 bytes, a quantized normal 3 BYTEs padded to 4, a
+// quantized colour 4 UNSIGNED_BYTEs.
 size_t out_elem(Fill fill, size_t elem)
 {
     switch (fill) {
@@ -67,6 +78,7 @@ size_t out_elem(Fill fill, size_t elem)
     case Fill::U32ToU16: return 2;
     case Fill::QuantizePosition: return 8;
     case Fill::QuantizeNormal: return 4;
+    case Fill::QuantizeColor: return 4;
     }
     return elem;
 }
@@ -117,7 +129,8 @@ struct Writer {
     // accessor reads at its own offset (hence a byteStride, glTF 2.0 §3.6.2.4).
     int vertex_view(const void *src, size_t vertices, int components, Fill fill = Fill::Copy)
     {
-        if (fill == Fill::QuantizePosition || fill == Fill::QuantizeNormal) {
+        if (fill == Fill::QuantizePosition || fill == Fill::QuantizeNormal ||
+            fill == Fill::QuantizeColor) {
             size_t stride = out_elem(fill, 0);
             return view(src, vertices, 0, fill, TINYGLTF_TARGET_ARRAY_BUFFER, static_cast<int>(stride));
         }
@@ -195,6 +208,12 @@ struct Writer {
                                    quantize_normal(src[3 * i + 2]), 0};
                     std::memcpy(dst + 4 * i, q, 4);
                 }
+                break;
+            }
+            case Fill::QuantizeColor: {
+                const float *src = static_cast<const float *>(b.src);
+                for (size_t i = 0; i < 4 * b.count; i++)
+                    dst[i] = quantize_unit(src[i]);
                 break;
             }
             case Fill::U32ToU16: {
@@ -289,7 +308,9 @@ void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, int 
                         ? w.vertex_view(p.normals, n, 3, q ? Fill::QuantizeNormal : Fill::Copy)
                         : -1;
     const int uv = p.uvs != nullptr ? w.vertex_view(p.uvs, n, 2) : -1;
-    const int col = p.colors != nullptr ? w.vertex_view(p.colors, n, 4) : -1;
+    const int col = p.colors != nullptr
+                        ? w.vertex_view(p.colors, n, 4, q ? Fill::QuantizeColor : Fill::Copy)
+                        : -1;
     const int ids = p.node_ids != nullptr ? w.vertex_view(p.node_ids, n, 1, Fill::U32ToF32) : -1;
     for (uint32_t c = 0; c < p.chunk_count; c++) {
         const mer_mesh_chunk &ch = p.chunks[c];
@@ -309,9 +330,14 @@ void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, int 
         if (uv >= 0)
             prim.attributes["TEXCOORD_0"] = w.accessor(uv, first * 8, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                                        TINYGLTF_TYPE_VEC2, count);
-        if (col >= 0)
-            prim.attributes["COLOR_0"] = w.accessor(col, first * 16, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                    TINYGLTF_TYPE_VEC4, count);
+        if (col >= 0) {
+            prim.attributes["COLOR_0"] =
+                q ? w.accessor(col, first * 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
+                               count)
+                  : w.accessor(col, first * 16, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, count);
+            if (q)
+                w.model.accessors.back().normalized = true;
+        }
         // Node ids as FLOAT: UNSIGNED_INT is for indices only.
         if (ids >= 0)
             prim.attributes["_NODE_ID"] = w.accessor(ids, first * 4, TINYGLTF_COMPONENT_TYPE_FLOAT,
@@ -448,21 +474,28 @@ void put_u32(uint8_t *p, uint32_t v)
     p[3] = static_cast<uint8_t>(v >> 24);
 }
 
-// GLB: tinygltf serializes the JSON; header, chunks and the BIN data are laid
-// out here, straight from the caller's arrays (glTF 2.0 §4.4).
-mer_result write_binary(Writer &w, uint8_t **out, size_t *out_size, mer_error *err)
+// tinygltf serializes the JSON; the GLB's buffer 0 is the BIN chunk (tinygltf
+// would write an empty buffer as a data URI).
+nlohmann::json json_of(Writer &w)
 {
     std::ostringstream stream;
     tinygltf::TinyGLTF gltf;
     if (!gltf.WriteGltfSceneToStream(&w.model, stream, false, false))
-        return mer_error_set(err, MER_ERR_INTERNAL, nullptr, "tinygltf could not encode the JSON");
-    // tinygltf writes an empty buffer as a data URI; the GLB's buffer 0 is the BIN chunk instead.
+        throw std::runtime_error("tinygltf could not encode the JSON");
     nlohmann::json doc = nlohmann::json::parse(stream.str());
     doc["buffers"] = nlohmann::json::array({{{"byteLength", w.bin_size}}});
+    return doc;
+}
+
+// Lays out header, JSON chunk and BIN chunk (glTF 2.0 §4.4); `fill_bin` writes
+// the `bin_size` BIN bytes in place.
+template <typename F>
+mer_result assemble_glb(const nlohmann::json &doc, size_t bin_size, F &&fill_bin, uint8_t **out,
+                        size_t *out_size, mer_error *err)
+{
     std::string text = doc.dump();
     text.append((4 - text.size() % 4) % 4, ' ');  // the JSON chunk pads with spaces
-
-    const size_t total = 12 + 8 + text.size() + (w.bin_size ? 8 + w.bin_size : 0);
+    const size_t total = 12 + 8 + text.size() + (bin_size ? 8 + bin_size : 0);
     if (total > UINT32_MAX)
         return mer_error_set(err, MER_ERR_LIMIT, nullptr,
                              "the GLB would be %zu bytes, over the format's 4 GiB; lower the detail",
@@ -476,15 +509,86 @@ mer_result write_binary(Writer &w, uint8_t **out, size_t *out_size, mer_error *e
     put_u32(glb + 12, static_cast<uint32_t>(text.size()));
     std::memcpy(glb + 16, "JSON", 4);
     std::memcpy(glb + 20, text.data(), text.size());
-    if (w.bin_size) {
+    if (bin_size) {
         uint8_t *chunk = glb + 20 + text.size();
-        put_u32(chunk, static_cast<uint32_t>(w.bin_size));
+        put_u32(chunk, static_cast<uint32_t>(bin_size));
         std::memcpy(chunk + 4, "BIN\0", 4);
-        w.fill(chunk + 8);
+        fill_bin(chunk + 8);
     }
     *out = glb;
     *out_size = total;
     return MER_OK;
+}
+
+// GLB with the BIN data straight from the caller's arrays.
+mer_result write_binary(Writer &w, uint8_t **out, size_t *out_size, mer_error *err)
+{
+    return assemble_glb(json_of(w), w.bin_size, [&w](uint8_t *bin) { w.fill(bin); }, out,
+                        out_size, err);
+}
+
+// EXT_meshopt_compression asks for index codec 1 and vertex codec 0; the
+// library's version switches are process-wide, so they are set once.
+void meshopt_versions()
+{
+    static std::once_flag once;
+    std::call_once(once, [] {
+        meshopt_encodeIndexVersion(1);
+        meshopt_encodeVertexVersion(0);
+    });
+}
+
+// GLB with every bufferView compressed (see gltf.h): the uncompressed BIN is
+// laid out first, then each view is encoded from it into the BIN chunk.
+mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *err)
+{
+    meshopt_versions();
+    nlohmann::json doc = json_of(w);
+    std::vector<uint8_t> raw(w.bin_size), packed;
+    w.fill(raw.data());
+    for (size_t i = 0; i < w.blobs.size(); i++) {
+        const Blob &b = w.blobs[i];
+        const tinygltf::BufferView &view = w.model.bufferViews[i];
+        const bool indices = view.target == TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
+        const size_t at = packed.size();
+        size_t stride, count, written;
+        if (indices) {
+            // The encoder reads 32-bit indices: the caller's own array.
+            const uint32_t *idx = static_cast<const uint32_t *>(b.src);
+            uint32_t vertices = 0;
+            for (size_t k = 0; k < b.count; k++)
+                vertices = std::max(vertices, idx[k] + 1);
+            stride = b.size / b.count;
+            count = b.count;
+            packed.resize(at + meshopt_encodeIndexSequenceBound(count, vertices));
+            written = meshopt_encodeIndexSequence(packed.data() + at, packed.size() - at, idx, count);
+        } else {
+            stride = view.byteStride;
+            count = b.size / stride;
+            packed.resize(at + meshopt_encodeVertexBufferBound(count, stride));
+            written = meshopt_encodeVertexBuffer(packed.data() + at, packed.size() - at,
+                                                 raw.data() + b.offset, count, stride);
+        }
+        if (written == 0)
+            return mer_error_set(err, MER_ERR_INTERNAL, nullptr,
+                                 "meshoptimizer could not encode bufferView %zu", i);
+        packed.resize(at + ((written + 3u) & ~size_t{3}));  // views start 4-aligned
+        std::fill(packed.begin() + static_cast<std::ptrdiff_t>(at + written), packed.end(), 0);
+        nlohmann::json ext = {{"buffer", 0},          {"byteOffset", at},   {"byteLength", written},
+                              {"byteStride", stride}, {"count", count},
+                              {"mode", indices ? "INDICES" : "ATTRIBUTES"}};
+        nlohmann::json &v = doc["bufferViews"][i];
+        v["buffer"] = 1;
+        v["extensions"]["EXT_meshopt_compression"] = ext;
+    }
+    doc["buffers"] = nlohmann::json::array(
+        {{{"byteLength", packed.size()}},
+         {{"byteLength", w.bin_size}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
+    doc["extensionsUsed"].push_back("EXT_meshopt_compression");
+    doc["extensionsRequired"].push_back("EXT_meshopt_compression");
+    return assemble_glb(doc, packed.size(),
+                        [&packed](uint8_t *bin) { std::memcpy(bin, packed.data(), packed.size()); },
+                        out, out_size, err);
 }
 
 // .gltf with the buffer embedded as base64: tinygltf does it all (debugging aid).
@@ -528,6 +632,11 @@ mer_result write_checked(const mer_mesh &mesh, const mer_gltf_meta *meta,
         return mer_error_set(err, MER_ERR_RANGE, "format", "format must be binary or embedded");
     if (options.unquantized > 1)
         return mer_error_set(err, MER_ERR_RANGE, "unquantized", "must be 0 or 1");
+    if (options.compression > MER_GLTF_MESHOPT)
+        return mer_error_set(err, MER_ERR_RANGE, "compression", "compression must be none or meshopt");
+    if (options.compression != MER_GLTF_UNCOMPRESSED && options.format != MER_GLTF_BINARY)
+        return mer_error_set(err, MER_ERR_RANGE, "compression",
+                             "meshopt compression is for binary glTF (.glb) only");
     return guarded(err, [&]() {
         mer_result rc = check_part(mesh.bark, prefix.empty() ? prefix : prefix + "bark.", err);
         if (rc == MER_OK)
@@ -537,8 +646,10 @@ mer_result write_checked(const mer_mesh &mesh, const mer_gltf_meta *meta,
         Writer w;
         w.quantized = options.unquantized == 0;
         build_tree(w, mesh, meta);
-        return options.format == MER_GLTF_BINARY ? write_binary(w, out, out_size, err)
-                                                 : write_embedded(w, out, out_size, err);
+        if (options.format == MER_GLTF_EMBEDDED)
+            return write_embedded(w, out, out_size, err);
+        return options.compression == MER_GLTF_MESHOPT ? write_meshopt(w, out, out_size, err)
+                                                       : write_binary(w, out, out_size, err);
     });
 }
 

@@ -62,8 +62,9 @@ static mer_result resolve_options(const mer_mesh_options *in, const mer_params *
     if (out->detail > MER_MESH_DETAIL_MAX)
         return mer_error_set(err, MER_ERR_RANGE, "detail", "detail must be from 1 to %d, got %u",
                              MER_MESH_DETAIL_MAX, out->detail);
-    if (out->leaves > 1 || out->markers > 1)
-        return mer_error_set(err, MER_ERR_RANGE, out->leaves > 1 ? "leaves" : "markers",
+    if (out->leaves > 1 || out->markers > 1 || out->no_uvs > 1)
+        return mer_error_set(err, MER_ERR_RANGE,
+                             out->leaves > 1 ? "leaves" : out->markers > 1 ? "markers" : "no_uvs",
                              "must be 0 or 1");
     if (out->color > MER_COLOR_AGE)
         return mer_error_set(err, MER_ERR_RANGE, "color",
@@ -140,7 +141,7 @@ static uint32_t leaves_per_node(const builder *b)
 }
 
 static mer_result allocate_part(mer_mesh_part *part, uint64_t vertices, uint64_t indices,
-                                bool colors, mer_error *err)
+                                bool colors, bool uvs, mer_error *err)
 {
     if (vertices > UINT32_MAX || indices > UINT32_MAX)
         return mer_error_set(err, MER_ERR_LIMIT, NULL,
@@ -151,12 +152,12 @@ static mer_result allocate_part(mer_mesh_part *part, uint64_t vertices, uint64_t
         return MER_OK;
     part->positions = malloc(vertices * 3 * sizeof(float));
     part->normals = malloc(vertices * 3 * sizeof(float));
-    part->uvs = malloc(vertices * 2 * sizeof(float));
+    part->uvs = uvs ? malloc(vertices * 2 * sizeof(float)) : NULL;
     part->node_ids = malloc(vertices * sizeof(uint32_t));
     part->indices = malloc(indices * sizeof(uint32_t));
     part->colors = colors ? malloc(vertices * 4 * sizeof(float)) : NULL;
-    if (!part->positions || !part->normals || !part->uvs || !part->node_ids || !part->indices ||
-        (colors && !part->colors))
+    if (!part->positions || !part->normals || (uvs && !part->uvs) || !part->node_ids ||
+        !part->indices || (colors && !part->colors))
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for %llu vertices",
                              (unsigned long long)vertices);
     return MER_OK;
@@ -226,8 +227,10 @@ static inline uint32_t put_vertex(builder *b, cursor *c, const float p[3], const
     uint32_t k = c->v++;
     memcpy(part->positions + 3 * k, p, 3 * sizeof(float));
     memcpy(part->normals + 3 * k, nrm, 3 * sizeof(float));
-    part->uvs[2 * k] = u;
-    part->uvs[2 * k + 1] = v;
+    if (part->uvs != NULL) {
+        part->uvs[2 * k] = u;
+        part->uvs[2 * k + 1] = v;
+    }
     part->node_ids[k] = node->id;
     if (part->colors != NULL)
         color_of(b, node, part->colors + 4 * k);
@@ -527,9 +530,10 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
     if (b.opt.leaves)
         for (uint32_t id = 0; id < b.node_count; id++)
             leaf_count += has_leaf_at(&b, &b.nodes[id]) ? leaves_per_node(&b) : 0;
-    bool colors = b.opt.color != MER_COLOR_NONE;
-    if ((rc = allocate_part(&b.mesh->bark, bark_v, bark_i, colors, err)) != MER_OK ||
-        (rc = allocate_part(&b.mesh->leaves, 4 * leaf_count, 6 * leaf_count, colors, err)) != MER_OK)
+    bool colors = b.opt.color != MER_COLOR_NONE, uvs = !b.opt.no_uvs;
+    if ((rc = allocate_part(&b.mesh->bark, bark_v, bark_i, colors, uvs, err)) != MER_OK ||
+        (rc = allocate_part(&b.mesh->leaves, 4 * leaf_count, 6 * leaf_count, colors, uvs, err)) !=
+            MER_OK)
         goto done;
     b.bark.part = &b.mesh->bark;
     b.leaves.part = &b.mesh->leaves;

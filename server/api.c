@@ -154,13 +154,23 @@ static int snapshot_options(mer_request *req, mer_snapshot_options *o, mer_refus
 {
     memset(o, 0, sizeof *o);
     o->mesh.detail = 3;
-    uint32_t quantize = 1;
+    uint32_t quantize = 1, texcoords = 1;
     if (query_uint(req, "detail", 1, MER_MESH_DETAIL_MAX, &o->mesh.detail, why) ||
         query_uint(req, "leaves", 0, 1, &o->mesh.leaves, why) ||
         query_uint(req, "markers", 0, 1, &o->mesh.markers, why) ||
-        query_uint(req, "quantize", 0, 1, &quantize, why))
+        query_uint(req, "quantize", 0, 1, &quantize, why) ||
+        query_uint(req, "texcoords", 0, 1, &texcoords, why))
         return -1;
     o->unquantized = !quantize;
+    o->mesh.no_uvs = !texcoords;
+    const char *compress = query(req, "compress");
+    if (compress != NULL) {
+        if (strcmp(compress, "meshopt") == 0)
+            o->compression = MER_GLTF_MESHOPT;
+        else if (strcmp(compress, "none") != 0)
+            return mer_refuse(why, 422, "out-of-range", "compress",
+                              "compress must be none or meshopt, got '%.40s'", compress);
+    }
     const char *color = query(req, "color");
     if (color != NULL) {
         static const char *const names[] = {"none", "order", "light", "age"};

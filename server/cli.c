@@ -30,6 +30,7 @@ typedef struct grow_args {
     const char *output;
     mer_mesh_options mesh;
     uint32_t unquantized;
+    uint32_t compression;
 } grow_args;
 
 static void usage(FILE *out)
@@ -47,6 +48,9 @@ static void usage(FILE *out)
             "  --markers          add the marker points\n"
             "  --color=MODE       vertex colours: none, order, light or age (default none)\n"
             "  --unquantized      float positions and normals (no KHR_mesh_quantization)\n"
+            "  --no-texcoords     leave out the UVs (for viewers that draw no texture)\n"
+            "  --compress=MODE    none or meshopt (EXT_meshopt_compression; .glb only;\n"
+            "                     three.js reads it, Blender does not)\n"
             "  --help, --version\n");
 }
 
@@ -136,7 +140,8 @@ static int grow(const grow_args *a)
         mer_gltf_options gopt = {
             .format = n >= 5 && strcmp(a->output + n - 5, ".gltf") == 0 ? MER_GLTF_EMBEDDED
                                                                         : MER_GLTF_BINARY,
-            .unquantized = a->unquantized};
+            .unquantized = a->unquantized,
+            .compression = a->compression};
         mer_gltf_meta meta = {.step = mer_scene_step_index(scene), .preset = a->preset,
                               .seed = a->seed, .detail = a->mesh.detail ? a->mesh.detail : 3,
                               .leaves = a->mesh.leaves, .markers = a->mesh.markers,
@@ -195,13 +200,16 @@ int main(int argc, char **argv)
     }
 
     grow_args a = {.preset = "default", .steps = 20};
-    enum { O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED };
+    enum { O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
+           O_NO_TEXCOORDS, O_COMPRESS };
     static const struct option longopts[] = {
         {"preset", required_argument, NULL, O_PRESET}, {"steps", required_argument, NULL, O_STEPS},
         {"seed", required_argument, NULL, O_SEED},     {"set", required_argument, NULL, O_SET},
         {"output", required_argument, NULL, 'o'},      {"detail", required_argument, NULL, O_DETAIL},
         {"leaves", no_argument, NULL, O_LEAVES},       {"markers", no_argument, NULL, O_MARKERS},
         {"color", required_argument, NULL, O_COLOR},   {"unquantized", no_argument, NULL, O_UNQUANTIZED},
+        {"no-texcoords", no_argument, NULL, O_NO_TEXCOORDS},
+        {"compress", required_argument, NULL, O_COMPRESS},
         {0, 0, 0, 0}};
     optind = 2;
     int c;
@@ -241,6 +249,14 @@ int main(int argc, char **argv)
         case O_LEAVES: a.mesh.leaves = 1; break;
         case O_MARKERS: a.mesh.markers = 1; break;
         case O_UNQUANTIZED: a.unquantized = 1; break;
+        case O_NO_TEXCOORDS: a.mesh.no_uvs = 1; break;
+        case O_COMPRESS:
+            if (strcmp(optarg, "none") != 0 && strcmp(optarg, "meshopt") != 0) {
+                fprintf(stderr, "meristem: --compress wants none or meshopt, got '%s'\n", optarg);
+                return 2;
+            }
+            a.compression = strcmp(optarg, "meshopt") == 0 ? MER_GLTF_MESHOPT : MER_GLTF_UNCOMPRESSED;
+            break;
         case O_COLOR: {
             int mode = mer_color_mode_parse(optarg);
             if (mode < 0) {

@@ -722,8 +722,9 @@ bool mer_session_cancel(mer_session *s)
 
 static void options_key(const mer_snapshot_options *o, char *out, size_t n)
 {
-    snprintf(out, n, "d%ul%um%uc%uq%u", o->mesh.detail ? o->mesh.detail : 3, o->mesh.leaves,
-             o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1);
+    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u", o->mesh.detail ? o->mesh.detail : 3,
+             o->mesh.leaves, o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1,
+             o->mesh.no_uvs ? 0 : 1, o->compression);
 }
 
 void mer_session_etag(mer_session *s, const mer_snapshot_options *options, char *etag)
@@ -760,7 +761,9 @@ int mer_session_snapshot(mer_session *s, const mer_snapshot_options *options, me
                               .leaves = options->mesh.leaves,
                               .markers = options->mesh.markers,
                               .color = options->mesh.color};
-        mer_gltf_options gopt = {.format = MER_GLTF_BINARY, .unquantized = options->unquantized};
+        mer_gltf_options gopt = {.format = MER_GLTF_BINARY,
+                                 .unquantized = options->unquantized,
+                                 .compression = options->compression};
         rc = mer_gltf_write_tree(mesh, &meta, &gopt, &snap->bytes, &snap->size, &err);
     }
     mer_mesh_free(mesh);

@@ -77,6 +77,7 @@ bool mer_session_cancel(mer_session *s);
 typedef struct mer_snapshot_options {
     mer_mesh_options mesh;
     uint32_t unquantized;
+    uint32_t compression; /* mer_gltf_compression */
 } mer_snapshot_options;
 
 /* The current tree as GLB for `options`, from the per-session cache when the

@@ -12,6 +12,7 @@ THREE_PARTS = \
 	build/three.core.js \
 	examples/jsm/controls/OrbitControls.js \
 	examples/jsm/loaders/GLTFLoader.js \
+	examples/jsm/libs/meshopt_decoder.module.js \
 	examples/jsm/utils/BufferGeometryUtils.js \
 	examples/jsm/utils/SkeletonUtils.js
 EXTRA_DIST += web/index.html web/style.css web/favicon.svg \

@@ -43,6 +43,27 @@ test('--set overrides a parameter and --color, --markers, .gltf work', () => {
   assert.ok('COLOR_0' in doc.meshes[0].primitives[0].attributes);
 });
 
+test('--compress=meshopt --no-texcoords writes the compact GLB the brush client reads', () => {
+  const args = ['grow', '--preset', 'fig7-bh-0.54', '--steps', '12', '--seed', '3', '--leaves'];
+  assert.equal(run([...args, '-o', out('cli-plain.tmp.glb')]).status, 0);
+  const r = run([...args, '--compress', 'meshopt', '--no-texcoords', '-o', out('cli-meshopt.glb')]);
+  assert.equal(r.status, 0, r.stderr);
+  const glb = fs.readFileSync(out('cli-meshopt.glb'));
+  const doc = JSON.parse(glb.subarray(20, 20 + glb.readUInt32LE(12)).toString('utf8'));
+  assert.ok(doc.extensionsRequired.includes('EXT_meshopt_compression'));
+  assert.ok(doc.meshes[0].primitives.every((p) => !('TEXCOORD_0' in p.attributes)));
+  const plain = fs.readFileSync(out('cli-plain.tmp.glb'));
+  fs.rmSync(out('cli-plain.tmp.glb'));
+  assert.ok(glb.length * 2.5 < plain.length, `${glb.length} vs ${plain.length} bytes`);
+  const bad = run(['grow', '--compress', 'zip']);
+  assert.equal(bad.status, 2);
+  assert.match(bad.stderr, /--compress wants none or meshopt/);
+  const gltf = run(['grow', '--compress', 'meshopt', '-o', out('cli-meshopt.tmp.gltf')]);
+  assert.equal(gltf.status, 1);
+  assert.match(gltf.stderr, /binary glTF \(\.glb\) only/);
+  assert.ok(!fs.existsSync(out('cli-meshopt.tmp.gltf')));
+});
+
 test('mistakes are named with the allowed range', () => {
   let r = run(['grow', '--preset', 'nope']);
   assert.equal(r.status, 1);

@@ -245,17 +245,31 @@ test('snapshots: GLB, ETag by revision and options, 304, options as query', asyn
   assert.equal(r.status, 200);
   assert.equal(r.headers.get('content-type'), 'model/gltf-binary');
   const etag = r.headers.get('etag');
-  assert.equal(etag, '"r1-d3l0m0c0q1"');
+  assert.equal(etag, '"r1-d3l0m0c0q1t1z0"');
   const glb = Buffer.from(await r.arrayBuffer());
   assert.equal(glb.subarray(0, 4).toString('latin1'), 'glTF');
   artifact('api-snapshot.glb', glb);
   assert.equal((await fetch(url, { headers: { 'If-None-Match': etag } })).status, 304);
   const leafy = await fetch(`${url}?detail=5&leaves=1&color=order&quantize=0`);
-  assert.equal(leafy.headers.get('etag'), '"r1-d5l1m0c1q0"');
+  assert.equal(leafy.headers.get('etag'), '"r1-d5l1m0c1q0t1z0"');
   const leafyBytes = Buffer.from(await leafy.arrayBuffer());
   assert.ok(leafyBytes.length > glb.length);
   artifact('api-snapshot-leaves.glb', leafyBytes);
   problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?detail=9`), 422, 'out-of-range', /detail must be an integer from 1 to 5/, 'detail');
+  // The brush client's compact snapshot: meshopt-compressed, no UVs, a third of the bytes.
+  const compact = await fetch(`${url}?leaves=1&texcoords=0&compress=meshopt`);
+  assert.equal(compact.status, 200);
+  assert.equal(compact.headers.get('etag'), '"r1-d3l1m0c0q1t0z1"');
+  const compactBytes = Buffer.from(await compact.arrayBuffer());
+  const doc = JSON.parse(compactBytes.subarray(20, 20 + compactBytes.readUInt32LE(12)).toString('utf8'));
+  assert.deepEqual(doc.extensionsRequired, ['KHR_mesh_quantization', 'EXT_meshopt_compression']);
+  assert.ok(doc.bufferViews.every((v) => v.buffer === 1 && v.extensions.EXT_meshopt_compression.buffer === 0));
+  assert.ok(doc.meshes[0].primitives.every((p) => !('TEXCOORD_0' in p.attributes) && '_NODE_ID' in p.attributes));
+  const full = Buffer.from(await (await fetch(`${url}?leaves=1`)).arrayBuffer());
+  assert.ok(compactBytes.length * 2.5 < full.length, `${compactBytes.length} vs ${full.length} bytes`);
+  artifact('api-snapshot-meshopt.glb', compactBytes);
+  problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?compress=zip`), 422, 'out-of-range', /compress must be none or meshopt/, 'compress');
+  problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?texcoords=2`), 422, 'out-of-range', /texcoords must be an integer from 0 to 1/, 'texcoords');
   // After an edit the old ETag no longer matches.
   await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 1 });
   assert.equal((await fetch(url, { headers: { 'If-None-Match': etag } })).status, 200);

@@ -5,6 +5,8 @@
 #    its peak memory is its own.
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree.
 # `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
+# `make bench-page`: the brush client loading and drawing 10,000-internode
+# snapshots in headless Chromium (needs node, the npm test tools, chromium).
 EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh
 tests_bench_bench_SOURCES = tests/bench/bench.c
 tests_bench_bench_LDADD = lib/libmeristem-core.la
@@ -13,7 +15,7 @@ tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
 CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
-EXTRA_DIST += tests/bench/http-bench.sh
+EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js
 
 BENCH_WORKLOADS = table1-fig10-left table1-fig10-center table1-fig10-right colonization-1M-markers
 
@@ -24,4 +26,8 @@ bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
 
 bench-http: server/meristemd$(EXEEXT)
 	@$(SHELL) $(srcdir)/tests/bench/http-bench.sh server/meristemd$(EXEEXT)
-.PHONY: bench bench-http
+
+bench-page: server/meristemd$(EXEEXT) webroot/.stamp
+	@MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_builddir)/webroot' \
+	  NODE_PATH='$(NODE_MODULES_DIR)' CHROMIUM='$(CHROMIUM)' '$(NODE)' $(srcdir)/tests/bench/page-load.js
+.PHONY: bench bench-http bench-page

@@ -405,6 +405,12 @@ test('the canvas is not blank', async () => {
   await shot('final');
 });
 
+// The issue's figure: loading a snapshot of a 10,000-internode tree and drawing it, in
+// this headless Chromium (software WebGL). Timings are reported, not asserted: these
+// machines are noisy (README, Performance). Each load is a new snapshot (the options
+// change), so the daemon meshes and encodes every one. The page is a fresh one without
+// this file's request listeners: with them, the DevTools protocol reports every
+// request and the loads measure the harness as much as the page.
 test('a 10,000-internode snapshot loads and draws (time reported, not asserted tightly)', async (t) => {
   const s = (await api(d.url, 'POST', '/v1/sessions', { preset: 'fig7-bh-0.52', seed: 3 })).body;
   let n = 0;
@@ -412,23 +418,35 @@ test('a 10,000-internode snapshot loads and draws (time reported, not asserted t
     const r = await api(d.url, 'POST', `/v1/sessions/${s.id}/edits`, { op: 'step', count: 1 });
     n = r.body.internodes;
   }
-  await page.goto(`${d.url}/?session=${s.id}`);
-  await page.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null, null, { timeout: 60000 });
-  const times = [await page.evaluate(() => window.meristem.lastLoad)];
-  for (const c of ['order', 'none', 'light', 'none']) {
-    await page.selectOption('#color', c);
-    await idle();
-    times.push(await page.evaluate(() => window.meristem.lastLoad));
+  const clean = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const cleanErrors = [];
+  clean.on('pageerror', (e) => cleanErrors.push(String(e)));
+  await clean.goto(`${d.url}/?session=${s.id}`);
+  await clean.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null, null, { timeout: 60000 });
+  const first = await clean.evaluate(() => window.meristem.lastLoad);
+  const loads = [];
+  for (const c of ['order', 'none', 'light', 'none', 'age', 'none', 'order', 'none']) {
+    await clean.selectOption('#color', c);
+    await clean.evaluate(() => window.meristem.idle());
+    loads.push({ color: c, ...(await clean.evaluate(() => window.meristem.lastLoad)) });
   }
-  const ms = times.map((t) => t.ms);
-  const best = Math.min(...ms);
-  const report = `snapshot of ${n} internodes: load+draw ${ms.map((x) => x.toFixed(0)).join(', ')} ms ` +
-    `(best ${best.toFixed(0)} ms; fetch ${times[0].fetchMs.toFixed(0)}, parse ${times[0].parseMs.toFixed(0)}, ` +
-    `draw ${times[0].renderMs.toFixed(0)} ms first; ${times[0].bytes} bytes, ${times[0].triangles} triangles)`;
+  const plain = loads.filter((l) => l.color === 'none');
+  const ms = (xs) => xs.map((l) => l.ms).sort((a, b) => a - b);
+  const median = (xs) => ms(xs)[Math.floor((xs.length - 1) / 2)];
+  const fmt = (x) => x.toFixed(0);
+  const part = (k) => fmt(plain.map((l) => l[k]).sort((a, b) => a - b)[Math.floor((plain.length - 1) / 2)]);
+  const report = `snapshot of ${n} internodes (${plain[0].triangles} triangles, ${plain[0].bytes} bytes): ` +
+    `load+draw median ${fmt(median(plain))} ms, best ${fmt(ms(plain)[0])} ms over ${plain.length} plain loads ` +
+    `(median fetch ${part('fetchMs')}, parse ${part('parseMs')}, draw ${part('renderMs')} ms); ` +
+    `coloured (${loads[0].bytes} bytes) median ${fmt(median(loads.filter((l) => l.color !== 'none')))} ms; ` +
+    `first load on opening the page ${fmt(first.ms)} ms`;
   t.diagnostic(report);
   require('node:fs').writeFileSync(path.join(ARTIFACTS, 'brush-load-time.txt'), `${report}\n`);
-  assert.ok(best < 5000, `best load ${best} ms`);
-  await shot('10k');
+  assert.ok(plain.every((l) => l.bytes < 1.2e6), 'the page asks for compact snapshots');
+  assert.ok(median(plain) < 5000, `median load ${median(plain)} ms`);
+  await clean.screenshot({ path: path.join(ARTIFACTS, 'brush-10k.png') });
+  await clean.close();
+  assert.deepEqual(cleanErrors, []);
 });
 
 test('no script errors and no unexpected failed requests', () => {

@@ -1,6 +1,6 @@
 'use strict';
-// The brush client's symmetric brushing and its progress bar and Cancel button,
-// in headless Chromium against a real meristemd.
+// The brush client's symmetric brushing, its progress bar and Cancel button, and a
+// tree too big for one glTF primitive, in headless Chromium against a real meristemd.
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const path = require('node:path');
@@ -90,6 +90,48 @@ test('a long step shows its progress and Cancel stops it at a whole step', async
   assert.ok(s.step > 0 && s.step < 200, `stopped at step ${s.step} (the bar said "${shown}")`);
   assert.equal(s.running.active, false);
   assert.equal((await summary()).step, s.step);
+});
+
+// A big tree's bark comes as several glTF primitives (at most 65,535 vertices each):
+// every one of them is drawn, picked, highlighted and pruned, not only one.
+test('a tree whose bark spans several primitives is picked and pruned in any of them', async () => {
+  const s = (await api(d.url, 'POST', '/v1/sessions', { preset: 'fig7-bh-0.52', seed: 3 })).body;
+  let n = 0;
+  while (n < 20000) n = (await api(d.url, 'POST', `/v1/sessions/${s.id}/edits`, { op: 'step', count: 1 })).body.internodes;
+  await page.goto(`${d.url}/?session=${s.id}`);
+  await page.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null, null, { timeout: 60000 });
+  const chunks = await page.evaluate(() => window.meristem.viewer.barkMeshes.length);
+  assert.ok(chunks >= 2, `${chunks} bark primitives for ${n} internodes`);
+  // Every living internode has bark in the snapshot.
+  assert.equal(await page.evaluate(() => window.meristem.nodeIds().length), n);
+  // An internode of the last primitive, picked where it is drawn and pruned by a click.
+  const target = await page.evaluate(() => {
+    const v = window.meristem.viewer, last = v.barkMeshes[v.barkMeshes.length - 1];
+    const ids = new Set();
+    const a = last.geometry.userData.nodeIds;
+    for (let i = 0; i < a.count; i++) ids.add(Math.round(a.getX(i)));
+    const nodes = [...v.nodes()].filter(([id]) => ids.has(id));
+    nodes.sort((p, q) => q[1].count - p[1].count || p[1].center[1] - q[1].center[1]);
+    return nodes.slice(0, 40).map(([id]) => id);
+  });
+  await page.click('[data-tool=prune]');
+  let pick = null, at = null;
+  for (const id of target) {
+    at = await page.evaluate((k) => window.meristem.screenOfNode(k), id);
+    pick = await page.evaluate(({ x, y }) => window.meristem.viewer.pick(x, y, 0), at);
+    if (pick && target.includes(pick.node)) break;
+    pick = null;
+  }
+  assert.ok(pick, 'an internode of the last primitive is picked where it is drawn');
+  await page.mouse.move(at.x, at.y);
+  await page.waitForFunction((k) => window.meristem.viewer.highlights?.get('hover')?.ids.has(k) &&
+    window.meristem.viewer.overlay.children.length > 0, pick.node);
+  const from = edits.length;
+  await page.mouse.click(at.x, at.y);
+  const after = await page.evaluate(() => window.meristem.idle());
+  assert.deepEqual(edits.slice(from), [{ op: 'prune', node: pick.node }]);
+  assert.ok(after.internodes < n, `internodes ${n} → ${after.internodes}`);
+  assert.ok(!(await page.evaluate((k) => window.meristem.viewer.nodes().has(k), pick.node)));
 });
 
 test('no script errors', () => {

@@ -90,7 +90,7 @@ function refresh() {
     do {
       reloadAgain = false;
       try {
-        const r = await viewer.load(api.snapshotUrl(state.id, viewOptions()));
+        const r = await viewer.load(api.snapshotUrl(state.id, { ...viewOptions(), compact: true }));
         if (r.changed) {
           state.loads++;
           state.lastLoadMs = viewer.lastLoad.ms;

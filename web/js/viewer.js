@@ -1,14 +1,25 @@
 // The 3D view: three.js scene, camera and orbit controls, snapshot loading (GLB with
-// KHR_mesh_quantization and per-vertex _NODE_ID), picking by node id, highlights,
-// the marker cloud and the brush preview. Draws on demand, not in a loop.
+// KHR_mesh_quantization, EXT_meshopt_compression and per-vertex _NODE_ID), picking by
+// node id, highlights, the marker cloud and the brush preview. Draws on demand, not in
+// a loop.
+//
+// Speed. A snapshot of a 10,000-internode tree is ~59k triangles; on a software
+// rasterizer (headless Chromium draws with SwiftShader) the cost of a frame is mostly
+// per triangle and per shaded pixel, and the cost of a load mostly bytes moved. So the
+// page asks for compressed snapshots without UVs (it draws no texture), shades bark
+// and leaves with diffuse-only Lambert materials (the bark is rough and non-metallic:
+// a PBR material would add a specular lobe nobody sees, at a third more per pixel),
+// and paints the ground in its lit colour without lighting it per pixel.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { fetchSnapshot } from './api.js';
 
 // GLTFLoader names a custom attribute by its glTF name in lower case.
 const NODE_ID = '_node_id';
 const BACKGROUND = 0xdfe5da;
+const GROUND = 0xd1d5bc;   // the colour the lights gave a rough 0xc9d1bd disc
 
 /**
  * Whether WebGL runs on a software rasterizer (SwiftShader, llvmpipe): multisampling
@@ -26,6 +37,34 @@ export function softwareRendering() {
     return false;
   }
 }
+
+/**
+ * Makes a snapshot's geometry cheap to upload and draw, in place, and returns it:
+ * - SHORT positions and BYTE normals come padded to 4 components (glTF aligns vertex
+ *   attributes to 4 bytes); handing the padding to WebGL as a 4th component gives
+ *   formats the GPU reads as they are, where 3-component ones are converted on every
+ *   upload (the shaders read xyz either way; ~10 ms less per 10k-internode load);
+ * - the `_NODE_ID` attribute moves to `userData.nodeIds`: only picking and highlights
+ *   read it, on the CPU, so it is never uploaded.
+ */
+export function gpuReady(geometry) {
+  for (const name of ['position', 'normal']) {
+    const a = geometry.attributes[name];
+    if (a?.isInterleavedBufferAttribute && a.itemSize === 3 && a.offset === 0 && a.data.stride === 4 &&
+        a.data.array.BYTES_PER_ELEMENT <= 2 && a.data.count === a.count) {
+      geometry.setAttribute(name, new THREE.BufferAttribute(a.data.array, 4, a.normalized));
+    }
+  }
+  const ids = geometry.attributes[NODE_ID];
+  if (ids) {
+    geometry.userData.nodeIds = ids;
+    geometry.deleteAttribute(NODE_ID);
+  }
+  return geometry;
+}
+
+/** The per-vertex node ids of a snapshot geometry (a BufferAttribute), or undefined. */
+const nodeIdsOf = (geometry) => geometry.userData.nodeIds;
 
 export class Viewer {
   constructor(container, { antialias = true } = {}) {
@@ -63,22 +102,24 @@ export class Viewer {
     this.scene.add(this.preview);
 
     this.materials = {
-      bark: new THREE.MeshStandardMaterial({ color: 0x6e5240, roughness: 0.92, metalness: 0 }),
-      barkColored: new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.9, metalness: 0,
+      bark: new THREE.MeshLambertMaterial({ color: 0x6e5240 }),
+      barkColored: new THREE.MeshLambertMaterial({ color: 0xffffff, vertexColors: true }),
+      leaf: new THREE.MeshLambertMaterial({ color: 0x5f9442, side: THREE.DoubleSide }),
+      leafColored: new THREE.MeshLambertMaterial({ color: 0xffffff, side: THREE.DoubleSide,
         vertexColors: true }),
-      leaf: new THREE.MeshStandardMaterial({ color: 0x5f9442, roughness: 0.7, metalness: 0,
-        side: THREE.DoubleSide }),
-      leafColored: new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.7, metalness: 0,
-        side: THREE.DoubleSide, vertexColors: true }),
       markers: new THREE.PointsMaterial({ color: 0x5b6066, size: 3, sizeAttenuation: false,
         transparent: true, opacity: 0.75, depthWrite: false }),
     };
     this.highlightMaterials = new Map();
 
-    this.loader = new GLTFLoader();
+    this.loader = new GLTFLoader().setMeshoptDecoder(MeshoptDecoder);
     this.etag = null;
     this.url = null;
-    this.bark = null;       // THREE.Mesh of the bark primitive
+    // A snapshot's bark (and leaves) may be several primitives: the GLB splits them
+    // into chunks of at most 65,535 vertices, about 14,000 internodes each.
+    this.barkMeshes = [];   // THREE.Mesh per bark primitive
+    this.leafMeshes = [];
+    this.bark = null;       // the first bark mesh (its material and attributes stand for all)
     this.leaves = null;
     this.markers = null;    // THREE.Points
     this.nodeInfo = null;   // lazily computed per-node centroids and axes
@@ -101,18 +142,20 @@ export class Viewer {
    * fetch + parse + draw, not a shader compile.
    */
   async _precompile() {
-    // The same vertex formats as a snapshot (SHORT positions, normalized BYTE normals,
-    // FLOAT uv, FLOAT RGBA colours, FLOAT _NODE_ID): a software rasterizer specializes
-    // its code on them, and three.js picks a program by colour width.
-    const make = (colored, index32) => {
+    // Geometries shaped like a snapshot's (SHORT positions padded to 8 bytes, BYTE
+    // normals padded to 4, UBYTE RGBA colours, 16- or 32-bit indices) and made ready
+    // the same way: a software rasterizer specializes its code on vertex formats, and
+    // three.js picks a program by colour width.
+    const make = (colored, index32, n = 3) => {
       const g = new THREE.BufferGeometry();
-      g.setAttribute('position', new THREE.Int16BufferAttribute([0, 0, 0, 1, 0, 0, 0, 1, 0], 3));
-      g.setAttribute('normal', new THREE.Int8BufferAttribute([0, 0, 127, 0, 0, 127, 0, 0, 127], 3, true));
-      g.setAttribute('uv', new THREE.Float32BufferAttribute([0, 0, 1, 0, 0, 1], 2));
-      g.setAttribute(NODE_ID, new THREE.Float32BufferAttribute([0, 0, 0], 1));
-      if (colored) g.setAttribute('color', new THREE.Float32BufferAttribute(new Array(12).fill(1), 4));
-      g.setIndex(index32 ? new THREE.Uint32BufferAttribute([0, 1, 2], 1) : new THREE.Uint16BufferAttribute([0, 1, 2], 1));
-      return g;
+      const pos = new Int16Array(4 * n), nrm = new Int8Array(4 * n).fill(127);
+      g.setAttribute('position', new THREE.InterleavedBufferAttribute(new THREE.InterleavedBuffer(pos, 4), 3, 0));
+      g.setAttribute('normal', new THREE.InterleavedBufferAttribute(new THREE.InterleavedBuffer(nrm, 4), 3, 0, true));
+      g.setAttribute(NODE_ID, new THREE.Float32BufferAttribute(new Float32Array(n), 1));
+      if (colored) g.setAttribute('color', new THREE.Uint8BufferAttribute(new Uint8Array(4 * n).fill(255), 4, true));
+      const index = Array.from({ length: 3 * n }, (_, i) => i % n);
+      g.setIndex(index32 ? new THREE.Uint32BufferAttribute(index, 1) : new THREE.Uint16BufferAttribute(index, 1));
+      return gpuReady(g);
     };
     const dummies = new THREE.Group();
     for (const index32 of [false, true]) {
@@ -121,8 +164,13 @@ export class Viewer {
         dummies.add(new THREE.Mesh(make(true, index32), this.materials[`${k}Colored`]));
       }
     }
+    // One snapshot-sized geometry (all its triangles degenerate, so drawing it costs
+    // little): the first real snapshot then finds the GPU side's buffers already grown.
+    // Measured in headless Chromium, the first snapshot's draw after opening the page:
+    // 143, 174, 147 ms without it, 116, 128, 115 ms with it (the next draws take ~50).
+    dummies.add(new THREE.Mesh(make(false, false, 65535), this.materials.bark));
     const pts = new THREE.BufferGeometry();
-    pts.setAttribute('position', new THREE.Int16BufferAttribute([0, 0, 0], 3));
+    pts.setAttribute('position', new THREE.Float32BufferAttribute([0, 0, 0], 3));
     dummies.add(new THREE.Points(pts, this.materials.markers));
     // In front of the camera, tiny: drawn once so every program and routine exists.
     this.camera.updateMatrixWorld();
@@ -130,6 +178,7 @@ export class Viewer {
     dummies.scale.setScalar(1e-4);
     this.scene.add(dummies);
     try {
+      await MeshoptDecoder.ready;
       await this.renderer.compileAsync(this.scene, this.camera);
       this.renderer.render(this.scene, this.camera);
     } finally {
@@ -164,8 +213,9 @@ export class Viewer {
     if (this.gridSize === s) return;
     this.gridSize = s;
     this.ground.clear();
+    // Flat ground under this light rig is one colour: drawn unlit, in that colour.
     const disc = new THREE.Mesh(new THREE.CircleGeometry(s * 0.75, 64),
-      new THREE.MeshStandardMaterial({ color: 0xc9d1bd, roughness: 1 }));
+      new THREE.MeshBasicMaterial({ color: GROUND }));
     disc.rotation.x = -Math.PI / 2;
     disc.position.y = -0.02;
     this.ground.add(disc);
@@ -207,6 +257,8 @@ export class Viewer {
     for (const o of this.treeRoot.children) o.traverse((m) => { m.geometry?.dispose(); });
     this.treeRoot.clear();
     this.bark = this.leaves = this.markers = null;
+    this.barkMeshes = [];
+    this.leafMeshes = [];
     this.nodeInfo = null;
     this.extras = gltf.asset?.extras || gltf.parser?.json?.asset?.extras || null;
     const root = gltf.scene;
@@ -215,21 +267,24 @@ export class Viewer {
         o.material = this.materials.markers;
         this.markers = o;
       } else if (o.isMesh) {
+        gpuReady(o.geometry);
         const colored = Boolean(o.geometry.attributes.color);
         const name = o.material?.name || '';
         if (name === 'leaf') {
           o.material = colored ? this.materials.leafColored : this.materials.leaf;
-          this.leaves = o;
+          this.leafMeshes.push(o);
         } else {
           o.material = colored ? this.materials.barkColored : this.materials.bark;
-          this.bark = o;
+          this.barkMeshes.push(o);
         }
       }
     });
+    this.bark = this.barkMeshes[0] || null;
+    this.leaves = this.leafMeshes[0] || null;
     this.treeRoot.add(root);
     root.updateMatrixWorld(true);
-    if (this.bark) this.bark.visible = this.showBark;
-    if (this.leaves) this.leaves.visible = this.showLeaves;
+    for (const m of this.barkMeshes) m.visible = this.showBark;
+    for (const m of this.leafMeshes) m.visible = this.showLeaves;
     this.overlay.removeFromParent();
     if (this.bark) this.bark.parent.add(this.overlay);
     this._applyHighlights();
@@ -238,8 +293,8 @@ export class Viewer {
   setVisible({ bark, leaves }) {
     if (bark !== undefined) this.showBark = bark;
     if (leaves !== undefined) this.showLeaves = leaves;
-    if (this.bark) this.bark.visible = this.showBark;
-    if (this.leaves) this.leaves.visible = this.showLeaves;
+    for (const m of this.barkMeshes) m.visible = this.showBark;
+    for (const m of this.leafMeshes) m.visible = this.showLeaves;
     this.overlay.visible = this.showBark;
     this.requestRender();
   }
@@ -290,33 +345,36 @@ export class Viewer {
    * triangle's first vertex), else the nearest bark vertex within `slop` px, else null.
    */
   pick(clientX, clientY, slop = 8) {
-    const targets = [this.bark, this.showLeaves ? this.leaves : null].filter((m) => m && m.visible);
+    const targets = [...this.barkMeshes, ...(this.showLeaves ? this.leafMeshes : [])].filter((m) => m.visible);
     if (!targets.length) return null;
     this.raycaster.setFromCamera(this.ndc(clientX, clientY), this.camera);
     const hits = this.raycaster.intersectObjects(targets, false);
     for (const h of hits) {
-      const ids = h.object.geometry.attributes[NODE_ID];
+      const ids = nodeIdsOf(h.object.geometry);
       if (ids && h.face) return { node: Math.round(ids.getX(h.face.a)), point: h.point.clone() };
     }
-    if (!this.bark || !this.bark.visible) return null;
+    if (!this.bark || !this.showBark) return null;
     // Thin twigs are hard to hit: take the nearest bark vertex on screen.
-    const g = this.bark.geometry, pos = g.attributes.position, ids = g.attributes[NODE_ID];
     const rect = this.renderer.domElement.getBoundingClientRect();
-    const m = new THREE.Matrix4().multiplyMatrices(this.camera.projectionMatrix,
-      this.camera.matrixWorldInverse).multiply(this.bark.matrixWorld);
     const v = new THREE.Vector3();
-    let best = -1, bestD = slop * slop, bestZ = Infinity;
-    for (let i = 0; i < pos.count; i++) {
-      v.fromBufferAttribute(pos, i).applyMatrix4(m);
-      if (v.z < -1 || v.z > 1) continue;
-      const dx = rect.left + (v.x + 1) / 2 * rect.width - clientX;
-      const dy = rect.top + (1 - v.y) / 2 * rect.height - clientY;
-      const d = dx * dx + dy * dy;
-      if (d < bestD || (d === bestD && v.z < bestZ)) { best = i; bestD = d; bestZ = v.z; }
+    let best = null, bestD = slop * slop, bestZ = Infinity;
+    for (const mesh of this.barkMeshes) {
+      const pos = mesh.geometry.attributes.position;
+      const m = new THREE.Matrix4().multiplyMatrices(this.camera.projectionMatrix,
+        this.camera.matrixWorldInverse).multiply(mesh.matrixWorld);
+      for (let i = 0; i < pos.count; i++) {
+        v.fromBufferAttribute(pos, i).applyMatrix4(m);
+        if (v.z < -1 || v.z > 1) continue;
+        const dx = rect.left + (v.x + 1) / 2 * rect.width - clientX;
+        const dy = rect.top + (1 - v.y) / 2 * rect.height - clientY;
+        const d = dx * dx + dy * dy;
+        if (d < bestD || (d === bestD && v.z < bestZ)) { best = { mesh, i }; bestD = d; bestZ = v.z; }
+      }
     }
-    if (best < 0) return null;
-    const point = new THREE.Vector3().fromBufferAttribute(pos, best).applyMatrix4(this.bark.matrixWorld);
-    return { node: Math.round(ids.getX(best)), point };
+    if (!best) return null;
+    const point = new THREE.Vector3().fromBufferAttribute(best.mesh.geometry.attributes.position, best.i)
+      .applyMatrix4(best.mesh.matrixWorld);
+    return { node: Math.round(nodeIdsOf(best.mesh.geometry).getX(best.i)), point };
   }
 
   /**
@@ -326,22 +384,23 @@ export class Viewer {
   nodes() {
     if (this.nodeInfo) return this.nodeInfo;
     const info = new Map();
-    if (!this.bark) return (this.nodeInfo = info);
-    const g = this.bark.geometry, pos = g.attributes.position, nrm = g.attributes.normal;
-    const ids = g.attributes[NODE_ID];
-    const mw = this.bark.matrixWorld, v = new THREE.Vector3(), n = new THREE.Vector3();
+    const v = new THREE.Vector3(), n = new THREE.Vector3();
     const acc = new Map();
-    for (let i = 0; i < pos.count; i++) {
-      const id = Math.round(ids.getX(i));
-      v.fromBufferAttribute(pos, i).applyMatrix4(mw);
-      n.fromBufferAttribute(nrm, i).normalize();   // the node transform is translate + uniform scale
-      let a = acc.get(id);
-      if (!a) acc.set(id, (a = { k: 0, s: [0, 0, 0], nn: [0, 0, 0, 0, 0, 0], ymin: Infinity, ymax: -Infinity }));
-      a.k++;
-      a.s[0] += v.x; a.s[1] += v.y; a.s[2] += v.z;
-      a.nn[0] += n.x * n.x; a.nn[1] += n.y * n.y; a.nn[2] += n.z * n.z;
-      a.nn[3] += n.x * n.y; a.nn[4] += n.x * n.z; a.nn[5] += n.y * n.z;
-      a.ymin = Math.min(a.ymin, v.y); a.ymax = Math.max(a.ymax, v.y);
+    for (const mesh of this.barkMeshes) {
+      const g = mesh.geometry, pos = g.attributes.position, nrm = g.attributes.normal;
+      const ids = nodeIdsOf(g), mw = mesh.matrixWorld;
+      for (let i = 0; i < pos.count; i++) {
+        const id = Math.round(ids.getX(i));
+        v.fromBufferAttribute(pos, i).applyMatrix4(mw);
+        n.fromBufferAttribute(nrm, i).normalize();   // the node transform is translate + uniform scale
+        let a = acc.get(id);
+        if (!a) acc.set(id, (a = { k: 0, s: [0, 0, 0], nn: [0, 0, 0, 0, 0, 0], ymin: Infinity, ymax: -Infinity }));
+        a.k++;
+        a.s[0] += v.x; a.s[1] += v.y; a.s[2] += v.z;
+        a.nn[0] += n.x * n.x; a.nn[1] += n.y * n.y; a.nn[2] += n.z * n.z;
+        a.nn[3] += n.x * n.y; a.nn[4] += n.x * n.z; a.nn[5] += n.y * n.z;
+        a.ymin = Math.min(a.ymin, v.y); a.ymax = Math.max(a.ymax, v.y);
+      }
     }
     const b = new THREE.Matrix3(), d = new THREE.Vector3();
     for (const [id, a] of acc) {
@@ -381,44 +440,50 @@ export class Viewer {
     for (const o of this.overlay.children) o.geometry.dispose();
     this.overlay.clear();
     if (!this.bark || !this.highlights?.size) return;
+    // The chunks share their parent node (the quantization grid) and have no transform
+    // of their own, so the overlay sits beside them with the first one's.
     this.overlay.position.copy(this.bark.position);
     this.overlay.quaternion.copy(this.bark.quaternion);
     this.overlay.scale.copy(this.bark.scale);
-    const g = this.bark.geometry, ids = g.attributes[NODE_ID], index = g.index;
     let order = 0;
     for (const { ids: want, color } of this.highlights.values()) {
       const has = typeof want === 'function' ? want : (id) => want.has(id);
-      const out = [];
-      const n = index ? index.count : g.attributes.position.count;
-      for (let t = 0; t < n; t += 3) {
-        const a = index ? index.getX(t) : t;
-        if (has(Math.round(ids.getX(a)))) {
-          out.push(a, index ? index.getX(t + 1) : t + 1, index ? index.getX(t + 2) : t + 2);
-        }
-      }
-      if (!out.length) continue;
-      const hg = new THREE.BufferGeometry();
-      hg.setAttribute('position', g.attributes.position);
-      hg.setAttribute('normal', g.attributes.normal);
-      hg.setIndex(out);
       let mat = this.highlightMaterials.get(color);
       if (!mat) {
-        mat = new THREE.MeshStandardMaterial({ color, emissive: color, emissiveIntensity: 0.35,
-          roughness: 0.6, polygonOffset: true, polygonOffsetFactor: -1 - order, polygonOffsetUnits: -4 });
+        mat = new THREE.MeshLambertMaterial({ color, emissive: color, emissiveIntensity: 0.35,
+          polygonOffset: true, polygonOffsetFactor: -1 - order, polygonOffsetUnits: -4 });
         this.highlightMaterials.set(color, mat);
       }
-      const m = new THREE.Mesh(hg, mat);
-      m.renderOrder = 2 + order++;
-      this.overlay.add(m);
+      for (const mesh of this.barkMeshes) {
+        const g = mesh.geometry, ids = nodeIdsOf(g), index = g.index;
+        const out = [];
+        const n = index ? index.count : g.attributes.position.count;
+        for (let t = 0; t < n; t += 3) {
+          const a = index ? index.getX(t) : t;
+          if (has(Math.round(ids.getX(a)))) {
+            out.push(a, index ? index.getX(t + 1) : t + 1, index ? index.getX(t + 2) : t + 2);
+          }
+        }
+        if (!out.length) continue;
+        const hg = new THREE.BufferGeometry();
+        hg.setAttribute('position', g.attributes.position);
+        hg.setAttribute('normal', g.attributes.normal);
+        hg.setIndex(out);
+        const m = new THREE.Mesh(hg, mat);
+        m.renderOrder = 2 + order;
+        this.overlay.add(m);
+      }
+      order++;
     }
   }
 
   /** Largest node id in the snapshot (-1 without bark). */
   maxNodeId() {
-    if (!this.bark) return -1;
-    const ids = this.bark.geometry.attributes[NODE_ID];
     let m = -1;
-    for (let i = 0; i < ids.count; i++) m = Math.max(m, ids.getX(i));
+    for (const mesh of this.barkMeshes) {
+      const ids = nodeIdsOf(mesh.geometry);
+      for (let i = 0; i < ids.count; i++) m = Math.max(m, ids.getX(i));
+    }
     return Math.round(m);
   }
 
