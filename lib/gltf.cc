@@ -14,6 +14,7 @@
 #include <cfloat>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <sstream>
@@ -539,56 +540,63 @@ void meshopt_versions()
 }
 
 // GLB with every bufferView compressed (see gltf.h): the uncompressed BIN is
-// laid out first, then each view is encoded from it into the BIN chunk.
+// laid out first, then each view is encoded from it into one buffer sized for
+// the worst case (no reallocation, no zeroing: at ~1 GB/s the encoder is not
+// what a snapshot waits for, copies and page faults are).
 mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *err)
 {
     meshopt_versions();
     nlohmann::json doc = json_of(w);
-    std::vector<uint8_t> raw(w.bin_size), packed;
-    w.fill(raw.data());
+    std::unique_ptr<uint8_t[]> raw(new uint8_t[w.bin_size + 1]);
+    w.fill(raw.get());
+    size_t bound = 0;
+    for (size_t i = 0; i < w.blobs.size(); i++) {
+        const Blob &b = w.blobs[i];
+        const tinygltf::BufferView &view = w.model.bufferViews[i];
+        bound += 3 + (view.target == TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER
+                          ? meshopt_encodeIndexSequenceBound(b.count, UINT32_MAX)
+                          : meshopt_encodeVertexBufferBound(b.size / view.byteStride, view.byteStride));
+    }
+    std::unique_ptr<uint8_t[]> packed(new uint8_t[bound + 1]);
+    size_t at = 0;
     for (size_t i = 0; i < w.blobs.size(); i++) {
         const Blob &b = w.blobs[i];
         const tinygltf::BufferView &view = w.model.bufferViews[i];
         const bool indices = view.target == TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
-        const size_t at = packed.size();
         size_t stride, count, written;
         if (indices) {
             // The encoder reads 32-bit indices: the caller's own array.
-            const uint32_t *idx = static_cast<const uint32_t *>(b.src);
-            uint32_t vertices = 0;
-            for (size_t k = 0; k < b.count; k++)
-                vertices = std::max(vertices, idx[k] + 1);
             stride = b.size / b.count;
             count = b.count;
-            packed.resize(at + meshopt_encodeIndexSequenceBound(count, vertices));
-            written = meshopt_encodeIndexSequence(packed.data() + at, packed.size() - at, idx, count);
+            written = meshopt_encodeIndexSequence(packed.get() + at, bound - at,
+                                                  static_cast<const uint32_t *>(b.src), count);
         } else {
             stride = view.byteStride;
             count = b.size / stride;
-            packed.resize(at + meshopt_encodeVertexBufferBound(count, stride));
-            written = meshopt_encodeVertexBuffer(packed.data() + at, packed.size() - at,
-                                                 raw.data() + b.offset, count, stride);
+            written = meshopt_encodeVertexBuffer(packed.get() + at, bound - at, raw.get() + b.offset,
+                                                 count, stride);
         }
         if (written == 0)
             return mer_error_set(err, MER_ERR_INTERNAL, nullptr,
                                  "meshoptimizer could not encode bufferView %zu", i);
-        packed.resize(at + ((written + 3u) & ~size_t{3}));  // views start 4-aligned
-        std::fill(packed.begin() + static_cast<std::ptrdiff_t>(at + written), packed.end(), 0);
+        const size_t padded = (written + 3u) & ~size_t{3};  // views start 4-aligned
+        std::memset(packed.get() + at + written, 0, padded - written);
         nlohmann::json ext = {{"buffer", 0},          {"byteOffset", at},   {"byteLength", written},
                               {"byteStride", stride}, {"count", count},
                               {"mode", indices ? "INDICES" : "ATTRIBUTES"}};
         nlohmann::json &v = doc["bufferViews"][i];
         v["buffer"] = 1;
         v["extensions"]["EXT_meshopt_compression"] = ext;
+        at += padded;
     }
     doc["buffers"] = nlohmann::json::array(
-        {{{"byteLength", packed.size()}},
+        {{{"byteLength", at}},
          {{"byteLength", w.bin_size}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
     doc["extensionsUsed"].push_back("EXT_meshopt_compression");
     doc["extensionsRequired"].push_back("EXT_meshopt_compression");
-    return assemble_glb(doc, packed.size(),
-                        [&packed](uint8_t *bin) { std::memcpy(bin, packed.data(), packed.size()); },
-                        out, out_size, err);
+    const uint8_t *bytes = packed.get();
+    return assemble_glb(doc, at, [bytes, at](uint8_t *bin) { std::memcpy(bin, bytes, at); }, out,
+                        out_size, err);
 }
 
 // .gltf with the buffer embedded as base64: tinygltf does it all (debugging aid).

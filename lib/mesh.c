@@ -288,7 +288,7 @@ static void transport(float normal[3], const float from[3], const float to[3])
         v3_any_perp(to, normal);
 }
 
-static uint64_t axis_vertices(const axis *a);
+static uint64_t axis_vertices(const axis *a, bool seam);
 
 static mer_result chain_of(builder *b, const axis *a, mer_error *err)
 {
@@ -318,11 +318,13 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
 {
     mer_result rc = chain_of(b, a, err);
     if (rc == MER_OK)
-        rc = begin_group(&b->bark, (uint32_t)axis_vertices(a), err);
+        rc = begin_group(&b->bark, (uint32_t)axis_vertices(a, !b->opt.no_uvs), err);
     if (rc != MER_OK)
         return rc;
     cursor *c = &b->bark;
-    const uint32_t sides = a->sides, stride = sides + 1, count = a->count;
+    // A ring repeats its first vertex at u = 1 for the UV seam; without UVs it need not.
+    const bool seam = !b->opt.no_uvs;
+    const uint32_t sides = a->sides, stride = seam ? sides + 1 : sides, count = a->count;
     const mer_node *first = &b->nodes[b->chain[0]];
     const mer_node *last = &b->nodes[b->chain[count - 1]];
     const float *r = b->radii;
@@ -370,7 +372,7 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
         // radial ⊥ t and both are unit, so |radial + slope·t| is the same all round.
         const float inv = 1.0f / sqrtf(1.0f + slope * slope);
 
-        for (uint32_t j = 0; j <= sides; j++) {
+        for (uint32_t j = 0; j < stride; j++) {
             uint32_t jj = j == sides ? 0 : j;
             float radial[3], p[3], nrm[3];
             for (int k = 0; k < 3; k++) {
@@ -383,8 +385,9 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
         if (i > 0) {
             uint32_t below_ring = ring0 + (i - 1) * stride, this_ring = ring0 + i * stride;
             for (uint32_t j = 0; j < sides; j++) {
-                put_triangle(c, below_ring + j, below_ring + j + 1, this_ring + j + 1);
-                put_triangle(c, below_ring + j, this_ring + j + 1, this_ring + j);
+                uint32_t k = j + 1 < stride ? j + 1 : 0;   // the next vertex round the ring
+                put_triangle(c, below_ring + j, below_ring + k, this_ring + k);
+                put_triangle(c, below_ring + j, this_ring + k, this_ring + j);
             }
         }
     }
@@ -397,7 +400,7 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
         v += circumference > 0.0f ? last->length / circumference : 0.0f;
         uint32_t apex = put_vertex(b, c, tip, last->dir, 0.5f, v, last);
         for (uint32_t j = 0; j < sides; j++)
-            put_triangle(c, top_ring + j, top_ring + j + 1, apex);
+            put_triangle(c, top_ring + j, top_ring + (j + 1 < stride ? j + 1 : 0), apex);
     } else {
         uint32_t center_id = put_vertex(b, c, tip, t_prev, 0.5f, 0.5f, last);
         uint32_t rim = c->v;
@@ -425,11 +428,11 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
     return MER_OK;
 }
 
-static uint64_t axis_vertices(const axis *a)
+static uint64_t axis_vertices(const axis *a, bool seam)
 {
-    uint64_t ring = a->sides + 1;
-    uint64_t v = a->end == END_TIP ? a->count * ring + 1 : (a->count + 2) * ring;
-    return a->base_cap ? v + ring : v;
+    const uint64_t ring = seam ? a->sides + 1 : a->sides, cap = a->sides + 1;  // cap: centre + rim
+    const uint64_t v = a->end == END_TIP ? a->count * ring + 1 : (a->count + 1) * ring + cap;
+    return a->base_cap ? v + cap : v;
 }
 
 static uint64_t axis_indices(const axis *a)
@@ -522,7 +525,7 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
 
     uint64_t bark_v = 0, bark_i = 0, internodes = 0;
     for (uint32_t i = 0; i < b.axis_count; i++) {
-        bark_v += axis_vertices(&b.axes[i]);
+        bark_v += axis_vertices(&b.axes[i], !b.opt.no_uvs);
         bark_i += axis_indices(&b.axes[i]);
         internodes += b.axes[i].count;
     }
@@ -580,6 +583,14 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
             }
             b.mesh->point_count = (uint32_t)mer_scene_markers(scene, b.mesh->points, count);
         }
+    }
+
+    // The counts were computed before meshing; meshing must have filled exactly them.
+    if (b.bark.v != b.mesh->bark.vertex_count || b.bark.i != b.mesh->bark.index_count ||
+        b.leaves.v != b.mesh->leaves.vertex_count || b.leaves.i != b.mesh->leaves.index_count) {
+        rc = mer_error_set(err, MER_ERR_INTERNAL, NULL, "meshing wrote %u of %u bark vertices",
+                           b.bark.v, b.mesh->bark.vertex_count);
+        goto done;
     }
 
     *out = b.mesh;

@@ -72,7 +72,8 @@ typedef struct mer_mesh_options {
     float leaf_size;   /* leaf length in world units; 0: 0.8 × l0 */
     uint32_t leaf_age; /* leaves on the last this many seasons of growth; 0: 3 */
     uint32_t no_uvs;   /* 1: no UVs (both parts' `uvs` NULL), for a viewer that draws
-                          no texture; 0: UVs as above */
+                          no texture, and rings without the seam vertex (a 3-sided
+                          twig's ring is 3 vertices, not 4); 0: UVs as above */
 } mer_mesh_options;
 
 #define MER_MESH_DETAIL_MAX 5

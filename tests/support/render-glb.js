@@ -15,6 +15,7 @@ const VIEWER = `<!doctype html><html><head><meta charset="utf-8"><title>glb</tit
 <script type="module">
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 const az = Number(new URLSearchParams(location.search).get('az') || 30) * Math.PI / 180;
 const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
 renderer.setSize(innerWidth, innerHeight);
@@ -23,7 +24,7 @@ const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xe8ede4);
 scene.add(new THREE.HemisphereLight(0xffffff, 0x667755, 1.6));
 const sun = new THREE.DirectionalLight(0xffffff, 2.2); sun.position.set(3, 5, 2); scene.add(sun);
-const gltf = await new GLTFLoader().loadAsync('tree.glb');
+const gltf = await new GLTFLoader().setMeshoptDecoder(MeshoptDecoder).loadAsync('tree.glb');
 scene.add(gltf.scene);
 const box = new THREE.Box3().setFromObject(gltf.scene);
 const size = box.getSize(new THREE.Vector3()), c = box.getCenter(new THREE.Vector3());
