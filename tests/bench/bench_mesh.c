@@ -3,13 +3,16 @@
  * several times and prints the best time, triangles per second and bytes per
  * internode. Not a test: nothing here passes or fails on time.
  *
- *   tests/bench/bench_mesh [INTERNODES] [DETAIL]   (default 10000 3)
+ *   tests/bench/bench_mesh [INTERNODES] [DETAIL] [compact]   (default 10000 3)
+ *
+ * "compact" encodes the brush client's snapshot: no UVs, EXT_meshopt_compression.
  */
 #include "config.h"
 
 #include <malloc.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include <meristem.h>
@@ -36,6 +39,7 @@ int main(int argc, char **argv)
 {
     uint32_t target = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000;
     uint32_t detail = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 3;
+    const int compact = argc > 3 && strcmp(argv[3], "compact") == 0;
     // As meristemd does: keep freed memory for the next snapshot instead of
     // handing it back to the kernel and faulting it in again.
     mallopt(M_MMAP_THRESHOLD, 256 << 20);
@@ -61,7 +65,8 @@ int main(int argc, char **argv)
     mer_summary sum;
     mer_scene_summary(scene, &sum);
 
-    mer_mesh_options opt = {.detail = detail};
+    mer_mesh_options opt = {.detail = detail, .no_uvs = (uint32_t)compact};
+    mer_gltf_options gopt = {.compression = compact ? MER_GLTF_MESHOPT : MER_GLTF_UNCOMPRESSED};
     double best_mesh = 1e9, best_glb = 1e9, cold = 0;
     size_t bytes = 0;
     uint32_t triangles = 0, vertices = 0;
@@ -75,7 +80,7 @@ int main(int argc, char **argv)
         }
         double t1 = now();
         uint8_t *glb = NULL;
-        if (mer_gltf_write_tree(mesh, NULL, NULL, &glb, &bytes, &err) != MER_OK) {
+        if (mer_gltf_write_tree(mesh, NULL, &gopt, &glb, &bytes, &err) != MER_OK) {
             fprintf(stderr, "bench_mesh: %s\n", err.message);
             return 1;
         }
@@ -92,10 +97,10 @@ int main(int argc, char **argv)
             best_glb = t2 - t1;
     }
     double total = best_mesh + best_glb;
-    printf("mesh+glb  internodes %u  steps %u  detail %u  vertices %u  triangles %u  "
+    printf("%s  internodes %u  steps %u  detail %u  vertices %u  triangles %u  "
            "mesh %.1f ms  glb %.1f ms  total %.1f ms (first run %.1f ms)  %.1f Mtriangles/s  %zu bytes  "
            "%.1f bytes/internode\n",
-           sum.internodes, sum.step, detail, vertices, triangles, 1e3 * best_mesh, 1e3 * best_glb,
+           compact ? "mesh+compact-glb" : "mesh+glb", sum.internodes, sum.step, detail, vertices, triangles, 1e3 * best_mesh, 1e3 * best_glb,
            1e3 * total, 1e3 * cold, (double)triangles / total / 1e6, bytes, (double)bytes / sum.internodes);
     mer_scene_free(scene);
     return 0;

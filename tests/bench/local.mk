@@ -3,7 +3,8 @@
 #  - bench: the Table 1 workloads (P09 §6): steps, internodes, seconds,
 #    internodes per second, peak memory; each workload in its own process so
 #    its peak memory is its own.
-#  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree.
+#  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
+#    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
 # `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
 # `make bench-page`: the brush client loading and drawing 10,000-internode
 # snapshots in headless Chromium (needs node, the npm test tools, chromium).
@@ -22,6 +23,7 @@ BENCH_WORKLOADS = table1-fig10-left table1-fig10-center table1-fig10-right colon
 bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
 	@for w in $(BENCH_WORKLOADS); do ./tests/bench/bench$(EXEEXT) $$w || exit 1; done
 	@./tests/bench/bench_mesh$(EXEEXT) 10000
+	@./tests/bench/bench_mesh$(EXEEXT) 10000 2 compact
 	@./tests/bench/bench_mesh$(EXEEXT) 700000
 
 bench-http: server/meristemd$(EXEEXT)
