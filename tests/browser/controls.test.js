@@ -134,6 +134,15 @@ test('a tree whose bark spans several primitives is picked and pruned in any of 
   assert.ok(!(await page.evaluate((k) => window.meristem.viewer.nodes().has(k), pick.node)));
 });
 
+test('a link to a session that does not exist shows why, and the page carries on', async () => {
+  const gone = 'f'.repeat(32);
+  await page.goto(`${d.url}/?session=${gone}`);
+  await page.waitForFunction(() => window.meristem?.ready, null, { timeout: 30000 });
+  assert.match(await page.textContent('#problem-detail'), /session/i);
+  assert.ok(!new URL(page.url()).searchParams.has('session'), 'the dead id left the address');
+  assert.equal(await page.evaluate(() => window.meristem.sessionId), null);
+});
+
 test('no script errors', () => {
   assert.deepEqual(errors, []);
 });

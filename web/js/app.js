@@ -435,15 +435,29 @@ function sessionFromUrl() {
 }
 
 async function start() {
-  if (GALLERY) document.body.classList.add('gallery');
+  if (GALLERY) {
+    document.body.classList.add('gallery');
+    $('#show-markers').checked = params.get('markers') === '1';
+    $('#show-leaves').checked = params.get('leaves') !== '0';
+    $('#detail').value = params.get('detail') || '3';
+    if (params.get('color')) $('#color').value = params.get('color');
+  }
+  // Everything the page needs is asked for at once, the snapshot of a reopened session
+  // too: the requests travel while the viewer compiles its shaders (about a second with
+  // software WebGL, and it holds the main thread), not one after another behind it.
+  const id = sessionFromUrl();
+  const healthReply = api.health(), presetsReply = api.presets();
+  const sessionReply = id ? api.getSession(id) : null;
+  for (const r of [healthReply, presetsReply, sessionReply]) r?.catch(() => {});   // awaited below
+  if (id) viewer.prefetch(api.snapshotUrl(id, { ...viewOptions(), compact: true }));
   try {
-    const h = await api.health();
+    const h = await healthReply;
     setStatus(`meristemd ${h.version}: ${h.status}`, h.status);
   } catch (e) {
     setStatus(`meristemd is not answering: ${e.message}`, 'error');
   }
   try {
-    const p = await api.presets();
+    const p = await presetsReply;
     state.presets = p.presets;
     for (const x of p.presets) $('#preset').add(new Option(x.name, x.name));
     $('#preset').value = p.presets.some((x) => x.name === 'fig15-brushed') ? 'fig15-brushed' : p.presets[0]?.name;
@@ -452,16 +466,9 @@ async function start() {
   } catch (e) {
     showProblem(e);
   }
-  if (GALLERY) {
-    $('#show-markers').checked = params.get('markers') === '1';
-    $('#show-leaves').checked = params.get('leaves') !== '0';
-    $('#detail').value = params.get('detail') || '3';
-    if (params.get('color')) $('#color').value = params.get('color');
-  }
-  const id = sessionFromUrl();
   if (id) {
     try {
-      await openSession(await api.getSession(id));
+      await openSession(await sessionReply);
     } catch (e) {
       showProblem(e);
       const url = new URL(location.href);

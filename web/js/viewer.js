@@ -124,7 +124,8 @@ export class Viewer {
     this.markers = null;    // THREE.Points
     this.nodeInfo = null;   // lazily computed per-node centroids and axes
     this.extras = null;
-    this.lastLoad = null;   // {ms, fetchMs, parseMs, renderMs, bytes, triangles}
+    this.lastLoad = null;   // {ms, fetchMs, parseMs, renderMs, bytes, triangles, prefetched, drawnAt}
+    this.prefetched = null; // {url, reply, at}: a snapshot asked for before anyone loads it
     this.framed = false;
     this.raycaster = new THREE.Raycaster();
     this.frames = 0;
@@ -228,14 +229,28 @@ export class Viewer {
   setGridVisible(on) { this.ground.visible = on; this.requestRender(); }
 
   /**
+   * Starts fetching the snapshot at `url` now (while the page starts up); the next
+   * load() of the same URL uses it instead of asking again.
+   */
+  prefetch(url) {
+    const reply = fetchSnapshot(url, null);
+    reply.catch(() => {});   // a refusal surfaces in load(), if load() asks for it
+    this.prefetched = { url, reply, at: performance.now() };
+  }
+
+  /**
    * Loads the snapshot at `url` (If-None-Match with the last ETag) and draws it.
-   * Resolves to {changed, ms}; the time covers fetch + parse + first render.
+   * Resolves to {changed, ms}; the time covers fetch + parse + first render (for a
+   * prefetched snapshot, the part of the fetch still outstanding). lastLoad.drawnAt is
+   * when the frame was done, in ms since navigation.
    */
   async load(url) {
     await this.ready;
     const t0 = performance.now();
     const sameUrl = url === this.url;
-    const snap = await fetchSnapshot(url, sameUrl ? this.etag : null);
+    const pre = this.prefetched?.url === url ? this.prefetched.reply : null;
+    this.prefetched = null;
+    const snap = await (pre || fetchSnapshot(url, sameUrl ? this.etag : null));
     if (snap.notModified) return { changed: false, ms: performance.now() - t0 };
     const t1 = performance.now();
     const gltf = await this.loader.parseAsync(snap.buffer, '');
@@ -249,7 +264,8 @@ export class Viewer {
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
     const t3 = performance.now();
     this.lastLoad = { ms: t3 - t0, fetchMs: t1 - t0, parseMs: t2 - t1, renderMs: t3 - t2,
-      bytes: snap.buffer.byteLength, triangles: this.renderer.info.render.triangles };
+      bytes: snap.buffer.byteLength, triangles: this.renderer.info.render.triangles,
+      prefetched: Boolean(pre), drawnAt: t3 };
     return { changed: true, ms: this.lastLoad.ms };
   }
 
