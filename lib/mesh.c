@@ -290,6 +290,13 @@ static void transport(float normal[3], const float from[3], const float to[3])
 
 static uint64_t axis_vertices(const axis *a, bool seam);
 
+/* The vertex after j on a ring of `stride` vertices: with a seam vertex the ring
+ * never wraps (j + 1 ≤ sides < stride); without one, the last joins the first. */
+static inline uint32_t next_on_ring(uint32_t j, uint32_t stride)
+{
+    return j + 1 < stride ? j + 1 : 0;
+}
+
 static mer_result chain_of(builder *b, const axis *a, mer_error *err)
 {
     if (a->count > b->chain_cap) {
@@ -385,7 +392,7 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
         if (i > 0) {
             uint32_t below_ring = ring0 + (i - 1) * stride, this_ring = ring0 + i * stride;
             for (uint32_t j = 0; j < sides; j++) {
-                uint32_t k = j + 1 < stride ? j + 1 : 0;   // the next vertex round the ring
+                uint32_t k = next_on_ring(j, stride);
                 put_triangle(c, below_ring + j, below_ring + k, this_ring + k);
                 put_triangle(c, below_ring + j, this_ring + k, this_ring + j);
             }
@@ -400,7 +407,7 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
         v += circumference > 0.0f ? last->length / circumference : 0.0f;
         uint32_t apex = put_vertex(b, c, tip, last->dir, 0.5f, v, last);
         for (uint32_t j = 0; j < sides; j++)
-            put_triangle(c, top_ring + j, top_ring + (j + 1 < stride ? j + 1 : 0), apex);
+            put_triangle(c, top_ring + j, top_ring + next_on_ring(j, stride), apex);
     } else {
         uint32_t center_id = put_vertex(b, c, tip, t_prev, 0.5f, 0.5f, last);
         uint32_t rim = c->v;

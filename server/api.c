@@ -165,19 +165,15 @@ static int snapshot_options(mer_request *req, mer_snapshot_options *o, mer_refus
     o->mesh.no_uvs = !texcoords;
     const char *compress = query(req, "compress");
     if (compress != NULL) {
-        if (strcmp(compress, "meshopt") == 0)
-            o->compression = MER_GLTF_MESHOPT;
-        else if (strcmp(compress, "none") != 0)
+        int mode = mer_compression_parse(compress);
+        if (mode < 0)
             return mer_refuse(why, 422, "out-of-range", "compress",
                               "compress must be none or meshopt, got '%.40s'", compress);
+        o->compression = (uint32_t)mode;
     }
     const char *color = query(req, "color");
     if (color != NULL) {
-        static const char *const names[] = {"none", "order", "light", "age"};
-        int mode = -1;
-        for (int i = 0; i < 4; i++)
-            if (strcmp(names[i], color) == 0)
-                mode = i;
+        int mode = mer_color_mode_parse(color);
         if (mode < 0)
             return mer_refuse(why, 422, "out-of-range", "color",
                               "color must be none, order, light or age, got '%.40s'", color);

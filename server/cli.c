@@ -250,13 +250,15 @@ int main(int argc, char **argv)
         case O_MARKERS: a.mesh.markers = 1; break;
         case O_UNQUANTIZED: a.unquantized = 1; break;
         case O_NO_TEXCOORDS: a.mesh.no_uvs = 1; break;
-        case O_COMPRESS:
-            if (strcmp(optarg, "none") != 0 && strcmp(optarg, "meshopt") != 0) {
+        case O_COMPRESS: {
+            int mode = mer_compression_parse(optarg);
+            if (mode < 0) {
                 fprintf(stderr, "meristem: --compress wants none or meshopt, got '%s'\n", optarg);
                 return 2;
             }
-            a.compression = strcmp(optarg, "meshopt") == 0 ? MER_GLTF_MESHOPT : MER_GLTF_UNCOMPRESSED;
+            a.compression = (uint32_t)mode;
             break;
+        }
         case O_COLOR: {
             int mode = mer_color_mode_parse(optarg);
             if (mode < 0) {

@@ -55,6 +55,15 @@ int mer_color_mode_parse(const char *name)
     return -1;
 }
 
+int mer_compression_parse(const char *name)
+{
+    if (strcmp(name, "none") == 0)
+        return MER_GLTF_UNCOMPRESSED;
+    if (strcmp(name, "meshopt") == 0)
+        return MER_GLTF_MESHOPT;
+    return -1;
+}
+
 bool mer_param_in_schedule(const char *name)
 {
     return strncmp(name, "apical_off.", 11) == 0 || strncmp(name, "eta_order_scale.", 16) == 0;

@@ -9,6 +9,7 @@
 
 #include <jansson.h>
 
+#include <meristem/gltf.h>
 #include <meristem/mesh.h>
 #include <meristem/scene.h>
 
@@ -46,5 +47,9 @@ int mer_base64_decode(const char *in, uint8_t **out, size_t *size);
 
 /* Parses a colour mode name ("none", "order", "light", "age"). -1 if unknown. */
 int mer_color_mode_parse(const char *name);
+
+/* Parses a snapshot compression name ("none", "meshopt") into a
+ * mer_gltf_compression. -1 if unknown. */
+int mer_compression_parse(const char *name);
 
 #endif

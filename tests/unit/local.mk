@@ -38,12 +38,12 @@ tests_unit_test_shadow_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_shadow_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_scene
-tests_unit_test_scene_SOURCES = tests/unit/test_scene.c
+tests_unit_test_scene_SOURCES = tests/unit/test_scene.c tests/unit/scene_helpers.h
 tests_unit_test_scene_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_scene_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_obstacles
-tests_unit_test_obstacles_SOURCES = tests/unit/test_obstacles.c
+tests_unit_test_obstacles_SOURCES = tests/unit/test_obstacles.c tests/unit/scene_helpers.h
 tests_unit_test_obstacles_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_obstacles_LDADD = $(UNIT_LDADD)
 

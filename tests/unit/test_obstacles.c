@@ -22,25 +22,8 @@
 #include <meristem/rng.h>
 #include <meristem/scene.h>
 
+#include "scene_helpers.h"
 #include "scene_private.h" /* s->shadow, s->rng and the merp_solid inside test */
-
-static mer_scene *make(const mer_params *p, uint64_t seed)
-{
-    mer_scene *s = NULL;
-    mer_error err;
-    if (mer_scene_new(p, seed, &s, &err) != MER_OK)
-        fail_msg("mer_scene_new: %s", err.message);
-    return s;
-}
-
-static void step(mer_scene *s, uint32_t n)
-{
-    mer_error err;
-    uint32_t done;
-    if (mer_scene_step(s, n, NULL, NULL, NULL, &done, &err) != MER_OK)
-        fail_msg("step: %s", err.message);
-    assert_int_equal(done, n);
-}
 
 /* ---- meshes built by hand ---- */
 
@@ -339,7 +322,7 @@ static void test_cube_acts_like_box_shadow(void **state)
 {
     (void)state;
     mer_params p = mer_params_default(); /* shadow propagation, voxel 1, bounds from -50 */
-    mer_scene *a = make(&p, 1), *b = make(&p, 1);
+    mer_scene *a = new_scene(&p, 1), *b = new_scene(&p, 1);
     const float c[3] = {0, 9, 0}, sz[3] = {7, 6, 7};
     mer_error err;
     assert_int_equal(mer_scene_fill_markers(a, MER_VOLUME_ELLIPSOID, c, sz, 6000, &err), MER_OK);
@@ -387,7 +370,7 @@ static void test_cube_blocks_shoots(void **state)
     (void)state;
     mer_params p = mer_params_default();
     p.shadow_a = 0.2f;
-    mer_scene *s = make(&p, 0);
+    mer_scene *s = new_scene(&p, 0);
     const float lo[3] = {-0.3f, 2.2f, -0.3f}, hi[3] = {0.3f, 2.8f, 0.3f};
     float tri[108];
     cube(lo, hi, 1, tri);
@@ -410,7 +393,7 @@ static void test_cube_acts_like_box_markers(void **state)
     (void)state;
     mer_params p;
     assert_int_equal(mer_preset_params("fig4-colonization", &p, NULL), MER_OK);
-    mer_scene *a = make(&p, 2), *b = make(&p, 2);
+    mer_scene *a = new_scene(&p, 2), *b = new_scene(&p, 2);
     /* Through the marker cloud above the seedling. */
     const float lo[3] = {-1.6f, 6.3f, -2.7f}, hi[3] = {2.9f, 9.1f, 3.4f};
     float tri[108];
@@ -444,7 +427,7 @@ static void test_fill_mesh_markers(void **state)
     const float r = 6.0f;
     float tri[72];
     octahedron(c, r, 0, tri);
-    mer_scene *s = make(&p, 9);
+    mer_scene *s = new_scene(&p, 9);
     mer_error err;
     const uint32_t n = 8000;
     assert_int_equal(mer_scene_fill_mesh_markers(s, tri, 8, n, &err), MER_OK);
@@ -472,7 +455,7 @@ static void test_fill_mesh_markers(void **state)
     free(xyz);
 
     /* Deterministic: same calls, same scene; another seed, other markers. */
-    mer_scene *t = make(&p, 9), *u = make(&p, 10);
+    mer_scene *t = new_scene(&p, 9), *u = new_scene(&p, 10);
     assert_int_equal(mer_scene_fill_mesh_markers(t, tri, 8, n, &err), MER_OK);
     assert_int_equal(mer_scene_fill_mesh_markers(u, tri, 8, n, &err), MER_OK);
     assert_true(mer_scene_hash(s) == mer_scene_hash(t));
@@ -495,7 +478,7 @@ static void test_fill_mesh_markers_respects_obstacles(void **state)
     mer_params p = mer_params_default();
     p.environment = MER_ENV_MARKERS;
     p.marker_count = 0;
-    mer_scene *s = make(&p, 4);
+    mer_scene *s = new_scene(&p, 4);
     const float lo[3] = {-3, 5, -3}, hi[3] = {3, 11, 3};
     float tri[108];
     cube(lo, hi, 0, tri);
@@ -524,7 +507,7 @@ static void test_mesh_hash(void **state)
     cube(lo, hi, 0, tri);
     memcpy(moved, tri, sizeof tri);
     moved[0] -= 0.25f; /* one vertex moved: another mesh */
-    mer_scene *a = make(&p, 0), *b = make(&p, 0), *c = make(&p, 0), *d = make(&p, 0);
+    mer_scene *a = new_scene(&p, 0), *b = new_scene(&p, 0), *c = new_scene(&p, 0), *d = new_scene(&p, 0);
     uint64_t empty = mer_scene_hash(a);
     assert_int_equal(mer_scene_add_mesh(a, tri, 12, NULL), MER_OK);
     assert_int_equal(mer_scene_add_mesh(b, tri, 12, NULL), MER_OK);
@@ -550,7 +533,7 @@ static void test_mesh_errors(void **state)
     mer_params p = mer_params_default();
     p.environment = MER_ENV_MARKERS;
     p.marker_count = 0;
-    mer_scene *s = make(&p, 0);
+    mer_scene *s = new_scene(&p, 0);
     uint64_t h0 = mer_scene_hash(s);
     const float lo[3] = {1, 1, 1}, hi[3] = {2, 2, 2};
     float tri[108];
@@ -607,7 +590,7 @@ static void test_constraint_accessor(void **state)
     (void)state;
     mer_params p = mer_params_default();
     p.shadow_a = 0.2f;
-    mer_scene *s = make(&p, 0);
+    mer_scene *s = new_scene(&p, 0);
     uint32_t node = 77, slot = 77;
     assert_int_equal(mer_scene_constraint(s, &node, &slot), 0);
     assert_int_equal(node, 77);

@@ -18,6 +18,7 @@
 #include <meristem/presets.h>
 #include <meristem/scene.h>
 
+#include "scene_helpers.h"
 #include "scene_private.h" /* for the shadow-grid consistency check */
 
 #define assert_near(a, b, eps) assert_true(fabsf((float)(a) - (float)(b)) < (eps))
@@ -30,17 +31,11 @@ static mer_params worked(void)
     return p;
 }
 
+/* A scene from `p`, or from worked() when `p` is NULL. */
 static mer_scene *make(const mer_params *p, uint64_t seed)
 {
     mer_params w = worked();
-    if (p == NULL)
-        p = &w;
-    mer_scene *s = NULL;
-    mer_error err;
-    mer_result rc = mer_scene_new(p, seed, &s, &err);
-    if (rc != MER_OK)
-        fail_msg("mer_scene_new: %s", err.message);
-    return s;
+    return new_scene(p != NULL ? p : &w, seed);
 }
 
 static mer_node node(const mer_scene *s, uint32_t id)
@@ -48,15 +43,6 @@ static mer_node node(const mer_scene *s, uint32_t id)
     mer_node n;
     assert_int_equal(mer_scene_node(s, id, &n, NULL), MER_OK);
     return n;
-}
-
-static void step(mer_scene *s, uint32_t n)
-{
-    mer_error err;
-    uint32_t done;
-    if (mer_scene_step(s, n, NULL, NULL, NULL, &done, &err) != MER_OK)
-        fail_msg("step: %s", err.message);
-    assert_int_equal(done, n);
 }
 
 static void test_seedling(void **state)
