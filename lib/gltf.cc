@@ -10,6 +10,7 @@
 
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <array>
 #include <cfloat>
 #include <cstdlib>
@@ -539,6 +540,16 @@ void meshopt_versions()
     });
 }
 
+// One past the largest of an index blob's indices (the encoder's bound needs it).
+size_t index_bound(const Blob &b)
+{
+    const uint32_t *index = static_cast<const uint32_t *>(b.src);
+    uint32_t top = 0;
+    for (size_t i = 0; i < b.count; i++)
+        top = std::max(top, index[i]);
+    return size_t{top} + 1;
+}
+
 // GLB with every bufferView compressed (see gltf.h): the uncompressed BIN is
 // laid out first, then each view is encoded from it into one buffer sized for
 // the worst case (no reallocation, no zeroing: at ~1 GB/s the encoder is not
@@ -554,7 +565,7 @@ mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *
         const Blob &b = w.blobs[i];
         const tinygltf::BufferView &view = w.model.bufferViews[i];
         bound += 3 + (view.target == TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER
-                          ? meshopt_encodeIndexSequenceBound(b.count, UINT32_MAX)
+                          ? meshopt_encodeIndexBufferBound(b.count, index_bound(b))
                           : meshopt_encodeVertexBufferBound(b.size / view.byteStride, view.byteStride));
     }
     std::unique_ptr<uint8_t[]> packed(new uint8_t[bound + 1]);
@@ -565,11 +576,13 @@ mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *
         const bool indices = view.target == TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
         size_t stride, count, written;
         if (indices) {
-            // The encoder reads 32-bit indices: the caller's own array.
+            // The encoder reads 32-bit indices: the caller's own array. TRIANGLES
+            // mode may rotate a triangle's corners (keeping its winding); the
+            // node-id rule does not depend on the order (see mesh.h, Picking).
             stride = b.size / b.count;
             count = b.count;
-            written = meshopt_encodeIndexSequence(packed.get() + at, bound - at,
-                                                  static_cast<const uint32_t *>(b.src), count);
+            written = meshopt_encodeIndexBuffer(packed.get() + at, bound - at,
+                                                static_cast<const uint32_t *>(b.src), count);
         } else {
             stride = view.byteStride;
             count = b.size / stride;
@@ -583,7 +596,7 @@ mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *
         std::memset(packed.get() + at + written, 0, padded - written);
         nlohmann::json ext = {{"buffer", 0},          {"byteOffset", at},   {"byteLength", written},
                               {"byteStride", stride}, {"count", count},
-                              {"mode", indices ? "INDICES" : "ATTRIBUTES"}};
+                              {"mode", indices ? "TRIANGLES" : "ATTRIBUTES"}};
         nlohmann::json &v = doc["bufferViews"][i];
         v["buffer"] = 1;
         v["extensions"]["EXT_meshopt_compression"] = ext;

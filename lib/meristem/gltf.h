@@ -98,10 +98,11 @@ typedef struct mer_gltf_options {
  * every bufferView keeps its uncompressed layout in buffer 1, a fallback buffer
  * with no data, and names its compressed bytes in buffer 0, the BIN chunk:
  * vertex streams in ATTRIBUTES mode (vertex codec 0, no filter), indices in
- * INDICES mode (the index sequence codec, version 1): TRIANGLES mode would
- * compress indices further but rotates triangles, and the first vertex of a
- * bark triangle must keep naming its internode (see mesh.h, Picking). Decoding
- * gives back exactly the bytes of the uncompressed GLB's BIN chunk; a tree
+ * TRIANGLES mode (the index buffer codec, version 1: on a tree about a third
+ * fewer bytes than the INDICES mode's sequence codec). Decoding gives back exactly
+ * the bytes of the uncompressed GLB's BIN chunk, except that a triangle's
+ * corners may come back rotated (same triangle, same winding): the node-id rule
+ * does not depend on their order (see mesh.h, Picking). A tree
  * without UVs takes about a third of the bytes of the default snapshot. three.js reads it with its MeshoptDecoder; Blender's
  * importer does not, so snapshots for artists stay uncompressed. Refused
  * (MER_ERR_RANGE, "compression") with MER_GLTF_EMBEDDED.

@@ -28,9 +28,13 @@
  *
  * Picking. Every vertex carries the id of the internode it belongs to
  * (`node_ids`, written to glTF as `_NODE_ID`). Ring i of an axis belongs to its
- * i-th internode (the apex, tip ring and cap to the last), and every bark triangle
- * lists a vertex of its lower ring first, so the FIRST vertex of any triangle
- * names the internode that triangle covers.
+ * i-th internode (the apex, tip ring and cap to the last), and a bark triangle
+ * joins one ring to the next, so of its three vertices the one with the SMALLEST
+ * id names the internode the triangle covers: an internode is made before its
+ * continuation, and ids are issued in order. The rule does not depend on the
+ * order of a triangle's corners, so it survives an encoder that rotates them
+ * (EXT_meshopt_compression's TRIANGLES mode); in this mesh every bark triangle
+ * lists a vertex of its lower ring first, so the first vertex is that one too.
  *
  * Leaves. At each living internode made in the last `leaf_age` seasons of
  * growth (counted back from the newest internode, so a tree that has stopped

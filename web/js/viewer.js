@@ -66,6 +66,12 @@ export function gpuReady(geometry) {
 /** The per-vertex node ids of a snapshot geometry (a BufferAttribute), or undefined. */
 const nodeIdsOf = (geometry) => geometry.userData.nodeIds;
 
+/**
+ * The internode a triangle covers: the smallest id among its vertices (mesh.h,
+ * Picking; the rule holds whatever order the decoder gave the corners in).
+ */
+const triangleNode = (ids, a, b, c) => Math.round(Math.min(ids.getX(a), ids.getX(b), ids.getX(c)));
+
 export class Viewer {
   constructor(container, { antialias = true } = {}) {
     this.container = container;
@@ -357,8 +363,8 @@ export class Viewer {
   }
 
   /**
-   * The tree under a client position: {node, point} (node id from _NODE_ID of the hit
-   * triangle's first vertex), else the nearest bark vertex within `slop` px, else null.
+   * The tree under a client position: {node, point} (the hit triangle's node, from
+   * _NODE_ID), else the nearest bark vertex within `slop` px, else null.
    */
   pick(clientX, clientY, slop = 8) {
     const targets = [...this.barkMeshes, ...(this.showLeaves ? this.leafMeshes : [])].filter((m) => m.visible);
@@ -367,7 +373,7 @@ export class Viewer {
     const hits = this.raycaster.intersectObjects(targets, false);
     for (const h of hits) {
       const ids = nodeIdsOf(h.object.geometry);
-      if (ids && h.face) return { node: Math.round(ids.getX(h.face.a)), point: h.point.clone() };
+      if (ids && h.face) return { node: triangleNode(ids, h.face.a, h.face.b, h.face.c), point: h.point.clone() };
     }
     if (!this.bark || !this.showBark) return null;
     // Thin twigs are hard to hit: take the nearest bark vertex on screen.
@@ -443,7 +449,7 @@ export class Viewer {
 
   /**
    * Highlights: name → {ids: Set|function(id), color}. Drawn over the bark triangles
-   * whose first vertex names one of the ids.
+   * of those nodes.
    */
   setHighlight(name, ids, color) {
     this.highlights ??= new Map();
@@ -475,10 +481,9 @@ export class Viewer {
         const out = [];
         const n = index ? index.count : g.attributes.position.count;
         for (let t = 0; t < n; t += 3) {
-          const a = index ? index.getX(t) : t;
-          if (has(Math.round(ids.getX(a)))) {
-            out.push(a, index ? index.getX(t + 1) : t + 1, index ? index.getX(t + 2) : t + 2);
-          }
+          const a = index ? index.getX(t) : t, b = index ? index.getX(t + 1) : t + 1,
+            c = index ? index.getX(t + 2) : t + 2;
+          if (has(triangleNode(ids, a, b, c))) out.push(a, b, c);
         }
         if (!out.length) continue;
         const hg = new THREE.BufferGeometry();
