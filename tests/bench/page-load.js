@@ -52,6 +52,7 @@ const f = (x) => x.toFixed(0);
     const drawn = firsts.map((l) => l.drawnAt);
     console.log(`${'opening the page: tree drawn at'.padEnd(34)} median ${f(median(drawn)).padStart(4)} ms after navigation  ` +
       `best ${f(Math.min(...drawn))}  worst ${f(Math.max(...drawn))}  (its load: median ${f(median(firsts.map((l) => l.ms)))} ms, ` +
+      `worst ${f(Math.max(...firsts.map((l) => l.ms)))}, after waiting ${f(median(firsts.map((l) => l.paintWaitMs)))} ms for the page's first paint; ` +
       `the snapshot ${firsts.every((l) => l.prefetched) ? 'fetched while the page started' : 'fetched after start'})`);
   } finally {
     await d.stop();
