@@ -235,8 +235,18 @@ static mer_result add_obstacle(mer_scene *s, const merp_obstacle *o, mer_error *
     return MER_OK;
 }
 
+static int finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
 mer_result mer_scene_add_box(mer_scene *s, const float min[3], const float max[3], mer_error *err)
 {
+    // Not finite, a box's voxel range would be cast from ±inf or NaN to int.
+    if (!finite3(min))
+        return mer_error_set(err, MER_ERR_INVALID, "min", "a box's min must be 3 finite numbers");
+    if (!finite3(max))
+        return mer_error_set(err, MER_ERR_INVALID, "max", "a box's max must be 3 finite numbers");
     for (int a = 0; a < 3; a++)
         if (!(max[a] > min[a]))
             return mer_error_set(err, MER_ERR_RANGE, "max", "a box's max must exceed its min on every axis");
@@ -250,8 +260,11 @@ mer_result mer_scene_add_box(mer_scene *s, const float min[3], const float max[3
 
 mer_result mer_scene_add_sphere(mer_scene *s, const float center[3], float radius, mer_error *err)
 {
-    if (!(radius > 0.0f))
-        return mer_error_set(err, MER_ERR_RANGE, "radius", "radius must be > 0, got %g", (double)radius);
+    if (!finite3(center))
+        return mer_error_set(err, MER_ERR_INVALID, "center", "a sphere's center must be 3 finite numbers");
+    if (!(radius > 0.0f) || !isfinite(radius))
+        return mer_error_set(err, MER_ERR_RANGE, "radius", "radius must be finite and > 0, got %g",
+                             (double)radius);
     merp_obstacle o;
     memset(&o, 0, sizeof o);
     o.kind = MERP_OBS_SPHERE;
@@ -382,9 +395,10 @@ mer_result mer_scene_add_markers(mer_scene *s, const float *xyz, size_t count, m
     size_t k = 0;
     for (size_t i = 0; i < count; i++) {
         const float *p = xyz + 3 * i;
-        if (!(p[0] == p[0] && p[1] == p[1] && p[2] == p[2])) {
+        if (!finite3(p)) {
             free(keep);
-            return mer_error_set(err, MER_ERR_INVALID, "points", "marker %zu is not a number", i);
+            return mer_error_set(err, MER_ERR_INVALID, "points",
+                                 "marker %zu is not 3 finite numbers", i);
         }
         if (merp_blocked(s, p))
             continue;

@@ -169,6 +169,9 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
         snprintf(g, sizeof g, "%s.radius", f);
         if (!json_is_number(r))
             return mer_refuse(why, 422, "invalid-field", g, "%s must be a number", g);
+        // As vec3's bound: a double past float's range has no float to become.
+        if (!(json_number_value(r) > 0.0 && json_number_value(r) <= 1e6))
+            return mer_refuse(why, 422, "out-of-range", g, "%s must be a number in (0, 1e6]", g);
         rc = mer_scene_add_sphere(scene, c, (float)json_number_value(r), &err);
     }
     return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);

@@ -129,7 +129,8 @@ uint32_t mer_scene_plant_count(const mer_scene *s);
 
 /* Obstacles (P09 §4.4 Fig. 11, §6): an axis-aligned box [min, max] or a sphere.
  * They remove the markers inside them, shade (see above) and block shoots.
- * MER_ERR_RANGE for an empty box or radius <= 0; MER_ERR_LIMIT past
+ * MER_ERR_INVALID for a coordinate that is not finite (nothing added);
+ * MER_ERR_RANGE for an empty box or a radius not finite and > 0; MER_ERR_LIMIT past
  * MER_OBSTACLES_MAX. O(markers + voxels covered·q_max²). */
 mer_result mer_scene_add_box(mer_scene *s, const float min[3], const float max[3],
                              mer_error *err);
@@ -187,7 +188,8 @@ mer_result mer_scene_fill_mesh_markers(mer_scene *s, const float *xyz, size_t tr
                                        uint32_t count, mer_error *err);
 
 /* Adds `count` markers (xyz triples, caller-owned) to the set S. Markers inside
- * obstacles or below the ground are dropped. O(count). */
+ * obstacles or below the ground are dropped. MER_ERR_INVALID "points" if any
+ * coordinate is not finite (NaN or ±inf), and then none is added. O(count). */
 mer_result mer_scene_add_markers(mer_scene *s, const float *xyz, size_t count, mer_error *err);
 
 /* Adds `count` markers uniformly distributed in a volume (params.h

@@ -202,6 +202,7 @@ test('the schemas refuse what server/edits.c and server/session.c refuse', () =>
       { scene: { markers: [{ volume: 'box', center: [0, 0, 0], size: [1, 1, 1], count: 0 }] } },
       { scene: { obstacles: [{ box: { min: [0, 0, 0] } }] } },
       { scene: { obstacles: [{ box: { min: [0, 0, 0], max: [1, 1, 1] }, sphere: { center: [0, 0, 0], radius: 1 } }] } },
+      { scene: { obstacles: [{ sphere: { center: [0, 0, 0], radius: 1e300 } }] } },
     ],
   };
   for (const [schema, values] of Object.entries(refused)) {

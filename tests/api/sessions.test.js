@@ -114,6 +114,9 @@ test('a glTF mesh as an obstacle: a roof stops the tree; as a marker volume', as
   problem(await J('POST', '/v1/sessions', { scene: { plants: [[0, 6.5, 0]], obstacles: [{ gltf: roof }] } }),
     422, 'out-of-range', /scene\.plants\[0\]/, 'scene.plants[0]');
   problem(await J('POST', '/v1/sessions', { scene: { obstacles: [{ gltf: 'not base64!' }] } }), 422, 'invalid-field', /base64/, 'scene.obstacles[0].gltf');
+  // A radius past float's range has no float to become: refused, not cast.
+  problem(await J('POST', '/v1/sessions', { scene: { obstacles: [{ sphere: { center: [0, 20, 0], radius: 1e300 } }] } }),
+    422, 'out-of-range', /radius must be a number in \(0, 1e6\]/, 'scene.obstacles[0].sphere.radius');
   problem(await J('POST', '/v1/sessions', { scene: { obstacles: [{ gltf: Buffer.from('{"asset":{}}').toString('base64') }] } }), 422, 'invalid-gltf', /glTF/, 'scene.obstacles[0].gltf');
   // The inside of a mesh filled with markers.
   const base = (await create({ preset: 'fig4-colonization', seed: 1 })).body.markers;

@@ -345,6 +345,22 @@ static void test_obstacles_block_shoots_and_remove_markers(void **state)
     assert_int_equal(mer_scene_marker_count(s), 1);
     assert_int_equal(mer_scene_add_sphere(s, c, 0.0f, &err), MER_ERR_RANGE);
     assert_string_equal(err.field, "radius");
+    /* Coordinates that are not finite are refused, and change nothing. */
+    const float inf = INFINITY, nan = NAN;
+    const float c_nan[3] = {0, nan, 0}, hi_inf[3] = {0.3f, inf, 0.3f};
+    const uint64_t before = mer_scene_hash(s);
+    assert_int_equal(mer_scene_add_sphere(s, c, inf, &err), MER_ERR_RANGE);
+    assert_int_equal(mer_scene_add_sphere(s, c_nan, 1.0f, &err), MER_ERR_INVALID);
+    assert_string_equal(err.field, "center");
+    assert_int_equal(mer_scene_add_box(s, lo, hi_inf, &err), MER_ERR_INVALID);
+    assert_string_equal(err.field, "max");
+    assert_int_equal(mer_scene_add_box(s, c_nan, hi, &err), MER_ERR_INVALID);
+    assert_string_equal(err.field, "min");
+    const float bad_pts[] = {0, 20, 0, 0, inf, 0};
+    assert_int_equal(mer_scene_add_markers(s, bad_pts, 2, &err), MER_ERR_INVALID);
+    assert_string_equal(err.field, "points");
+    assert_int_equal(mer_scene_marker_count(s), 1);
+    assert_true(mer_scene_hash(s) == before);
     mer_scene_free(s);
 }
 
