@@ -38,6 +38,7 @@ struct Blob {
     Fill fill;
     size_t offset;     // in the BIN chunk
     size_t size;       // bytes written
+    bool triangles;    // an index view of triangles (not of line segments)
 };
 
 // The uniform grid quantized positions live on: p = center + scale · q.
@@ -99,9 +100,10 @@ struct Writer {
         model.buffers.resize(1);
     }
 
-    int view(const void *src, size_t count, size_t elem, Fill fill, int target, int stride = 0)
+    int view(const void *src, size_t count, size_t elem, Fill fill, int target, int stride = 0,
+             bool triangles = false)
     {
-        Blob b{src, count, elem, fill, bin_size, count * out_elem(fill, elem)};
+        Blob b{src, count, elem, fill, bin_size, count * out_elem(fill, elem), triangles};
         bin_size += (b.size + 3u) & ~size_t{3};  // every view starts 4-aligned
         blobs.push_back(b);
 
@@ -167,11 +169,11 @@ struct Writer {
         return a;
     }
 
-    int indices(const uint32_t *idx, size_t count, size_t vertex_count)
+    int indices(const uint32_t *idx, size_t count, size_t vertex_count, bool triangles)
     {
         bool narrow = vertex_count <= 0xFFFF;
         int v = view(idx, count, 4, narrow ? Fill::U32ToU16 : Fill::Copy,
-                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0, triangles);
         return accessor(v, 0, narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
                                      : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                         TINYGLTF_TYPE_SCALAR, count);
@@ -258,6 +260,11 @@ mer_result check_part(const mer_mesh_part &p, const std::string &prefix, mer_err
         return mer_error_set(err, MER_ERR_INVALID, indices.c_str(),
                              "triangle indices must be a positive multiple of 3, got %u",
                              p.index_count);
+    const std::string lines = prefix + "line_indices";
+    if (p.line_index_count % 2 != 0 || (p.line_index_count > 0 && p.line_indices == nullptr))
+        return mer_error_set(err, MER_ERR_INVALID, lines.c_str(),
+                             "line indices must come in pairs, got %u", p.line_index_count);
+    uint32_t next_line = 0;
     if (p.chunks == nullptr || p.chunk_count == 0)
         return mer_error_set(err, MER_ERR_INVALID, indices.c_str(), "no chunks given");
     uint32_t next_vertex = 0, next_index = 0;
@@ -272,9 +279,23 @@ mer_result check_part(const mer_mesh_part &p, const std::string &prefix, mer_err
                 return mer_error_set(err, MER_ERR_RANGE, indices.c_str(),
                                      "index %u is %u, past the last vertex %u of its chunk", i,
                                      p.indices[i], ch.vertex_count - 1);
+        if (ch.line_index_count > 0 &&
+            (ch.first_line_index != next_line || ch.line_index_count % 2 != 0 ||
+             ch.first_line_index + ch.line_index_count > p.line_index_count))
+            return mer_error_set(err, MER_ERR_INVALID, lines.c_str(),
+                                 "chunk %u's line indices do not continue the last ones", c);
+        for (uint32_t i = ch.first_line_index; i < ch.first_line_index + ch.line_index_count; i++)
+            if (p.line_indices[i] >= ch.vertex_count)
+                return mer_error_set(err, MER_ERR_RANGE, lines.c_str(),
+                                     "line index %u is %u, past the last vertex %u of its chunk", i,
+                                     p.line_indices[i], ch.vertex_count - 1);
         next_vertex += ch.vertex_count;
         next_index += ch.index_count;
+        next_line += ch.line_index_count;
     }
+    if (next_line != p.line_index_count)
+        return mer_error_set(err, MER_ERR_INVALID, lines.c_str(),
+                             "the chunks cover %u of %u line indices", next_line, p.line_index_count);
     if (next_vertex != p.vertex_count || next_index != p.index_count)
         return mer_error_set(err, MER_ERR_INVALID, indices.c_str(),
                              "the chunks cover %u of %u vertices and %u of %u indices", next_vertex,
@@ -299,7 +320,11 @@ mer_result write_checked(const mer_mesh &mesh, const mer_gltf_meta *meta,
                          size_t *out_size, mer_error *err);
 
 // One primitive per chunk; the attribute bufferViews are shared by the chunks.
-void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, int material)
+// A chunk of twigs' prisms (mesh.h, Twig lines) is marked {"twig": true} in its
+// extras, and followed by a LINES primitive of its twig lines, in `line_material`,
+// on the same POSITION (and COLOR_0) accessors, with {"twig_diameter_max": d}.
+void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, int material,
+                   int line_material = -1, double twig_diameter_max = 0)
 {
     if (p.vertex_count == 0)
         return;
@@ -320,6 +345,8 @@ void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, int 
         tinygltf::Primitive prim;
         prim.mode = TINYGLTF_MODE_TRIANGLES;
         prim.material = material;
+        if (ch.twig)
+            prim.extras = tinygltf::Value(tinygltf::Value::Object{{"twig", tinygltf::Value(true)}});
         prim.attributes["POSITION"] = w.positions(pos, p.positions, first, count, q);
         if (nrm >= 0) {
             prim.attributes["NORMAL"] =
@@ -344,8 +371,21 @@ void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, int 
         if (ids >= 0)
             prim.attributes["_NODE_ID"] = w.accessor(ids, first * 4, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                                      TINYGLTF_TYPE_SCALAR, count);
-        prim.indices = w.indices(p.indices + ch.first_index, ch.index_count, count);
+        prim.indices = w.indices(p.indices + ch.first_index, ch.index_count, count, true);
         mesh.primitives.push_back(prim);
+        if (ch.line_index_count > 0 && line_material >= 0) {
+            tinygltf::Primitive lines;
+            lines.mode = TINYGLTF_MODE_LINE;
+            lines.material = line_material;
+            lines.attributes["POSITION"] = prim.attributes["POSITION"];
+            if (col >= 0)
+                lines.attributes["COLOR_0"] = prim.attributes["COLOR_0"];
+            lines.indices = w.indices(p.line_indices + ch.first_line_index, ch.line_index_count,
+                                      count, false);
+            lines.extras = tinygltf::Value(tinygltf::Value::Object{
+                {"twig_diameter_max", tinygltf::Value(twig_diameter_max)}});
+            mesh.primitives.push_back(lines);
+        }
     }
 }
 
@@ -424,9 +464,13 @@ void build_tree(Writer &w, const mer_mesh &mesh, const mer_gltf_meta *meta)
     const double bark_rgba[4] = {0.11, 0.07, 0.045, 1.0}, white[4] = {1, 1, 1, 1};
     const double leaf_rgba[4] = {0.20, 0.42, 0.10, 1.0}, marker_rgba[4] = {0.55, 0.55, 0.55, 1.0};
     tinygltf::Mesh tree;
-    if (mesh.bark.vertex_count > 0)
-        add_triangles(w, tree, mesh.bark,
-                      add_material(model, "bark", colored ? white : bark_rgba, 0.9, false));
+    if (mesh.bark.vertex_count > 0) {
+        int bark = add_material(model, "bark", colored ? white : bark_rgba, 0.9, false);
+        int twig = mesh.bark.line_index_count > 0
+                       ? add_material(model, "twig", colored ? white : bark_rgba, 0.9, false)
+                       : -1;
+        add_triangles(w, tree, mesh.bark, bark, twig, static_cast<double>(mesh.twig_diameter_max));
+    }
     if (mesh.leaves.vertex_count > 0)
         add_triangles(w, tree, mesh.leaves,
                       add_material(model, "leaf", colored ? white : leaf_rgba, 0.6, true));
@@ -564,9 +608,10 @@ mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *
     for (size_t i = 0; i < w.blobs.size(); i++) {
         const Blob &b = w.blobs[i];
         const tinygltf::BufferView &view = w.model.bufferViews[i];
-        bound += 3 + (view.target == TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER
-                          ? meshopt_encodeIndexBufferBound(b.count, index_bound(b))
-                          : meshopt_encodeVertexBufferBound(b.size / view.byteStride, view.byteStride));
+        bound += 3 + (view.target != TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER
+                          ? meshopt_encodeVertexBufferBound(b.size / view.byteStride, view.byteStride)
+                      : b.triangles ? meshopt_encodeIndexBufferBound(b.count, index_bound(b))
+                                    : meshopt_encodeIndexSequenceBound(b.count, index_bound(b)));
     }
     std::unique_ptr<uint8_t[]> packed(new uint8_t[bound + 1]);
     size_t at = 0;
@@ -579,10 +624,13 @@ mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *
             // The encoder reads 32-bit indices: the caller's own array. TRIANGLES
             // mode may rotate a triangle's corners (keeping its winding); the
             // node-id rule does not depend on the order (see mesh.h, Picking).
+            // Line segments take INDICES mode, which keeps every index as it is.
             stride = b.size / b.count;
             count = b.count;
-            written = meshopt_encodeIndexBuffer(packed.get() + at, bound - at,
-                                                static_cast<const uint32_t *>(b.src), count);
+            const uint32_t *src = static_cast<const uint32_t *>(b.src);
+            written = b.triangles
+                          ? meshopt_encodeIndexBuffer(packed.get() + at, bound - at, src, count)
+                          : meshopt_encodeIndexSequence(packed.get() + at, bound - at, src, count);
         } else {
             stride = view.byteStride;
             count = b.size / stride;
@@ -596,7 +644,7 @@ mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *
         std::memset(packed.get() + at + written, 0, padded - written);
         nlohmann::json ext = {{"buffer", 0},          {"byteOffset", at},   {"byteLength", written},
                               {"byteStride", stride}, {"count", count},
-                              {"mode", indices ? "TRIANGLES" : "ATTRIBUTES"}};
+                              {"mode", !indices ? "ATTRIBUTES" : b.triangles ? "TRIANGLES" : "INDICES"}};
         nlohmann::json &v = doc["bufferViews"][i];
         v["buffer"] = 1;
         v["extensions"]["EXT_meshopt_compression"] = ext;
@@ -712,7 +760,7 @@ extern "C" mer_result mer_gltf_write_glb(const mer_gltf_mesh *in, uint8_t **out_
     mesh.bark.normals = const_cast<float *>(in->normals);
     mesh.bark.node_ids = const_cast<uint32_t *>(in->node_ids);
     mesh.bark.indices = const_cast<uint32_t *>(in->indices);
-    mer_mesh_chunk whole{0, mesh.bark.vertex_count, 0, mesh.bark.index_count};
+    mer_mesh_chunk whole{0, mesh.bark.vertex_count, 0, mesh.bark.index_count, 0, 0, 0};
     mesh.bark.chunks = &whole;
     mesh.bark.chunk_count = 1;
     mer_gltf_options raw{};

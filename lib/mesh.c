@@ -14,6 +14,12 @@
 #define TWO_PI 6.28318530717958647692f
 
 #define MAX_SIDES 16
+/* A twig (mesh.h, Twig lines) is at most this fraction of the tree's largest
+ * extent (at least TWIG_EXTENT_MIN) thick at its base: 1/400 is about 1.4 px
+ * where the brush client frames the whole tree in a 750-px view. */
+#define TWIG_EXTENT_FRACTION 400.0f
+#define TWIG_EXTENT_MIN 8.0f
+
 static const uint32_t max_sides_by_detail[MER_MESH_DETAIL_MAX + 1] = {0, 4, 6, 8, 12, MAX_SIDES};
 
 enum axis_end { END_TIP, END_CUT };
@@ -31,6 +37,8 @@ typedef struct cursor {
     mer_mesh_part *part;
     uint32_t v, i;
     uint32_t chunk_cap;
+    uint32_t twig;     /* the `twig` flag of the chunks being made */
+    uint32_t line_i;   /* next twig line index (bark only) */
 } cursor;
 
 typedef struct builder {
@@ -42,6 +50,8 @@ typedef struct builder {
     uint32_t newest;        /* latest step in which a living internode was made */
     float max_diameter;
     float max_q;
+    float lo[3], hi[3];     /* bounds of the living internodes' ends */
+    float twig_limit;       /* with twig_lines: the largest base diameter of a twig */
     axis *axes;
     uint32_t axis_count;
     mer_mesh *mesh;
@@ -62,9 +72,12 @@ static mer_result resolve_options(const mer_mesh_options *in, const mer_params *
     if (out->detail > MER_MESH_DETAIL_MAX)
         return mer_error_set(err, MER_ERR_RANGE, "detail", "detail must be from 1 to %d, got %u",
                              MER_MESH_DETAIL_MAX, out->detail);
-    if (out->leaves > 1 || out->markers > 1 || out->no_uvs > 1)
+    if (out->leaves > 1 || out->markers > 1 || out->no_uvs > 1 || out->twig_lines > 1)
         return mer_error_set(err, MER_ERR_RANGE,
-                             out->leaves > 1 ? "leaves" : out->markers > 1 ? "markers" : "no_uvs",
+                             out->leaves > 1    ? "leaves"
+                             : out->markers > 1 ? "markers"
+                             : out->no_uvs > 1  ? "no_uvs"
+                                                : "twig_lines",
                              "must be 0 or 1");
     if (out->color > MER_COLOR_AGE)
         return mer_error_set(err, MER_ERR_RANGE, "color",
@@ -90,6 +103,12 @@ static uint32_t sides_for(const builder *b, float diameter)
     uint32_t max = max_sides_by_detail[b->opt.detail];
     float f = b->max_diameter > 0.0f ? clampf(diameter / b->max_diameter, 0.0f, 1.0f) : 1.0f;
     return 3u + (uint32_t)lrintf((float)(max - 3u) * f);
+}
+
+/* A twig (mesh.h, Twig lines): a 3-sided axis no thicker than twig_limit. */
+static bool is_twig(const builder *b, const axis *a)
+{
+    return b->opt.twig_lines && a->sides == 3 && b->nodes[a->first].diameter <= b->twig_limit;
 }
 
 /* Finds every axis: a living node whose parent is absent (a trunk) or whose
@@ -200,13 +219,13 @@ static void color_of(const builder *b, const mer_node *n, float out[4])
 /* ------------------------------------------------------------------- bark */
 
 /* Makes room for a group of `vertices` that triangles will join: when the
- * current chunk cannot take them all under MER_MESH_CHUNK_VERTICES, a new chunk
- * starts here. */
+ * current chunk cannot take them all under MER_MESH_CHUNK_VERTICES, or has
+ * another `twig` flag than the cursor's, a new chunk starts here. */
 static mer_result begin_group(cursor *c, uint32_t vertices, mer_error *err)
 {
     mer_mesh_part *part = c->part;
     mer_mesh_chunk *cur = part->chunk_count ? &part->chunks[part->chunk_count - 1] : NULL;
-    if (cur != NULL && cur->vertex_count + vertices <= MER_MESH_CHUNK_VERTICES)
+    if (cur != NULL && cur->twig == c->twig && cur->vertex_count + vertices <= MER_MESH_CHUNK_VERTICES)
         return MER_OK;
     if (part->chunk_count == c->chunk_cap) {
         uint32_t cap = c->chunk_cap ? 2 * c->chunk_cap : 8;
@@ -216,7 +235,7 @@ static mer_result begin_group(cursor *c, uint32_t vertices, mer_error *err)
         part->chunks = grown;
         c->chunk_cap = cap;
     }
-    part->chunks[part->chunk_count++] = (mer_mesh_chunk){c->v, 0, c->i, 0};
+    part->chunks[part->chunk_count++] = (mer_mesh_chunk){c->v, 0, c->i, 0, c->twig, c->line_i, 0};
     return MER_OK;
 }
 
@@ -251,6 +270,16 @@ static inline void put_triangle(cursor *c, uint32_t a, uint32_t a1, uint32_t a2)
     chunk->index_count += 3;
 }
 
+/* A twig line segment of absolute vertex numbers, stored relative to its chunk. */
+static inline void put_line(cursor *c, uint32_t a, uint32_t a1)
+{
+    mer_mesh_part *part = c->part;
+    mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
+    part->line_indices[c->line_i++] = a - chunk->first_vertex;
+    part->line_indices[c->line_i++] = a1 - chunk->first_vertex;
+    chunk->line_index_count += 2;
+}
+
 static float radius_of(const mer_node *n) { return 0.5f * n->diameter; }
 
 static void node_end(const mer_node *n, float out[3])
@@ -259,8 +288,6 @@ static void node_end(const mer_node *n, float out[3])
         out[k] = n->base[k] + n->dir[k] * n->length;
 }
 
-/* Carries the frame normal `normal` from tangent `from` to tangent `to` by the
- * rotation between them: discrete parallel transport, hence no twist. */
 /* Carries the frame normal `normal` from tangent `from` to tangent `to` by the
  * rotation between them: discrete parallel transport, hence no twist. Rodrigues
  * with the rotation's cosine and sine taken straight from dot and cross. */
@@ -400,6 +427,11 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
     }
 
     const uint32_t top_ring = ring0 + (rings - 1) * stride;
+    // A twig's line runs along its prism's first edge: at under a pixel wide, the
+    // edge and the centre line are the same pixels.
+    if (c->twig)
+        for (uint32_t i = 0; i + 1 < rings; i++)
+            put_line(c, ring0 + i * stride, ring0 + (i + 1) * stride);
     float tip[3];
     node_end(last, tip);
     if (a->end == END_TIP) {
@@ -408,6 +440,8 @@ static mer_result mesh_axis(builder *b, const axis *a, const float *cos_t, const
         uint32_t apex = put_vertex(b, c, tip, last->dir, 0.5f, v, last);
         for (uint32_t j = 0; j < sides; j++)
             put_triangle(c, top_ring + j, top_ring + next_on_ring(j, stride), apex);
+        if (c->twig)
+            put_line(c, top_ring, apex);
     } else {
         uint32_t center_id = put_vertex(b, c, tip, t_prev, 0.5f, 0.5f, last);
         uint32_t rim = c->v;
@@ -497,12 +531,21 @@ static mer_result load_nodes(builder *b, mer_error *err)
     b->nodes = b->node_count ? malloc((size_t)b->node_count * sizeof *b->nodes) : NULL;
     if (b->node_count && b->nodes == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for %u nodes", b->node_count);
+    bool none_yet = true;
     for (uint32_t id = 0; id < b->node_count; id++) {
         mer_result rc = mer_scene_node(b->scene, id, &b->nodes[id], err);
         if (rc != MER_OK)
             return rc;
         const mer_node *n = &b->nodes[id];
         if (n->alive) {
+            float e[3];
+            node_end(n, e);
+            for (int k = 0; k < 3; k++) {
+                float lo = fminf(n->base[k], e[k]), hi = fmaxf(n->base[k], e[k]);
+                b->lo[k] = none_yet || lo < b->lo[k] ? lo : b->lo[k];
+                b->hi[k] = none_yet || hi > b->hi[k] ? hi : b->hi[k];
+            }
+            none_yet = false;
             if (n->diameter > b->max_diameter)
                 b->max_diameter = n->diameter;
             if (n->q > b->max_q)
@@ -511,6 +554,10 @@ static mer_result load_nodes(builder *b, mer_error *err)
                 b->newest = n->born;
         }
     }
+    float extent = TWIG_EXTENT_MIN;
+    for (int k = 0; k < 3 && !none_yet; k++)
+        extent = fmaxf(extent, b->hi[k] - b->lo[k]);
+    b->twig_limit = extent / TWIG_EXTENT_FRACTION;
     return MER_OK;
 }
 
@@ -530,11 +577,17 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
     if ((rc = load_nodes(&b, err)) != MER_OK || (rc = collect_axes(&b, err)) != MER_OK)
         goto done;
 
-    uint64_t bark_v = 0, bark_i = 0, internodes = 0;
+    uint64_t bark_v = 0, bark_i = 0, internodes = 0, line_i = 0;
     for (uint32_t i = 0; i < b.axis_count; i++) {
-        bark_v += axis_vertices(&b.axes[i], !b.opt.no_uvs);
-        bark_i += axis_indices(&b.axes[i]);
-        internodes += b.axes[i].count;
+        const axis *a = &b.axes[i];
+        bark_v += axis_vertices(a, !b.opt.no_uvs);
+        bark_i += axis_indices(a);
+        internodes += a->count;
+        if (is_twig(&b, a)) {
+            line_i += 2 * (uint64_t)a->count;
+            float d = b.nodes[a->first].diameter;
+            b.mesh->twig_diameter_max = d > b.mesh->twig_diameter_max ? d : b.mesh->twig_diameter_max;
+        }
     }
     uint64_t leaf_count = 0;
     if (b.opt.leaves)
@@ -545,6 +598,14 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
         (rc = allocate_part(&b.mesh->leaves, 4 * leaf_count, 6 * leaf_count, colors, uvs, err)) !=
             MER_OK)
         goto done;
+    if (line_i > 0) {
+        b.mesh->bark.line_indices = malloc(line_i * sizeof(uint32_t));
+        if (b.mesh->bark.line_indices == NULL) {
+            rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for twig lines");
+            goto done;
+        }
+        b.mesh->bark.line_index_count = (uint32_t)line_i;
+    }
     b.bark.part = &b.mesh->bark;
     b.leaves.part = &b.mesh->leaves;
     b.mesh->axes = b.axis_count;
@@ -552,18 +613,25 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
 
     float cos_t[MAX_SIDES], sin_t[MAX_SIDES];
     uint32_t table_sides = 0;
-    for (uint32_t i = 0; i < b.axis_count; i++) {
-        const axis *a = &b.axes[i];
-        if (a->sides != table_sides) {
-            for (uint32_t j = 0; j < a->sides; j++) {
-                float angle = TWO_PI * (float)j / (float)a->sides;
-                cos_t[j] = cosf(angle);
-                sin_t[j] = sinf(angle);
+    // With twig lines, thicker axes first, then the twigs in chunks of their own.
+    const uint32_t passes = b.opt.twig_lines ? 2 : 1;
+    for (uint32_t pass = 0; pass < passes; pass++) {
+        b.bark.twig = pass == 1;
+        for (uint32_t i = 0; i < b.axis_count; i++) {
+            const axis *a = &b.axes[i];
+            if (passes == 2 && is_twig(&b, a) != (pass == 1))
+                continue;
+            if (a->sides != table_sides) {
+                for (uint32_t j = 0; j < a->sides; j++) {
+                    float angle = TWO_PI * (float)j / (float)a->sides;
+                    cos_t[j] = cosf(angle);
+                    sin_t[j] = sinf(angle);
+                }
+                table_sides = a->sides;
             }
-            table_sides = a->sides;
+            if ((rc = mesh_axis(&b, a, cos_t, sin_t, err)) != MER_OK)
+                goto done;
         }
-        if ((rc = mesh_axis(&b, a, cos_t, sin_t, err)) != MER_OK)
-            goto done;
     }
 
     if (b.opt.leaves) {
@@ -594,7 +662,8 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
 
     // The counts were computed before meshing; meshing must have filled exactly them.
     if (b.bark.v != b.mesh->bark.vertex_count || b.bark.i != b.mesh->bark.index_count ||
-        b.leaves.v != b.mesh->leaves.vertex_count || b.leaves.i != b.mesh->leaves.index_count) {
+        b.leaves.v != b.mesh->leaves.vertex_count || b.leaves.i != b.mesh->leaves.index_count ||
+        b.bark.line_i != b.mesh->bark.line_index_count) {
         rc = mer_error_set(err, MER_ERR_INTERNAL, NULL, "meshing wrote %u of %u bark vertices",
                            b.bark.v, b.mesh->bark.vertex_count);
         goto done;
@@ -621,6 +690,7 @@ static void free_part(mer_mesh_part *part)
     free(part->colors);
     free(part->node_ids);
     free(part->indices);
+    free(part->line_indices);
 }
 
 void mer_mesh_free(mer_mesh *mesh)

@@ -159,7 +159,8 @@ static int snapshot_options(mer_request *req, mer_snapshot_options *o, mer_refus
         query_uint(req, "leaves", 0, 1, &o->mesh.leaves, why) ||
         query_uint(req, "markers", 0, 1, &o->mesh.markers, why) ||
         query_uint(req, "quantize", 0, 1, &quantize, why) ||
-        query_uint(req, "texcoords", 0, 1, &texcoords, why))
+        query_uint(req, "texcoords", 0, 1, &texcoords, why) ||
+        query_uint(req, "twig_lines", 0, 1, &o->mesh.twig_lines, why))
         return -1;
     o->unquantized = !quantize;
     o->mesh.no_uvs = !texcoords;

@@ -725,9 +725,10 @@ bool mer_session_cancel(mer_session *s)
 
 static void options_key(const mer_snapshot_options *o, char *out, size_t n)
 {
-    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u", o->mesh.detail ? o->mesh.detail : 3,
+    // Twig lines add "w1", so the keys of snapshots without them stay as they were.
+    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s", o->mesh.detail ? o->mesh.detail : 3,
              o->mesh.leaves, o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1,
-             o->mesh.no_uvs ? 0 : 1, o->compression);
+             o->mesh.no_uvs ? 0 : 1, o->compression, o->mesh.twig_lines ? "w1" : "");
 }
 
 void mer_session_etag(mer_session *s, const mer_snapshot_options *options, char *etag)

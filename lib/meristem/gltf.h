@@ -82,7 +82,11 @@ typedef struct mer_gltf_options {
  * markers. Attributes: POSITION (with min/max), NORMAL, TEXCOORD_0, COLOR_0
  * (when the mesh has colours) and `_NODE_ID`; indices UNSIGNED_SHORT when a
  * chunk has at most 65535 vertices (every chunk is one primitive), else
- * UNSIGNED_INT. Materials are PBR metallic-roughness. asset.generator is
+ * UNSIGNED_INT. A twig chunk (mesh.h, Twig lines) has extras {"twig": true}
+ * and is followed by a LINES primitive of its line segments (material "twig",
+ * POSITION and COLOR_0 the chunk's own accessors, no NORMAL or `_NODE_ID`,
+ * extras {"twig_diameter_max": d}); in compressed GLBs its indices take the
+ * INDICES mode. Materials are PBR metallic-roughness. asset.generator is
  * "meristem VERSION"; `meta` (may be NULL) goes to asset.extras. `options` may
  * be NULL (defaults).
  *

@@ -43,6 +43,19 @@
  * turned to face up as far as its direction allows, with UVs of a unit square
  * (base at v = 0, tip at v = 1). Leaves are a separate primitive and material.
  *
+ * Twig lines (level of detail). With `twig_lines`, the twigs (axes meshed with
+ * 3 sides whose base is at most 1/400 of the tree's largest extent thick, at
+ * least 8 units counted) come after every other axis, in bark chunks of their
+ * own (`twig` set), and each chunk also lists line segments over its vertices
+ * (`line_indices`): one per internode, along the prism's first edge (ring to
+ * ring, the last ring to the apex). A viewer looking at the tree from far
+ * enough that a twig is under a pixel or so wide draws those lines instead of
+ * the twig chunks: the same pixels for a third of the work, no new vertices,
+ * and picking still hits the prisms. 1/400 of the extent is ~1.4 px where the
+ * whole tree fills a 750-px view. `twig_diameter_max` is the thickest twig's
+ * base diameter, for deciding when. Without the option, axes are meshed in id
+ * order and nothing is flagged.
+ *
  * Colours. Optionally a COLOR_0 per vertex: by branch order (a fixed palette),
  * by light Q (the subtree's light at the last step, dark blue → yellow, scaled
  * by the largest Q), or by age (young green → old brown, scaled by the step).
@@ -78,6 +91,7 @@ typedef struct mer_mesh_options {
     uint32_t no_uvs;   /* 1: no UVs (both parts' `uvs` NULL), for a viewer that draws
                           no texture, and rings without the seam vertex (a 3-sided
                           twig's ring is 3 vertices, not 4); 0: UVs as above */
+    uint32_t twig_lines; /* 1: twig centre lines and twig chunks (see Twig lines) */
 } mer_mesh_options;
 
 #define MER_MESH_DETAIL_MAX 5
@@ -90,6 +104,8 @@ typedef struct mer_mesh_options {
 typedef struct mer_mesh_chunk {
     uint32_t first_vertex, vertex_count; /* a run of the part's vertices */
     uint32_t first_index, index_count;   /* a run of the part's indices */
+    uint32_t twig;                       /* 1: only twigs' prisms (see Twig lines) */
+    uint32_t first_line_index, line_index_count; /* its run of line_indices */
 } mer_mesh_chunk;
 
 /* One part's arrays, owned by the mer_mesh. Arrays that an option did not ask
@@ -106,11 +122,14 @@ typedef struct mer_mesh_part {
     uint32_t *node_ids;     /* 1 per vertex */
     uint32_t *indices;      /* relative to their chunk's first vertex; counter-clockwise
                                seen from outside */
+    uint32_t line_index_count; /* twig line segments × 2 (see Twig lines); 0 without */
+    uint32_t *line_indices;    /* relative to their chunk's first vertex, like indices */
 } mer_mesh_part;
 
 typedef struct mer_mesh {
     mer_mesh_part bark;
     mer_mesh_part leaves;   /* vertex_count 0 unless options.leaves */
+    float twig_diameter_max; /* the thickest twig's base diameter; 0: no twigs */
     uint32_t point_count;   /* markers, 0 unless options.markers */
     float *points;          /* 3 per marker */
     uint32_t axes;          /* generalized cylinders in `bark` */

@@ -273,6 +273,24 @@ test('snapshots: GLB, ETag by revision and options, 304, options as query', asyn
   artifact('api-snapshot-meshopt.glb', compactBytes);
   problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?compress=zip`), 422, 'out-of-range', /compress must be none or meshopt/, 'compress');
   problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?texcoords=2`), 422, 'out-of-range', /texcoords must be an integer from 0 to 1/, 'texcoords');
+  // Twig lines, for the brush client's level of detail: each twig chunk's triangles,
+  // then a LINES primitive on the same positions, in the "twig" material.
+  const lod = await fetch(`${url}?leaves=1&texcoords=0&compress=meshopt&twig_lines=1`);
+  assert.equal(lod.headers.get('etag'), '"r1-d3l1m0c0q1t0z1w1"');
+  const lodBytes = Buffer.from(await lod.arrayBuffer());
+  const lodDoc = JSON.parse(lodBytes.subarray(20, 20 + lodBytes.readUInt32LE(12)).toString('utf8'));
+  const prims = lodDoc.meshes[0].primitives;
+  const lines = prims.map((p, i) => [p, i]).filter(([p]) => p.mode === 1);
+  assert.ok(lines.length > 0, 'no twig lines');
+  for (const [p, i] of lines) {
+    assert.equal(prims[i - 1].extras.twig, true);
+    assert.equal(p.attributes.POSITION, prims[i - 1].attributes.POSITION);
+    assert.equal(lodDoc.materials[p.material].name, 'twig');
+    assert.ok(p.extras.twig_diameter_max > 0);
+  }
+  assert.ok(lodBytes.length < compactBytes.length * 1.1, `${lodBytes.length} vs ${compactBytes.length} bytes`);
+  artifact('api-snapshot-twig-lines.glb', lodBytes);
+  problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?twig_lines=2`), 422, 'out-of-range', /twig_lines must be an integer from 0 to 1/, 'twig_lines');
   // After an edit the old ETag no longer matches.
   await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 1 });
   assert.equal((await fetch(url, { headers: { 'If-None-Match': etag } })).status, 200);

@@ -446,6 +446,41 @@ test('a 10,000-internode snapshot loads and draws (time reported, not asserted t
   assert.ok(first.prefetched, 'a reopened session\'s snapshot is asked for while the page starts');
   assert.ok(median(plain) < 5000, `median load ${median(plain)} ms`);
   await clean.screenshot({ path: path.join(ARTIFACTS, 'brush-10k.png') });
+  // Level of detail (mesh.h, Twig lines): seen whole, the twigs are drawn as lines;
+  // a twig is still picked on its prism; zoomed in, the prisms are drawn again.
+  const lod = await clean.evaluate(() => {
+    const v = window.meristem.viewer, info = () => ({ shown: v.twigLinesShown,
+      lines: v.renderer.info.render.lines, triangles: v.renderer.info.render.triangles });
+    v.render();
+    const far = info();
+    v.setVisible({ leaves: false });
+    const twigs = new Set();
+    for (const m of v.barkMeshes.filter((b) => b.userData.twig)) {
+      const ids = m.geometry.userData.nodeIds;
+      for (let i = 0; i < ids.count; i++) twigs.add(Math.round(ids.getX(i)));
+    }
+    let twig = null, nearest = Infinity;
+    for (const id of twigs) {
+      const [x, y, z] = v.nodes().get(id).center;
+      const dist = Math.hypot(x - v.camera.position.x, y - v.camera.position.y, z - v.camera.position.z);
+      if (dist < nearest) { nearest = dist; twig = id; }
+    }
+    const at = window.meristem.screenOfNode(twig);
+    const picked = v.pick(at.x, at.y)?.node ?? null;
+    v.setVisible({ leaves: true });
+    v.camera.position.sub(v.controls.target).multiplyScalar(0.15).add(v.controls.target);
+    v.controls.update();
+    v.render();
+    return { far, near: info(), twigs: twigs.size, twig, picked };
+  });
+  t.diagnostic(`twig LOD: ${JSON.stringify(lod)}`);
+  assert.ok(lod.twigs > 1000, `${lod.twigs} twig internodes`);
+  assert.equal(lod.far.shown, true);
+  // One segment per twig internode (the rest of the lines are the ground grid's).
+  assert.equal(lod.far.lines - lod.near.lines, lod.twigs, JSON.stringify(lod));
+  assert.equal(lod.picked, lod.twig);
+  assert.equal(lod.near.shown, false);
+  assert.ok(lod.near.triangles > lod.far.triangles + 4 * lod.twigs, JSON.stringify(lod));
   await clean.close();
   assert.deepEqual(cleanErrors, []);
 });

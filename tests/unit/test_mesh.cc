@@ -3,6 +3,8 @@
 // left in $MER_ARTIFACTS for the glTF conformance test.
 #include "config.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdarg>
 #include <cstddef>
@@ -53,6 +55,16 @@ mer_mesh *mesh_of(const mer_scene *s, mer_mesh_options opt = {})
     if (mer_mesh_build(s, &opt, &m, &err) != MER_OK)
         fail_msg("mesh: %s %s", err.field, err.message);
     return m;
+}
+
+// An option out of range is refused, naming it, and nothing is made.
+void expect_refused(const mer_scene *s, const mer_mesh_options &opt, const char *field)
+{
+    mer_mesh *bad = nullptr;
+    mer_error err{};
+    assert_int_equal(mer_mesh_build(s, &opt, &bad, &err), MER_ERR_RANGE);
+    assert_null(bad);
+    assert_string_equal(err.field, field);
 }
 
 std::vector<uint8_t> glb_of(const mer_mesh *m, const mer_gltf_options *opt = nullptr,
@@ -594,25 +606,30 @@ void test_meshopt_decodes_to_the_uncompressed_bytes(void **)
 {
     mer_scene *s = grow("fig4-colonization", 20, 8);
     size_t default_size = 0;
-    for (uint32_t no_uvs = 0; no_uvs <= 1; no_uvs++) {
+    // Variant 2: twig lines, on a tree that has twigs (their index views take
+    // INDICES mode).
+    mer_scene *twiggy = grow("fig7-bh-0.52", 14, 3);
+    for (uint32_t variant = 0; variant <= 2; variant++) {
+        const uint32_t no_uvs = variant >= 1;
         mer_mesh_options opt{};
         opt.leaves = 1;
         opt.markers = 1;
         opt.no_uvs = no_uvs;
-        mer_mesh *m = mesh_of(s, opt);
-        assert_true(m->point_count > 0 && m->leaves.vertex_count > 0);
+        opt.twig_lines = variant == 2;
+        mer_mesh *m = mesh_of(variant == 2 ? twiggy : s, opt);
+        assert_true((variant == 2 || m->point_count > 0) && m->leaves.vertex_count > 0);
         mer_gltf_options z{};
         z.compression = MER_GLTF_MESHOPT;
         std::vector<uint8_t> plain = glb_of(m), packed = glb_of(m, &z);
         assert_true(packed == glb_of(m, &z));  // deterministic
-        if (no_uvs)
+        if (variant == 1)
             save_artifact("mesh-meshopt.glb", packed);
         // Fewer bytes: 0.50 of the plain GLB with UVs and 0.52 without on this
         // tree (its FLOAT markers pack poorly); without UVs, 0.39 of the default.
         assert_true(10 * packed.size() < 6 * plain.size());
         if (no_uvs == 0)
             default_size = plain.size();
-        else
+        else if (variant == 1)
             assert_true(100 * packed.size() < 45 * default_size);
         auto [pj, pbin] = chunks_of(packed);
         auto [uj, ubin] = chunks_of(plain);
@@ -625,7 +642,7 @@ void test_meshopt_decodes_to_the_uncompressed_bytes(void **)
         assert_int_equal(pj["buffers"][1]["byteLength"].get<size_t>(), ubin.size());
         assert_true(pj["buffers"][1]["extensions"]["EXT_meshopt_compression"]["fallback"] == true);
         assert_int_equal(pj["bufferViews"].size(), uj["bufferViews"].size());
-        size_t index_views = 0;
+        size_t index_views = 0, line_views = 0;
         for (size_t i = 0; i < pj["bufferViews"].size(); i++) {
             const nlohmann::json &v = pj["bufferViews"][i], &x = v["extensions"]["EXT_meshopt_compression"];
             assert_int_equal(v["buffer"].get<int>(), 1);
@@ -645,6 +662,9 @@ void test_meshopt_decodes_to_the_uncompressed_bytes(void **)
                 rc = meshopt_decodeIndexBuffer(out.data(), count, stride, pbin.data() + at, length);
                 assert_int_equal(rc, 0);
                 unrotate(out, ubin.data() + offset, count, stride);
+            } else if (x["mode"] == "INDICES") {  // twig lines: every index kept as it is
+                line_views++;
+                rc = meshopt_decodeIndexSequence(out.data(), count, stride, pbin.data() + at, length);
             } else {
                 assert_true(x["mode"] == "ATTRIBUTES");
                 rc = meshopt_decodeVertexBuffer(out.data(), count, stride, pbin.data() + at, length);
@@ -654,6 +674,11 @@ void test_meshopt_decodes_to_the_uncompressed_bytes(void **)
                 fail_msg("bufferView %zu (%s) decodes to other bytes", i, x["mode"].get<std::string>().c_str());
         }
         assert_int_equal(index_views, m->bark.chunk_count + m->leaves.chunk_count);
+        uint32_t twig_chunks = 0;
+        for (uint32_t c = 0; c < m->bark.chunk_count; c++)
+            twig_chunks += m->bark.chunks[c].twig;
+        assert_int_equal(line_views, twig_chunks);
+        assert_true(variant < 2 || twig_chunks > 0);
         mer_mesh_free(m);
     }
     // Compression is for GLB only; unknown modes are refused.
@@ -671,6 +696,7 @@ void test_meshopt_decodes_to_the_uncompressed_bytes(void **)
     assert_int_equal(mer_gltf_write_tree(m, nullptr, &bad, &bytes, &size, &err), MER_ERR_RANGE);
     assert_null(bytes);
     mer_mesh_free(m);
+    mer_scene_free(twiggy);
     mer_scene_free(s);
 }
 
@@ -702,10 +728,130 @@ void test_no_uvs(void **)
     for (const tinygltf::Primitive &p : model.meshes.at(0).primitives)
         assert_int_equal(p.attributes.count("TEXCOORD_0"), 0);
     without.no_uvs = 2;
-    mer_mesh *bad = nullptr;
-    mer_error err{};
-    assert_int_equal(mer_mesh_build(s, &without, &bad, &err), MER_ERR_RANGE);
-    assert_string_equal(err.field, "no_uvs");
+    expect_refused(s, without, "no_uvs");
+    mer_mesh_free(a);
+    mer_mesh_free(b);
+    mer_scene_free(s);
+}
+
+// Twig lines (mesh.h): the same triangles, the twigs last and in chunks of their
+// own, and one line segment per twig internode along its prism, on the vertices
+// of its chunk; in the GLB a LINES primitive on its chunk's POSITION accessor.
+void test_twig_lines(void **)
+{
+    mer_scene *s = grow("fig7-bh-0.52", 14, 3);
+    mer_mesh_options plain{}, lod{};
+    plain.no_uvs = lod.no_uvs = 1;
+    plain.leaves = lod.leaves = 1;
+    lod.twig_lines = 1;
+    mer_mesh *a = mesh_of(s, plain), *b = mesh_of(s, lod);
+    assert_int_equal(a->bark.line_index_count, 0);
+    assert_null(a->bark.line_indices);
+    for (uint32_t c = 0; c < a->bark.chunk_count; c++)
+        assert_int_equal(a->bark.chunks[c].twig, 0);
+
+    // The same triangles, each with its corners and its internode, in another order.
+    using Key = std::array<float, 10>;
+    auto triangles = [](const mer_mesh_part &p) {
+        std::vector<Key> out;
+        for (uint32_t c = 0; c < p.chunk_count; c++) {
+            const mer_mesh_chunk &ch = p.chunks[c];
+            for (uint32_t i = ch.first_index; i < ch.first_index + ch.index_count; i += 3) {
+                std::array<std::array<float, 3>, 3> corner;
+                uint32_t node = UINT32_MAX;
+                for (int k = 0; k < 3; k++) {
+                    uint32_t v = ch.first_vertex + p.indices[i + k];
+                    std::memcpy(corner[k].data(), p.positions + 3 * v, sizeof corner[k]);
+                    node = std::min(node, p.node_ids[v]);
+                }
+                std::sort(corner.begin(), corner.end());
+                Key key{static_cast<float>(node)};
+                for (int k = 0; k < 9; k++)
+                    key[1 + k] = corner[k / 3][k % 3];
+                out.push_back(key);
+            }
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    assert_int_equal(a->bark.vertex_count, b->bark.vertex_count);
+    assert_true(triangles(a->bark) == triangles(b->bark));
+    assert_int_equal(a->leaves.vertex_count, b->leaves.vertex_count);
+
+    // Thicker axes first; the twigs, thin, after them; lines only on twig chunks.
+    const mer_mesh_part &bark = b->bark;
+    uint32_t twig_chunks = 0;
+    float thickest = 0.0f;
+    std::map<uint32_t, int> covered;  // twig internode -> segments covering it
+    for (uint32_t c = 0; c < bark.chunk_count; c++) {
+        const mer_mesh_chunk &ch = bark.chunks[c];
+        if (!ch.twig) {
+            assert_int_equal(twig_chunks, 0);
+            assert_int_equal(ch.line_index_count, 0);
+            continue;
+        }
+        twig_chunks++;
+        for (uint32_t v = ch.first_vertex; v < ch.first_vertex + ch.vertex_count; v++) {
+            mer_node n{};
+            assert_int_equal(mer_scene_node(s, bark.node_ids[v], &n, nullptr), MER_OK);
+            thickest = std::max(thickest, n.diameter);
+            covered.emplace(n.id, 0);
+        }
+        for (uint32_t i = ch.first_line_index; i < ch.first_line_index + ch.line_index_count; i += 2) {
+            const uint32_t u = ch.first_vertex + bark.line_indices[i],
+                           w = ch.first_vertex + bark.line_indices[i + 1];
+            assert_true(bark.line_indices[i] < ch.vertex_count && bark.line_indices[i + 1] < ch.vertex_count);
+            // The segment covers the internode its smaller id names: from its base
+            // ring to its end (the next ring or the apex), within the twig's radius.
+            mer_node n{};
+            assert_int_equal(mer_scene_node(s, std::min(bark.node_ids[u], bark.node_ids[w]), &n, nullptr), MER_OK);
+            covered[n.id]++;
+            const float end[3] = {n.base[0] + n.length * n.dir[0], n.base[1] + n.length * n.dir[1],
+                                  n.base[2] + n.length * n.dir[2]};
+            auto dist = [](const float *p, const float *q) {
+                return std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                 (p[2] - q[2]) * (p[2] - q[2]));
+            };
+            assert_true(dist(bark.positions + 3 * u, n.base) <= 0.5f * b->twig_diameter_max + 1e-4f);
+            assert_true(dist(bark.positions + 3 * w, end) <= 0.5f * b->twig_diameter_max + 1e-4f);
+        }
+    }
+    assert_true(twig_chunks >= 1 && twig_chunks < bark.chunk_count);
+    assert_true(bark.chunks[0].twig == 0);
+    assert_true(b->twig_diameter_max > 0.0f && thickest <= b->twig_diameter_max);
+    assert_int_equal(bark.line_index_count, 2 * covered.size());
+    for (const auto &kv : covered)
+        if (kv.second != 1)
+            fail_msg("twig internode %u has %d line segments", kv.first, kv.second);
+
+    // The GLB: each twig chunk's triangles, then its lines on the same positions.
+    mer_gltf_options z{};
+    z.compression = MER_GLTF_MESHOPT;
+    save_artifact("mesh-twig-lines.glb", glb_of(b, &z));
+    tinygltf::Model model = load(glb_of(b));
+    const std::vector<tinygltf::Primitive> &prims = model.meshes.at(0).primitives;
+    uint32_t lines = 0;
+    for (size_t i = 0; i < prims.size(); i++) {
+        const tinygltf::Primitive &p = prims[i];
+        const bool twig = p.extras.Has("twig") && p.extras.Get("twig").Get<bool>();
+        if (p.mode == TINYGLTF_MODE_LINE) {
+            lines++;
+            assert_true(i > 0 && prims[i - 1].extras.Has("twig"));
+            assert_int_equal(p.attributes.at("POSITION"), prims[i - 1].attributes.at("POSITION"));
+            assert_int_equal(p.attributes.count("NORMAL"), 0);
+            assert_string_equal(model.materials.at(static_cast<size_t>(p.material)).name.c_str(), "twig");
+            assert_float_equal(p.extras.Get("twig_diameter_max").GetNumberAsDouble(),
+                               b->twig_diameter_max, 1e-7);
+        } else if (twig) {
+            assert_true(i + 1 < prims.size() && prims[i + 1].mode == TINYGLTF_MODE_LINE);
+        }
+    }
+    assert_int_equal(lines, twig_chunks);
+    // Without the option, the GLB has no twig primitives at all.
+    for (const tinygltf::Primitive &p : load(glb_of(a)).meshes.at(0).primitives)
+        assert_true(p.mode == TINYGLTF_MODE_TRIANGLES && !p.extras.Has("twig"));
+    lod.twig_lines = 2;
+    expect_refused(s, lod, "twig_lines");
     mer_mesh_free(a);
     mer_mesh_free(b);
     mer_scene_free(s);
@@ -731,6 +877,7 @@ int main()
         cmocka_unit_test(test_read_triangles_round_trip),
         cmocka_unit_test(test_meshopt_decodes_to_the_uncompressed_bytes),
         cmocka_unit_test(test_no_uvs),
+        cmocka_unit_test(test_twig_lines),
     };
     return cmocka_run_group_tests_name("mesh", tests, nullptr, nullptr);
 }

@@ -54,6 +54,7 @@ export function snapshotUrl(id, { detail = 3, leaves = false, markers = false, c
   if (compact) {
     q.set('texcoords', '0');
     q.set('compress', 'meshopt');
+    q.set('twig_lines', '1');
   }
   return `v1/sessions/${id}/snapshot.glb?${q}`;
 }

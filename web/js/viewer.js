@@ -9,7 +9,8 @@
 // page asks for compressed snapshots without UVs (it draws no texture), shades bark
 // and leaves with diffuse-only Lambert materials (the bark is rough and non-metallic:
 // a PBR material adds a specular lobe nobody sees, and ~40% to a frame in SwiftShader),
-// and paints the ground in its lit colour without lighting it per pixel.
+// paints the ground in its lit colour without lighting it per pixel, and draws the twigs
+// of a tree seen whole, thinner than a pixel, as lines (see _chooseTwigDetail).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -20,6 +21,9 @@ import { fetchSnapshot } from './api.js';
 const NODE_ID = '_node_id';
 const BACKGROUND = 0xdfe5da;
 const GROUND = 0xd1d5bc;   // the colour the lights gave a rough 0xc9d1bd disc
+const TWIG_LINE = 0x5a4232;       // what the lights make of bark 0x6e5240 on a thin twig
+const TWIG_LINE_TINT = 0xcccccc;  // the same darkening for vertex colours
+const TWIG_LINE_OPACITY = 0.4;
 
 /**
  * Whether WebGL runs on a software rasterizer (SwiftShader, llvmpipe): multisampling
@@ -46,13 +50,20 @@ export function softwareRendering() {
  *   upload (the shaders read xyz either way; ~10 ms less per 10k-internode load);
  * - the `_NODE_ID` attribute moves to `userData.nodeIds`: only picking and highlights
  *   read it, on the CPU, so it is never uploaded.
+ * An attribute two primitives share (a twig chunk and its lines) stays one attribute,
+ * uploaded once.
  */
+const padded = new WeakMap();
 export function gpuReady(geometry) {
   for (const name of ['position', 'normal']) {
     const a = geometry.attributes[name];
-    if (a?.isInterleavedBufferAttribute && a.itemSize === 3 && a.offset === 0 && a.data.stride === 4 &&
+    if (padded.has(a)) {
+      geometry.setAttribute(name, padded.get(a));
+    } else if (a?.isInterleavedBufferAttribute && a.itemSize === 3 && a.offset === 0 && a.data.stride === 4 &&
         a.data.array.BYTES_PER_ELEMENT <= 2 && a.data.count === a.count) {
-      geometry.setAttribute(name, new THREE.BufferAttribute(a.data.array, 4, a.normalized));
+      const b = new THREE.BufferAttribute(a.data.array, 4, a.normalized);
+      padded.set(a, b);
+      geometry.setAttribute(name, b);
     }
   }
   const ids = geometry.attributes[NODE_ID];
@@ -71,6 +82,9 @@ const nodeIdsOf = (geometry) => geometry.userData.nodeIds;
  * Picking; the rule holds whatever order the decoder gave the corners in).
  */
 const triangleNode = (ids, a, b, c) => Math.round(Math.min(ids.getX(a), ids.getX(b), ids.getX(c)));
+
+// Twigs at most this many pixels wide are drawn as lines (see _chooseTwigDetail).
+const TWIG_LINE_PX = 1.5;
 
 /**
  * Resolves once the browser has painted the next frame (or after 100 ms, as in a
@@ -124,6 +138,13 @@ export class Viewer {
       leaf: new THREE.MeshLambertMaterial({ color: 0x5f9442, side: THREE.DoubleSide }),
       leafColored: new THREE.MeshLambertMaterial({ color: 0xffffff, side: THREE.DoubleSide,
         vertexColors: true }),
+      // Twig lines, unlit, in the colour lit bark shows. A line covers its pixel whole
+      // where a twig a fraction of a pixel wide covers a fraction of it: at full
+      // opacity the crown turns brown. TWIG_LINE_OPACITY matches the prisms' look.
+      twig: new THREE.LineBasicMaterial({ color: TWIG_LINE, transparent: true,
+        opacity: TWIG_LINE_OPACITY, depthWrite: false }),
+      twigColored: new THREE.LineBasicMaterial({ color: TWIG_LINE_TINT, vertexColors: true,
+        transparent: true, opacity: TWIG_LINE_OPACITY, depthWrite: false }),
       markers: new THREE.PointsMaterial({ color: 0x5b6066, size: 3, sizeAttenuation: false,
         transparent: true, opacity: 0.75, depthWrite: false }),
     };
@@ -134,8 +155,11 @@ export class Viewer {
     this.url = null;
     // A snapshot's bark (and leaves) may be several primitives: the GLB splits them
     // into chunks of at most 65,535 vertices, about 14,000 internodes each.
-    this.barkMeshes = [];   // THREE.Mesh per bark primitive
+    this.barkMeshes = [];   // THREE.Mesh per bark primitive (userData.twig: twigs' prisms)
     this.leafMeshes = [];
+    this.twigLines = [];    // THREE.LineSegments: the twigs' centre lines, if the snapshot has them
+    this.twigDiameter = 0;  // the thickest twig's diameter, world units
+    this.twigLinesShown = false;
     this.bark = null;       // the first bark mesh (its material and attributes stand for all)
     this.leaves = null;
     this.markers = null;    // THREE.Points
@@ -187,6 +211,11 @@ export class Viewer {
     // Measured in headless Chromium, the first snapshot's draw after opening the page:
     // 143, 174, 147 ms without it, 116, 128, 115 ms with it (the next draws take ~50).
     dummies.add(new THREE.Mesh(make(false, false, 65535), this.materials.bark));
+    for (const k of ['twig', 'twigColored']) {
+      const g = make(k === 'twigColored', false);
+      g.deleteAttribute('normal');
+      dummies.add(new THREE.LineSegments(g, this.materials[k]));
+    }
     const pts = new THREE.BufferGeometry();
     pts.setAttribute('position', new THREE.Float32BufferAttribute([0, 0, 0], 3));
     dummies.add(new THREE.Points(pts, this.materials.markers));
@@ -221,8 +250,31 @@ export class Viewer {
   }
 
   render() {
+    this._chooseTwigDetail();
     this.renderer.render(this.scene, this.camera);
     this.frames++;
+  }
+
+  /**
+   * Level of detail for twigs (mesh.h, Twig lines): where the thickest twig is under
+   * TWIG_LINE_PX pixels wide at the distance of the orbit target, draw the twigs'
+   * centre lines instead of their prisms. A 1-px line is then what the prism
+   * rasterizes to anyway, for a seventh of the primitives (a 10k-internode tree:
+   * 9k segments against 44k triangles). The prisms stay pickable (pick() asks
+   * them whatever is drawn).
+   */
+  _chooseTwigDetail() {
+    const lines = this.twigLines.length > 0 && this.showBark && this._twigPixels() < TWIG_LINE_PX;
+    this.twigLinesShown = lines;
+    for (const l of this.twigLines) l.visible = lines;
+    for (const m of this.barkMeshes) m.visible = this.showBark && !(lines && m.userData.twig);
+  }
+
+  /** How many pixels wide the thickest twig is at the orbit target's distance. */
+  _twigPixels() {
+    const dist = this.camera.position.distanceTo(this.controls.target);
+    const h = this.renderer.domElement.height;
+    return this.twigDiameter * h / (2 * Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2)) * Math.max(dist, 1e-6));
   }
 
   /** A ground grid about `size` wide, centred at the origin. */
@@ -307,6 +359,8 @@ export class Viewer {
     this.bark = this.leaves = this.markers = null;
     this.barkMeshes = [];
     this.leafMeshes = [];
+    this.twigLines = [];
+    this.twigDiameter = 0;
     this.nodeInfo = null;
     this.extras = gltf.asset?.extras || gltf.parser?.json?.asset?.extras || null;
     const root = gltf.scene;
@@ -314,6 +368,11 @@ export class Viewer {
       if (o.isPoints) {
         o.material = this.materials.markers;
         this.markers = o;
+      } else if (o.isLineSegments) {
+        gpuReady(o.geometry);
+        o.material = o.geometry.attributes.color ? this.materials.twigColored : this.materials.twig;
+        this.twigDiameter = Math.max(this.twigDiameter, o.geometry.userData.twig_diameter_max || 0);
+        this.twigLines.push(o);
       } else if (o.isMesh) {
         gpuReady(o.geometry);
         const colored = Boolean(o.geometry.attributes.color);
@@ -323,6 +382,7 @@ export class Viewer {
           this.leafMeshes.push(o);
         } else {
           o.material = colored ? this.materials.barkColored : this.materials.bark;
+          o.userData.twig = Boolean(o.geometry.userData.twig);
           this.barkMeshes.push(o);
         }
       }
@@ -393,7 +453,9 @@ export class Viewer {
    * _NODE_ID), else the nearest bark vertex within `slop` px, else null.
    */
   pick(clientX, clientY, slop = 8) {
-    const targets = [...this.barkMeshes, ...(this.showLeaves ? this.leafMeshes : [])].filter((m) => m.visible);
+    // Twigs drawn as lines are picked on their prisms, hidden or not.
+    const targets = [...(this.showBark ? this.barkMeshes : []),
+      ...(this.showLeaves ? this.leafMeshes : [])];
     if (!targets.length) return null;
     this.raycaster.setFromCamera(this.ndc(clientX, clientY), this.camera);
     const hits = this.raycaster.intersectObjects(targets, false);
