@@ -51,6 +51,8 @@ static void usage(FILE *out)
             "  --no-texcoords     leave out the UVs (for viewers that draw no texture)\n"
             "  --compress=MODE    none or meshopt (EXT_meshopt_compression; .glb only;\n"
             "                     three.js reads it, Blender does not)\n"
+            "  --twig-lines       twigs in primitives of their own, each with a LINES\n"
+            "                     primitive of their centre lines (a viewer's level of detail)\n"
             "  --help, --version\n");
 }
 
@@ -201,7 +203,7 @@ int main(int argc, char **argv)
 
     grow_args a = {.preset = "default", .steps = 20};
     enum { O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
-           O_NO_TEXCOORDS, O_COMPRESS };
+           O_NO_TEXCOORDS, O_COMPRESS, O_TWIG_LINES };
     static const struct option longopts[] = {
         {"preset", required_argument, NULL, O_PRESET}, {"steps", required_argument, NULL, O_STEPS},
         {"seed", required_argument, NULL, O_SEED},     {"set", required_argument, NULL, O_SET},
@@ -209,6 +211,7 @@ int main(int argc, char **argv)
         {"leaves", no_argument, NULL, O_LEAVES},       {"markers", no_argument, NULL, O_MARKERS},
         {"color", required_argument, NULL, O_COLOR},   {"unquantized", no_argument, NULL, O_UNQUANTIZED},
         {"no-texcoords", no_argument, NULL, O_NO_TEXCOORDS},
+        {"twig-lines", no_argument, NULL, O_TWIG_LINES},
         {"compress", required_argument, NULL, O_COMPRESS},
         {0, 0, 0, 0}};
     optind = 2;
@@ -250,6 +253,7 @@ int main(int argc, char **argv)
         case O_MARKERS: a.mesh.markers = 1; break;
         case O_UNQUANTIZED: a.unquantized = 1; break;
         case O_NO_TEXCOORDS: a.mesh.no_uvs = 1; break;
+        case O_TWIG_LINES: a.mesh.twig_lines = 1; break;
         case O_COMPRESS: {
             int mode = mer_compression_parse(optarg);
             if (mode < 0) {

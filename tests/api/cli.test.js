@@ -55,6 +55,11 @@ test('--compress=meshopt --no-texcoords writes the compact GLB the brush client 
   const plain = fs.readFileSync(out('cli-plain.tmp.glb'));
   fs.rmSync(out('cli-plain.tmp.glb'));
   assert.ok(glb.length * 2.5 < plain.length, `${glb.length} vs ${plain.length} bytes`);
+  // --twig-lines: as the brush client asks for them, a LINES primitive after each twig chunk.
+  assert.equal(run([...args, '--compress', 'meshopt', '--no-texcoords', '--twig-lines', '-o', out('cli-twig-lines.glb')]).status, 0);
+  const lod = fs.readFileSync(out('cli-twig-lines.glb'));
+  const lodDoc = JSON.parse(lod.subarray(20, 20 + lod.readUInt32LE(12)).toString('utf8'));
+  assert.ok(lodDoc.meshes[0].primitives.some((p) => p.mode === 1 && lodDoc.materials[p.material].name === 'twig'));
   const bad = run(['grow', '--compress', 'zip']);
   assert.equal(bad.status, 2);
   assert.match(bad.stderr, /--compress wants none or meshopt/);
