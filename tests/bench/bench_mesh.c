@@ -5,7 +5,7 @@
  *
  *   tests/bench/bench_mesh [INTERNODES] [DETAIL] [compact]   (default 10000 3)
  *
- * "compact" encodes the brush client's snapshot: no UVs, EXT_meshopt_compression.
+ * "compact" encodes the brush client's snapshot: no UVs, twig lines, EXT_meshopt_compression.
  */
 #include "config.h"
 
@@ -65,7 +65,7 @@ int main(int argc, char **argv)
     mer_summary sum;
     mer_scene_summary(scene, &sum);
 
-    mer_mesh_options opt = {.detail = detail, .no_uvs = (uint32_t)compact};
+    mer_mesh_options opt = {.detail = detail, .no_uvs = (uint32_t)compact, .twig_lines = (uint32_t)compact};
     mer_gltf_options gopt = {.compression = compact ? MER_GLTF_MESHOPT : MER_GLTF_UNCOMPRESSED};
     double best_mesh = 1e9, best_glb = 1e9, cold = 0;
     size_t bytes = 0;

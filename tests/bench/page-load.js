@@ -46,7 +46,8 @@ const f = (x) => x.toFixed(0);
         `parse ${f(median(loads.map((l) => l.parseMs)))}, draw ${f(median(loads.map((l) => l.renderMs)))}; ` +
         `${loads[0].bytes} bytes, ${loads.length} loads)`);
     };
-    console.log(`page-load: ${n} internodes, ${plain[0].triangles} triangles, viewport 1280x800, ${ROUNDS} pages`);
+    console.log(`page-load: ${n} internodes; drawn: ${plain[0].triangles} triangles, ${plain[0].lines} line segments ` +
+      `(twig lines and the grid); viewport 1280x800, ${ROUNDS} pages`);
     row('load+draw, bark colour', plain);
     row('load+draw, coloured by order/light/age', coloured);
     const drawn = firsts.map((l) => l.drawnAt);

@@ -165,7 +165,7 @@ export class Viewer {
     this.markers = null;    // THREE.Points
     this.nodeInfo = null;   // lazily computed per-node centroids and axes
     this.extras = null;
-    this.lastLoad = null;   // {ms, fetchMs, parseMs, renderMs, bytes, triangles, prefetched, drawnAt, paintWaitMs}
+    this.lastLoad = null;   // {ms, fetchMs, parseMs, renderMs, bytes, triangles, lines, prefetched, drawnAt, paintWaitMs}
     this.prefetched = null; // {url, reply, at}: a snapshot asked for before anyone loads it
     this.framed = false;
     this.raycaster = new THREE.Raycaster();
@@ -349,6 +349,7 @@ export class Viewer {
     const t3 = performance.now();
     this.lastLoad = { ms: t3 - t0, fetchMs: t1 - t0, parseMs: t2 - t1, renderMs: t3 - t2,
       bytes: snap.buffer.byteLength, triangles: this.renderer.info.render.triangles,
+      lines: this.renderer.info.render.lines,
       prefetched: Boolean(pre), drawnAt: t3, paintWaitMs };
     return { changed: true, ms: this.lastLoad.ms };
   }
