@@ -280,7 +280,7 @@ mer_result check_part(const mer_mesh_part &p, const std::string &prefix, mer_err
     for (uint32_t c = 0; c < p.chunk_count; c++) {
         const mer_mesh_chunk &ch = p.chunks[c];
         if (ch.first_vertex != next_vertex || ch.first_index != next_index || ch.vertex_count == 0 ||
-            ch.index_count % 3 != 0)
+            ch.index_count == 0 || ch.index_count % 3 != 0)
             return mer_error_set(err, MER_ERR_INVALID, indices.c_str(),
                                  "chunk %u does not continue where chunk %u ended", c, c - 1);
         for (uint32_t i = ch.first_index; i < ch.first_index + ch.index_count; i++)
@@ -290,7 +290,7 @@ mer_result check_part(const mer_mesh_part &p, const std::string &prefix, mer_err
                                      p.indices[i], ch.vertex_count - 1);
         if (ch.line_index_count > 0 &&
             (ch.first_line_index != next_line || ch.line_index_count % 2 != 0 ||
-             ch.first_line_index + ch.line_index_count > p.line_index_count))
+             ch.line_index_count > p.line_index_count - next_line))
             return mer_error_set(err, MER_ERR_INVALID, lines.c_str(),
                                  "chunk %u's line indices do not continue the last ones", c);
         for (uint32_t i = ch.first_line_index; i < ch.first_line_index + ch.line_index_count; i++)
@@ -752,6 +752,9 @@ mer_result write_checked(const mer_mesh &mesh, const mer_gltf_meta *meta,
         mer_result rc = check_part(mesh.bark, prefix.empty() ? prefix : prefix + "bark.", err);
         if (rc == MER_OK)
             rc = check_part(mesh.leaves, prefix.empty() ? prefix : prefix + "leaves.", err);
+        if (rc == MER_OK && mesh.leaves.line_index_count != 0)
+            rc = mer_error_set(err, MER_ERR_INVALID, (prefix + "leaves.line_indices").c_str(),
+                               "only bark has twig lines");
         if (rc != MER_OK)
             return rc;
         Writer w;

@@ -664,8 +664,12 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
     if (b.bark.v != b.mesh->bark.vertex_count || b.bark.i != b.mesh->bark.index_count ||
         b.leaves.v != b.mesh->leaves.vertex_count || b.leaves.i != b.mesh->leaves.index_count ||
         b.bark.line_i != b.mesh->bark.line_index_count) {
-        rc = mer_error_set(err, MER_ERR_INTERNAL, NULL, "meshing wrote %u of %u bark vertices",
-                           b.bark.v, b.mesh->bark.vertex_count);
+        rc = mer_error_set(err, MER_ERR_INTERNAL, NULL,
+                           "meshing wrote %u of %u bark vertices, %u of %u bark indices, %u of %u "
+                           "twig line indices, %u of %u leaf vertices",
+                           b.bark.v, b.mesh->bark.vertex_count, b.bark.i, b.mesh->bark.index_count,
+                           b.bark.line_i, b.mesh->bark.line_index_count, b.leaves.v,
+                           b.mesh->leaves.vertex_count);
         goto done;
     }
 

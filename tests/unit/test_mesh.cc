@@ -847,6 +847,25 @@ void test_twig_lines(void **)
         }
     }
     assert_int_equal(lines, twig_chunks);
+    // The writer refuses line indices that run past their array, or on leaves.
+    {
+        uint8_t *bytes = nullptr;
+        size_t size = 0;
+        mer_error err{};
+        mer_mesh_chunk &twig = b->bark.chunks[b->bark.chunk_count - 1];
+        const uint32_t kept = twig.line_index_count;
+        twig.line_index_count = UINT32_MAX - 1;
+        assert_int_equal(mer_gltf_write_tree(b, nullptr, nullptr, &bytes, &size, &err), MER_ERR_INVALID);
+        assert_string_equal(err.field, "mesh.bark.line_indices");
+        twig.line_index_count = kept;
+        b->leaves.line_indices = b->bark.line_indices;
+        b->leaves.line_index_count = 2;
+        assert_int_equal(mer_gltf_write_tree(b, nullptr, nullptr, &bytes, &size, &err), MER_ERR_INVALID);
+        assert_string_equal(err.field, "mesh.leaves.line_indices");
+        assert_null(bytes);
+        b->leaves.line_indices = nullptr;
+        b->leaves.line_index_count = 0;
+    }
     // Without the option, the GLB has no twig primitives at all.
     for (const tinygltf::Primitive &p : load(glb_of(a)).meshes.at(0).primitives)
         assert_true(p.mode == TINYGLTF_MODE_TRIANGLES && !p.extras.Has("twig"));

@@ -548,7 +548,13 @@ export class Viewer {
   }
 
   _applyHighlights() {
-    for (const o of this.overlay.children) o.geometry.dispose();
+    // An overlay borrows its bark's attributes (which twig lines share too): free only
+    // its own index, or three.js would drop the bark's buffers and upload them again.
+    for (const o of this.overlay.children) {
+      o.geometry.deleteAttribute('position');
+      o.geometry.deleteAttribute('normal');
+      o.geometry.dispose();
+    }
     this.overlay.clear();
     if (!this.bark || !this.highlights?.size) return;
     // The chunks share their parent node (the quantization grid) and have no transform
