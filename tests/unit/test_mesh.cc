@@ -867,7 +867,8 @@ void test_twig_lines(void **)
         b->leaves.line_index_count = 0;
     }
     // Without the option, the GLB has no twig primitives at all.
-    for (const tinygltf::Primitive &p : load(glb_of(a)).meshes.at(0).primitives)
+    const tinygltf::Model without = load(glb_of(a));
+    for (const tinygltf::Primitive &p : without.meshes.at(0).primitives)
         assert_true(p.mode == TINYGLTF_MODE_TRIANGLES && !p.extras.Has("twig"));
     lod.twig_lines = 2;
     expect_refused(s, lod, "twig_lines");

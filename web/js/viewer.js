@@ -302,11 +302,16 @@ export class Viewer {
   setGridVisible(on) { this.ground.visible = on; this.requestRender(); }
 
   /**
-   * Starts fetching the snapshot at `url` now (while the page starts up); the next
-   * load() of the same URL uses it instead of asking again.
+   * Starts fetching the snapshot at `url` now (while the page starts up), and parses it
+   * as soon as it is here (while the shaders compile); the next load() of the same URL
+   * uses it instead of asking again.
    */
   prefetch(url) {
-    const reply = fetchSnapshot(url, null);
+    const reply = fetchSnapshot(url, null).then(async (snap) => {
+      if (snap.notModified) return snap;
+      await MeshoptDecoder.ready;
+      return { ...snap, gltf: await this.loader.parseAsync(snap.buffer, '') };
+    });
     reply.catch(() => {});   // a refusal surfaces in load(), if load() asks for it
     this.prefetched = { url, reply, at: performance.now() };
   }
@@ -314,7 +319,7 @@ export class Viewer {
   /**
    * Loads the snapshot at `url` (If-None-Match with the last ETag) and draws it.
    * Resolves to {changed, ms}; the time covers fetch + parse + first render (for a
-   * prefetched snapshot, the part of the fetch still outstanding), not the first load's
+   * prefetched snapshot, the part of fetch and parse still outstanding), not the first load's
    * wait for the page's first paint (lastLoad.paintWaitMs). lastLoad.drawnAt is when
    * the frame was done, in ms since navigation.
    */
@@ -337,7 +342,7 @@ export class Viewer {
     const snap = await (pre || fetchSnapshot(url, sameUrl ? this.etag : null));
     if (snap.notModified) return { changed: false, ms: performance.now() - t0 };
     const t1 = performance.now();
-    const gltf = await this.loader.parseAsync(snap.buffer, '');
+    const gltf = snap.gltf || await this.loader.parseAsync(snap.buffer, '');
     const t2 = performance.now();
     this._install(gltf);
     this.url = url;
