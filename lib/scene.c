@@ -95,6 +95,13 @@ static int same_grid(const mer_params *a, const mer_params *b)
            memcmp(a->bounds_max, b->bounds_max, sizeof a->bounds_max) == 0;
 }
 
+/* mer_markers_remove_if's test: a marker inside an obstacle or below the ground. */
+static int blocked_ctx(const float p[3], void *ctx)
+{
+    const mer_scene *s = ctx;
+    return merp_blocked(s, p);
+}
+
 mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_error *err)
 {
     mer_result rc = mer_params_validate(params, err);
@@ -103,6 +110,7 @@ mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_erro
     mer_params p;
     mer_params_resolve(params, &p);
     int markers_change = !same_grid(&p, &s->p) || p.marker_cell != s->p.marker_cell;
+    int ground_change = p.ground_enabled != s->p.ground_enabled || p.ground != s->p.ground;
     int shadow_change = !same_grid(&p, &s->p) || p.voxel != s->p.voxel ||
                         p.shadow_a != s->p.shadow_a || p.shadow_b != s->p.shadow_b ||
                         p.q_max != s->p.q_max || p.environment != s->p.environment ||
@@ -155,6 +163,9 @@ mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_erro
         s->shadow = sh;
         merp_shadow_rebuild(s);
     }
+    // Markers the ground now covers go, as they would not have been added below it.
+    if (ground_change)
+        mer_markers_remove_if(s->markers, blocked_ctx, s);
     return MER_OK;
 }
 
@@ -214,12 +225,6 @@ mer_result mer_scene_add_plant(mer_scene *s, const float base[3], uint32_t *root
 
 uint32_t mer_scene_plant_count(const mer_scene *s) { return s->nplants; }
 
-static int obstacle_ctx_inside(const float p[3], void *ctx)
-{
-    const mer_scene *s = ctx;
-    return merp_blocked(s, p);
-}
-
 static mer_result add_obstacle(mer_scene *s, const merp_obstacle *o, mer_error *err)
 {
     if (s->nobs >= MER_OBSTACLES_MAX)
@@ -231,7 +236,7 @@ static mer_result add_obstacle(mer_scene *s, const merp_obstacle *o, mer_error *
     s->obs = a;
     s->obs[s->nobs++] = *o;
     merp_shadow_obstacle(s, o, 1);
-    mer_markers_remove_if(s->markers, obstacle_ctx_inside, s);
+    mer_markers_remove_if(s->markers, blocked_ctx, s);
     return MER_OK;
 }
 

@@ -105,7 +105,8 @@ void mer_scene_free(mer_scene *s);
 const mer_params *mer_scene_params(const mer_scene *s);
 
 /* Replaces the parameters (and with them the schedule) between steps. Grids are
- * rebuilt when their geometry changes; the tree is kept. On error nothing changes.
+ * rebuilt when their geometry changes; the tree is kept. A ground raised (or
+ * turned on) removes the markers now below it. On error nothing changes.
  * Cost O(voxels + buds·q_max² + markers) when grids are rebuilt, else O(1). */
 mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_error *err);
 

@@ -384,6 +384,25 @@ static void test_ground_stops_drooping_shoots(void **state)
     mer_scene_free(s);
 }
 
+static void test_raised_ground_removes_markers_below(void **state)
+{
+    (void)state;
+    mer_scene *s = make(NULL, 0);
+    mer_error err;
+    const float pts[] = {0, 3, 0, 1, 8, 0, 2, 12, 1};
+    assert_int_equal(mer_scene_add_markers(s, pts, 3, &err), MER_OK);
+    assert_int_equal(mer_scene_marker_count(s), 3);
+    mer_params p = *mer_scene_params(s);
+    p.ground = 5.0f;
+    assert_int_equal(mer_scene_set_params(s, &p, &err), MER_OK);
+    assert_int_equal(mer_scene_marker_count(s), 2); /* (0, 3, 0) is under it now */
+    p.ground_enabled = 0;
+    p.ground = 10.0f;
+    assert_int_equal(mer_scene_set_params(s, &p, &err), MER_OK);
+    assert_int_equal(mer_scene_marker_count(s), 2); /* no ground: nothing is below it */
+    mer_scene_free(s);
+}
+
 static void edits(mer_scene *s)
 {
     mer_error err;
@@ -801,6 +820,7 @@ int main(void)
         cmocka_unit_test(test_sylleptic_vs_proleptic),
         cmocka_unit_test(test_obstacles_block_shoots_and_remove_markers),
         cmocka_unit_test(test_ground_stops_drooping_shoots),
+        cmocka_unit_test(test_raised_ground_removes_markers_below),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_progress_and_cancel),
         cmocka_unit_test(test_brush_pressure_and_symmetry),
