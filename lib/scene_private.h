@@ -89,6 +89,8 @@ mer_result merp_kill(mer_scene *s, uint32_t root, mer_error *err);
 void merp_shadow_rebuild(mer_scene *s);
 void merp_shadow_obstacle(mer_scene *s, const merp_obstacle *o, int sign);
 int merp_blocked(const mer_scene *s, const float p[3]);
+/* Whether p is inside obstacle o. */
+int merp_inside_obstacle(const merp_obstacle *o, const float *p);
 void merp_side_next(const float side_prev[3], const float d[3], float divergence_deg,
                     float out[3]);
 

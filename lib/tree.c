@@ -166,7 +166,7 @@ mer_result merp_kill(mer_scene *s, uint32_t root, mer_error *err)
     return MER_OK;
 }
 
-static int inside_obstacle(const merp_obstacle *o, const float *p)
+int merp_inside_obstacle(const merp_obstacle *o, const float *p)
 {
     if (o->kind == MERP_OBS_MESH)
         return merp_solid_inside(o->solid, p); /* checks its bounding box first */
@@ -182,7 +182,7 @@ int merp_blocked(const mer_scene *s, const float p[3])
     if (s->p.ground_enabled && p[1] < s->p.ground)
         return 1;
     for (uint32_t o = 0; o < s->nobs; o++)
-        if (inside_obstacle(&s->obs[o], p))
+        if (merp_inside_obstacle(&s->obs[o], p))
             return 1;
     return 0;
 }
@@ -221,12 +221,12 @@ void merp_shadow_obstacle(mer_scene *s, const merp_obstacle *o, int sign)
                 float c[3] = {s->p.bounds_min[0] + ((float)i + 0.5f) * vox,
                               s->p.bounds_min[1] + ((float)j + 0.5f) * vox,
                               s->p.bounds_min[2] + ((float)k + 0.5f) * vox};
-                if (!inside_obstacle(o, c))
+                if (!merp_inside_obstacle(o, c))
                     continue;
                 int ijk[3] = {i, j, k};
                 mer_shadow_add_voxel(s->shadow, ijk, sign > 0 ? full : -full);
                 float up[3] = {c[0], c[1] + vox, c[2]};
-                if (!inside_obstacle(o, up))
+                if (!merp_inside_obstacle(o, up))
                     mer_shadow_cast(s->shadow, ijk, sign, 1.0f);
             }
 }
