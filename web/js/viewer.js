@@ -19,8 +19,9 @@ import { fetchSnapshot } from './api.js';
 
 // GLTFLoader names a custom attribute by its glTF name in lower case.
 const NODE_ID = '_node_id';
-const BACKGROUND = 0xdfe5da;
-const GROUND = 0xd1d5bc;   // the colour the lights gave a rough 0xc9d1bd disc
+const SKY = new THREE.Color(0xdfe5da);
+const GROUND = new THREE.Color(0xd1d5bc);   // the colour the lights give rough 0xc9d1bd ground
+const GROUND_Y = 0;
 const TWIG_LINE = 0x5a4232;       // what the lights make of bark 0x6e5240 on a thin twig
 const TWIG_LINE_TINT = 0xcccccc;  // the same darkening for vertex colours
 const TWIG_LINE_OPACITY = 0.4;
@@ -106,7 +107,7 @@ export class Viewer {
     container.append(this.renderer.domElement);
 
     this.scene = new THREE.Scene();
-    this.scene.background = new THREE.Color(BACKGROUND);
+    this.renderer.autoClear = false;   // render() clears sky and ground itself
     this.camera = new THREE.PerspectiveCamera(40, 1, 0.05, 2000);
     this.camera.position.set(18, 14, 30);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
@@ -251,8 +252,45 @@ export class Viewer {
 
   render() {
     this._chooseTwigDetail();
+    this._clearSkyAndGround();
     this.renderer.render(this.scene, this.camera);
     this.frames++;
+  }
+
+  /**
+   * Clears to the sky's colour above the horizon and the ground's below it. Flat ground
+   * under this light rig is one colour, reaching to the horizon, and with no camera roll
+   * (orbit controls keep "up") the horizon is a row of pixels: two clears paint it for
+   * nothing, where a ground mesh cost a software rasterizer ~5 ms a frame.
+   */
+  _clearSkyAndGround() {
+    const r = this.renderer;
+    r.setClearColor(SKY);
+    r.clear(true, true, true);
+    if (!this.ground.visible) return;
+    const h = r.domElement.clientHeight || r.domElement.height;
+    const row = Math.min(h, Math.max(0, Math.round((this._horizonNdcY() + 1) / 2 * h)));
+    if (row === 0) return;
+    r.setClearColor(GROUND);
+    r.setScissor(0, 0, r.domElement.clientWidth || r.domElement.width, row);
+    r.setScissorTest(true);
+    r.clear(true, false, false);
+    r.setScissorTest(false);
+  }
+
+  /**
+   * Where the ground plane's horizon is, in normalized device y (-1 bottom, 1 top): +∞
+   * when the camera looks straight down, -∞ from below the ground (none of it faces it).
+   */
+  _horizonNdcY() {
+    const cam = this.camera;
+    cam.updateMatrixWorld();
+    if (cam.position.y <= GROUND_Y) return -Infinity;
+    const f = cam.getWorldDirection(new THREE.Vector3()).setY(0);
+    if (f.lengthSq() < 1e-12) return Infinity;
+    f.normalize();
+    const p = new THREE.Vector4(f.x, 0, f.z, 0).applyMatrix4(cam.matrixWorldInverse).applyMatrix4(cam.projectionMatrix);
+    return p.w > 0 ? p.y / p.w : Infinity;
   }
 
   /**
@@ -283,16 +321,7 @@ export class Viewer {
     if (this.gridSize === s) return;
     this.gridSize = s;
     this.ground.clear();
-    // Flat ground under this light rig is one colour: drawn unlit, in that colour, as a
-    // tile the size of the grid, and after the tree (renderOrder), so the depth test
-    // skips the ground the tree hides. A software rasterizer pays per pixel: against a
-    // disc reaching past the grid's corners, drawn first, this saves ~3 ms a frame.
-    const tile = new THREE.Mesh(new THREE.PlaneGeometry(s, s),
-      new THREE.MeshBasicMaterial({ color: GROUND }));
-    tile.rotation.x = -Math.PI / 2;
-    tile.position.y = -0.02;
-    tile.renderOrder = 1;
-    this.ground.add(tile);
+    // The ground itself is no mesh: see _clearSkyAndGround.
     const grid = new THREE.GridHelper(s, s / 2, 0x8d9a80, 0xb2bca6);
     grid.material.transparent = true;
     grid.material.opacity = 0.8;
