@@ -190,56 +190,54 @@ struct Writer {
     // One blob's bytes (and the padding after them) at its offset in `bin`.
     void fill(const Blob &b, uint8_t *bin) const
     {
-        {
-            uint8_t *dst = bin + b.offset;
-            switch (b.fill) {
-            case Fill::Copy:
-                std::memcpy(dst, b.src, b.size);
-                break;
-            case Fill::U32ToF32: {
-                const uint32_t *src = static_cast<const uint32_t *>(b.src);
-                for (size_t i = 0; i < b.count; i++) {
-                    float f = static_cast<float>(src[i]);
-                    std::memcpy(dst + 4 * i, &f, 4);
-                }
-                break;
+        uint8_t *dst = bin + b.offset;
+        switch (b.fill) {
+        case Fill::Copy:
+            std::memcpy(dst, b.src, b.size);
+            break;
+        case Fill::U32ToF32: {
+            const uint32_t *src = static_cast<const uint32_t *>(b.src);
+            for (size_t i = 0; i < b.count; i++) {
+                float f = static_cast<float>(src[i]);
+                std::memcpy(dst + 4 * i, &f, 4);
             }
-            case Fill::QuantizePosition: {
-                const float *src = static_cast<const float *>(b.src);
-                for (size_t i = 0; i < b.count; i++) {
-                    int16_t q[4] = {quantize_position(src[3 * i], grid, 0),
-                                    quantize_position(src[3 * i + 1], grid, 1),
-                                    quantize_position(src[3 * i + 2], grid, 2), 0};
-                    std::memcpy(dst + 8 * i, q, 8);
-                }
-                break;
-            }
-            case Fill::QuantizeNormal: {
-                const float *src = static_cast<const float *>(b.src);
-                for (size_t i = 0; i < b.count; i++) {
-                    int8_t q[4] = {quantize_normal(src[3 * i]), quantize_normal(src[3 * i + 1]),
-                                   quantize_normal(src[3 * i + 2]), 0};
-                    std::memcpy(dst + 4 * i, q, 4);
-                }
-                break;
-            }
-            case Fill::QuantizeColor: {
-                const float *src = static_cast<const float *>(b.src);
-                for (size_t i = 0; i < 4 * b.count; i++)
-                    dst[i] = quantize_unit(src[i]);
-                break;
-            }
-            case Fill::U32ToU16: {
-                const uint32_t *src = static_cast<const uint32_t *>(b.src);
-                for (size_t i = 0; i < b.count; i++) {
-                    uint16_t h = static_cast<uint16_t>(src[i]);
-                    std::memcpy(dst + 2 * i, &h, 2);
-                }
-                break;
-            }
-            }
-            std::memset(dst + b.size, 0, ((b.size + 3u) & ~size_t{3}) - b.size);
+            break;
         }
+        case Fill::QuantizePosition: {
+            const float *src = static_cast<const float *>(b.src);
+            for (size_t i = 0; i < b.count; i++) {
+                int16_t q[4] = {quantize_position(src[3 * i], grid, 0),
+                                quantize_position(src[3 * i + 1], grid, 1),
+                                quantize_position(src[3 * i + 2], grid, 2), 0};
+                std::memcpy(dst + 8 * i, q, 8);
+            }
+            break;
+        }
+        case Fill::QuantizeNormal: {
+            const float *src = static_cast<const float *>(b.src);
+            for (size_t i = 0; i < b.count; i++) {
+                int8_t q[4] = {quantize_normal(src[3 * i]), quantize_normal(src[3 * i + 1]),
+                               quantize_normal(src[3 * i + 2]), 0};
+                std::memcpy(dst + 4 * i, q, 4);
+            }
+            break;
+        }
+        case Fill::QuantizeColor: {
+            const float *src = static_cast<const float *>(b.src);
+            for (size_t i = 0; i < 4 * b.count; i++)
+                dst[i] = quantize_unit(src[i]);
+            break;
+        }
+        case Fill::U32ToU16: {
+            const uint32_t *src = static_cast<const uint32_t *>(b.src);
+            for (size_t i = 0; i < b.count; i++) {
+                uint16_t h = static_cast<uint16_t>(src[i]);
+                std::memcpy(dst + 2 * i, &h, 2);
+            }
+            break;
+        }
+        }
+        std::memset(dst + b.size, 0, ((b.size + 3u) & ~size_t{3}) - b.size);
     }
 };
 
@@ -273,10 +271,9 @@ mer_result check_part(const mer_mesh_part &p, const std::string &prefix, mer_err
     if (p.line_index_count % 2 != 0 || (p.line_index_count > 0 && p.line_indices == nullptr))
         return mer_error_set(err, MER_ERR_INVALID, lines.c_str(),
                              "line indices must come in pairs, got %u", p.line_index_count);
-    uint32_t next_line = 0;
     if (p.chunks == nullptr || p.chunk_count == 0)
         return mer_error_set(err, MER_ERR_INVALID, indices.c_str(), "no chunks given");
-    uint32_t next_vertex = 0, next_index = 0;
+    uint32_t next_vertex = 0, next_index = 0, next_line = 0;
     for (uint32_t c = 0; c < p.chunk_count; c++) {
         const mer_mesh_chunk &ch = p.chunks[c];
         if (ch.first_vertex != next_vertex || ch.first_index != next_index || ch.vertex_count == 0 ||

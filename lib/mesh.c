@@ -50,7 +50,6 @@ typedef struct builder {
     uint32_t newest;        /* latest step in which a living internode was made */
     float max_diameter;
     float max_q;
-    float lo[3], hi[3];     /* bounds of the living internodes' ends */
     float twig_limit;       /* with twig_lines: the largest base diameter of a twig */
     axis *axes;
     uint32_t axis_count;
@@ -531,6 +530,7 @@ static mer_result load_nodes(builder *b, mer_error *err)
     b->nodes = b->node_count ? malloc((size_t)b->node_count * sizeof *b->nodes) : NULL;
     if (b->node_count && b->nodes == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for %u nodes", b->node_count);
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}; /* bounds of the living internodes */
     bool none_yet = true;
     for (uint32_t id = 0; id < b->node_count; id++) {
         mer_result rc = mer_scene_node(b->scene, id, &b->nodes[id], err);
@@ -541,9 +541,9 @@ static mer_result load_nodes(builder *b, mer_error *err)
             float e[3];
             node_end(n, e);
             for (int k = 0; k < 3; k++) {
-                float lo = fminf(n->base[k], e[k]), hi = fmaxf(n->base[k], e[k]);
-                b->lo[k] = none_yet || lo < b->lo[k] ? lo : b->lo[k];
-                b->hi[k] = none_yet || hi > b->hi[k] ? hi : b->hi[k];
+                float low = fminf(n->base[k], e[k]), high = fmaxf(n->base[k], e[k]);
+                lo[k] = none_yet || low < lo[k] ? low : lo[k];
+                hi[k] = none_yet || high > hi[k] ? high : hi[k];
             }
             none_yet = false;
             if (n->diameter > b->max_diameter)
@@ -555,8 +555,8 @@ static mer_result load_nodes(builder *b, mer_error *err)
         }
     }
     float extent = TWIG_EXTENT_MIN;
-    for (int k = 0; k < 3 && !none_yet; k++)
-        extent = fmaxf(extent, b->hi[k] - b->lo[k]);
+    for (int k = 0; k < 3; k++)
+        extent = fmaxf(extent, hi[k] - lo[k]);
     b->twig_limit = extent / TWIG_EXTENT_FRACTION;
     return MER_OK;
 }

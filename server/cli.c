@@ -52,7 +52,7 @@ static void usage(FILE *out)
             "  --compress=MODE    none or meshopt (EXT_meshopt_compression; .glb only;\n"
             "                     three.js reads it, Blender does not)\n"
             "  --twig-lines       twigs in primitives of their own, each with a LINES\n"
-            "                     primitive of their centre lines (a viewer's level of detail)\n"
+            "                     primitive of their lines (a viewer's level of detail)\n"
             "  --help, --version\n");
 }
 

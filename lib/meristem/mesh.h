@@ -91,7 +91,7 @@ typedef struct mer_mesh_options {
     uint32_t no_uvs;   /* 1: no UVs (both parts' `uvs` NULL), for a viewer that draws
                           no texture, and rings without the seam vertex (a 3-sided
                           twig's ring is 3 vertices, not 4); 0: UVs as above */
-    uint32_t twig_lines; /* 1: twig centre lines and twig chunks (see Twig lines) */
+    uint32_t twig_lines; /* 1: twig lines and twig chunks (see Twig lines) */
 } mer_mesh_options;
 
 #define MER_MESH_DETAIL_MAX 5
