@@ -67,3 +67,4 @@ clean-artifacts:
 EXTRA_DIST += build-aux/tap-driver.sh
 include tests/bench/local.mk
 include tests/gallery/local.mk
+include tests/golden/local.mk
