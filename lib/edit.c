@@ -12,10 +12,11 @@
 static mer_result live_node(const mer_scene *s, uint32_t node, mer_error *err)
 {
     if (node >= s->n)
-        return mer_error_set(err, MER_ERR_RANGE, "node", "node must be from 0 to %u, got %u",
-                             s->n ? (unsigned)(s->n - 1) : 0u, (unsigned)node);
+        return mer_error_set(err, MER_ERR_NOT_FOUND, "node",
+                             "node %u was never part of this tree (ids are 0 to %u)",
+                             (unsigned)node, s->n ? (unsigned)(s->n - 1) : 0u);
     if (!s->alive[node])
-        return mer_error_set(err, MER_ERR_RANGE, "node", "node %u was pruned or shed",
+        return mer_error_set(err, MER_ERR_GONE, "node", "node %u was pruned or shed",
                              (unsigned)node);
     return MER_OK;
 }

@@ -67,7 +67,7 @@ static mer_result resolve_options(const mer_mesh_options *in, const mer_params *
 {
     *out = in != NULL ? *in : (mer_mesh_options){0};
     if (out->detail == 0)
-        out->detail = 3;
+        out->detail = MER_MESH_DETAIL_DEFAULT;
     if (out->detail > MER_MESH_DETAIL_MAX)
         return mer_error_set(err, MER_ERR_RANGE, "detail", "detail must be from 1 to %d, got %u",
                              MER_MESH_DETAIL_MAX, out->detail);

@@ -17,6 +17,8 @@ const char *mer_result_name(mer_result code)
     case MER_ERR_FORMAT: return "format";
     case MER_ERR_LIMIT: return "limit";
     case MER_ERR_INTERNAL: return "internal";
+    case MER_ERR_NOT_FOUND: return "not-found";
+    case MER_ERR_GONE: return "gone";
     }
     return "unknown";
 }

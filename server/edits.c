@@ -608,11 +608,9 @@ static int from_lib(mer_refusal *why, mer_result rc, const mer_error *err, const
     switch (rc) {
     case MER_ERR_NOMEM: return mer_refuse(why, 503, "out-of-memory", f, "%s", err->message);
     case MER_ERR_LIMIT: return mer_refuse(why, 409, "limit", f, "%s", err->message);
-    case MER_ERR_RANGE:
-        if (strcmp(err->field, "node") == 0)
-            return mer_refuse(why, strstr(err->message, "never") != NULL ? 404 : 409, "node", f, "%s",
-                              err->message);
-        return mer_refuse(why, 422, "out-of-range", f, "%s", err->message);
+    case MER_ERR_NOT_FOUND: return mer_refuse(why, 404, "unknown-node", f, "%s", err->message);
+    case MER_ERR_GONE: return mer_refuse(why, 409, "dead-node", f, "%s", err->message);
+    case MER_ERR_RANGE: return mer_refuse(why, 422, "out-of-range", f, "%s", err->message);
     default: return mer_refuse(why, 422, "invalid-field", f, "%s", err->message);
     }
 }

@@ -32,8 +32,9 @@
 extern "C" {
 #endif
 
-/* Prunes node `node` and its subtree. MER_ERR_RANGE (field "node") if the id was
- * never issued or the node is already gone. O(subtree + buds·q_max²). */
+/* Prunes node `node` and its subtree. Field "node": MER_ERR_NOT_FOUND if the id
+ * was never issued, MER_ERR_GONE if the node was pruned or shed.
+ * O(subtree + buds·q_max²). */
 mer_result mer_scene_prune(mer_scene *s, uint32_t node, mer_error *err);
 
 /* Rotates the subtree of `node` about its base by `angle` degrees about `axis`

@@ -82,7 +82,7 @@ typedef enum mer_color_mode {
 
 /* All-zero means defaults. */
 typedef struct mer_mesh_options {
-    uint32_t detail;   /* 1..5; 0: 3 */
+    uint32_t detail;   /* 1..5; 0: MER_MESH_DETAIL_DEFAULT */
     uint32_t leaves;   /* 1: leaf cards; 0: none */
     uint32_t markers;  /* 1: the scene's markers as points; 0: none */
     uint32_t color;    /* mer_color_mode; 0: none */
@@ -95,6 +95,7 @@ typedef struct mer_mesh_options {
 } mer_mesh_options;
 
 #define MER_MESH_DETAIL_MAX 5
+#define MER_MESH_DETAIL_DEFAULT 3 /* what detail 0 means */
 
 /* Parts are split into chunks of at most MER_MESH_CHUNK_VERTICES vertices, so
  * that indices fit in 16 bits (half the bytes of a big tree's indices); each

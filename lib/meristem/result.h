@@ -19,7 +19,9 @@ typedef enum mer_result {
     MER_ERR_NOMEM,    /* an allocation failed; nothing was changed */
     MER_ERR_FORMAT,   /* input data (a glTF file, a journal record) is corrupt */
     MER_ERR_LIMIT,    /* a configured limit would be exceeded */
-    MER_ERR_INTERNAL  /* a bug: an invariant did not hold */
+    MER_ERR_INTERNAL, /* a bug: an invariant did not hold */
+    MER_ERR_NOT_FOUND, /* a named thing (a node id) was never issued */
+    MER_ERR_GONE      /* a named thing existed but was removed (a pruned or shed node) */
 } mer_result;
 
 #define MER_ERROR_FIELD_MAX 64

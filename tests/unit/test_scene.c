@@ -202,8 +202,10 @@ static void test_pipe_memory_after_prune_and_stable_ids(void **state)
     assert_int_equal(node(s, 2).alive, 0);
     assert_int_equal(node(s, 0).lateral_child[0], MER_NO_NODE);
     assert_int_equal(node(s, 0).lateral_bud[0], MER_BUD_NONE); /* a cut does not regrow */
-    assert_int_equal(mer_scene_prune(s, 2, &err), MER_ERR_RANGE);
-    assert_int_equal(mer_scene_prune(s, 99, &err), MER_ERR_RANGE);
+    assert_int_equal(mer_scene_prune(s, 2, &err), MER_ERR_GONE);
+    assert_string_equal(err.field, "node");
+    assert_int_equal(mer_scene_prune(s, 99, &err), MER_ERR_NOT_FOUND);
+    assert_string_equal(err.field, "node");
     mer_params p = *mer_scene_params(s);
     p.alpha = 1e-6f; /* no more growth */
     assert_int_equal(mer_scene_set_params(s, &p, &err), MER_OK);
