@@ -1,6 +1,6 @@
 #!/bin/sh
 # The installed libmeristem exports the mer_ prefix and nothing else
-# (-export-symbols-regex), so tinygltf and helpers never leak into users' links.
+# (a version script, lib/libmeristem.map), so tinygltf and helpers never leak into users' links.
 lib="$MER_BUILDDIR/lib/.libs/libmeristem.so"
 echo "1..2"
 if [ ! -f "$lib" ]; then
