@@ -3,7 +3,7 @@
 // a reload or a shared link returns to the same tree.
 import * as THREE from 'three';
 import * as api from './api.js';
-import { Viewer, softwareRendering } from './viewer.js';
+import { Viewer, softwareRendering } from './viewer/viewer.js';
 import { Brush } from './brush.js';
 import { PruneTool, BendTool } from './tools.js';
 import { ParamsPanel, SchedulePanel } from './panels.js';
