@@ -96,15 +96,16 @@ async function start() {
 Object.defineProperty(window, 'meristemFramesDrawn', { get: () => viewer.frames, configurable: true });
 
 const byId = (list) => Object.fromEntries(list.map((x) => [x.id, x]));
+const toolsById = byId(tools), panelsById = byId(panels);
 window.meristem = {
   api, viewer, session, state: session.state,
-  tools: byId(tools), panels: byId(panels),
-  ...byId(tools),   // meristem.brush, .prune, .bend, ...
+  tools: toolsById, panels: panelsById,
+  ...toolsById,   // meristem.brush, .prune, .bend, ...
   ready: false,
   send: (edits, opts) => session.send(edits, opts),
   refresh: () => session.refresh(),
   setTool: (id) => input.setTool(id),
-  stepN: (n) => window.meristem.panels.growth.stepN(n),
+  stepN: (n) => panelsById.growth.stepN(n),
   get sessionId() { return session.state.id; },
   get summary() { return session.state.summary; },
   get lastLoadMs() { return session.state.lastLoadMs; },
