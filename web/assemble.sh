@@ -1,8 +1,9 @@
 #!/bin/sh
 # Assembles the web root meristemd serves.
-# usage: assemble.sh WEB_SRC NODE_MODULES OUT FILE... -- THREE_PART...
+# usage: assemble.sh TOP_SRCDIR NODE_MODULES OUT web/FILE... -- THREE_PART...
+# Each web/FILE (a path from TOP_SRCDIR) goes to OUT/FILE.
 set -eu
-src=$1 modules=$2 out=$3
+top=$1 modules=$2 out=$3
 shift 3
 three="$modules/three"
 if [ ! -f "$three/package.json" ]; then
@@ -13,8 +14,9 @@ fi
 rm -rf "$out.tmp"
 mkdir -p "$out.tmp"
 while [ $# -gt 0 ] && [ "$1" != -- ]; do
-  case $1 in */*) mkdir -p "$out.tmp/${1%/*}" ;; esac
-  cp "$src/$1" "$out.tmp/$1"
+  f=${1#web/}
+  case $f in */*) mkdir -p "$out.tmp/${f%/*}" ;; esac
+  cp "$top/$1" "$out.tmp/$f"
   shift
 done
 shift

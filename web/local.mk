@@ -4,8 +4,18 @@
 # node_modules/three/... paths, so web/ itself also works as a web root while
 # editing the page. `make install` installs the same tree as $(pkgdatadir)/web.
 webdir = $(pkgdatadir)/web
-WEB_FILES = index.html style.css favicon.svg \
-	js/app.js js/api.js js/viewer.js js/brush.js js/tools.js js/panels.js
+# The page's own files, from the top source folder; assemble.sh copies each one to
+# the same path under webroot/ without the leading web/.
+WEB_FILES = web/index.html web/style.css web/favicon.svg \
+	web/js/app.js web/js/api.js web/js/util.js web/js/status.js \
+	web/js/session.js web/js/constraint.js web/js/topbar.js web/js/input.js \
+	web/js/tools/index.js web/js/tools/view.js web/js/tools/brush.js \
+	web/js/tools/symmetry.js web/js/tools/hover.js web/js/tools/prune.js \
+	web/js/tools/bend.js \
+	web/js/panels/index.js web/js/panels/growth.js web/js/panels/view.js \
+	web/js/panels/schedule.js web/js/panels/params.js \
+	web/js/viewer/viewer.js web/js/viewer/loader.js web/js/viewer/picking.js \
+	web/js/viewer/highlight.js web/js/viewer/lod.js web/js/viewer/probe.js
 THREE_PARTS = \
 	LICENSE \
 	build/three.module.js \
@@ -15,15 +25,11 @@ THREE_PARTS = \
 	examples/jsm/libs/meshopt_decoder.module.js \
 	examples/jsm/utils/BufferGeometryUtils.js \
 	examples/jsm/utils/SkeletonUtils.js
-EXTRA_DIST += web/index.html web/style.css web/favicon.svg \
-	web/js/app.js web/js/api.js web/js/viewer.js web/js/brush.js web/js/tools.js web/js/panels.js \
-	web/package.json web/package-lock.json web/assemble.sh
+EXTRA_DIST += $(WEB_FILES) web/package.json web/package-lock.json web/assemble.sh
 
-webroot/.stamp: $(srcdir)/web/index.html $(srcdir)/web/style.css $(srcdir)/web/favicon.svg \
-		$(srcdir)/web/js/app.js $(srcdir)/web/js/api.js $(srcdir)/web/js/viewer.js \
-		$(srcdir)/web/js/brush.js $(srcdir)/web/js/tools.js $(srcdir)/web/js/panels.js \
-		$(srcdir)/web/package-lock.json $(srcdir)/web/assemble.sh
-	$(AM_V_GEN)$(SHELL) $(srcdir)/web/assemble.sh '$(srcdir)/web' '$(WEB_MODULES_DIR)' webroot \
+# make finds the prerequisites in $(srcdir) through VPATH.
+webroot/.stamp: $(WEB_FILES) web/package-lock.json web/assemble.sh
+	$(AM_V_GEN)$(SHELL) $(srcdir)/web/assemble.sh '$(srcdir)' '$(WEB_MODULES_DIR)' webroot \
 		$(WEB_FILES) -- $(THREE_PARTS)
 
 all-local: webroot/.stamp

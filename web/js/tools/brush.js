@@ -1,56 +1,28 @@
-// The procedural brush of Palubicki et al. 2009, §5: a pointer stroke lays marker
-// points along its path in a working plane parallel to the screen, through the point
-// where the stroke began (the tree under the pointer, else the tree's centre). Pen
-// pressure (or the pressure slider, for a mouse) sets the dab's spread and count on the
-// server. A stroke that starts on the tree constrains growth to that bud's descendants.
-// Dabs are batched: one request per BATCH_MS, not one per pointer event.
+// The Brush tool: the procedural brush of Palubicki et al. 2009, §5. A pointer stroke
+// lays marker points along its path in a working plane parallel to the screen, through
+// the point where the stroke began (the tree under the pointer, else the tree's
+// centre). Pen pressure (or the pressure slider, for a mouse) sets the dab's spread and
+// count on the server. A stroke that starts on the tree constrains growth to that bud's
+// descendants. Dabs are batched: one request per BATCH_MS, not one per pointer event.
 import * as THREE from 'three';
+import { $, round3 } from '../util.js';
+import { CONSTRAINED } from '../constraint.js';
+import { symmetricCopies, symmetrySettings } from './symmetry.js';
 
 export const BATCH_MS = 250;
 const MAX_PREVIEW = 4096;
 
-/** The symmetric copies of point p, in the order the server makes them (lib/edit.c). */
-export function symmetricCopies(p, sym) {
-  if (!sym) return [p.clone()];
-  const c = new THREE.Vector3(...(sym.center || [0, 0, 0]));
-  const rot = sym.rotational > 1 ? sym.rotational : 1;
-  const up = new THREE.Vector3(0, 1, 0);
-  const out = [];
-  for (let r = 0; r < rot; r++) {
-    const pr = p.clone().sub(c).applyAxisAngle(up, (2 * Math.PI * r) / rot).add(c);
-    const mirrored = [pr];
-    if (sym.mirror) {
-      const n = new THREE.Vector3(...sym.mirror.normal).normalize();
-      const m0 = new THREE.Vector3(...(sym.mirror.point || [0, 0, 0]));
-      const d = pr.clone().sub(m0).dot(n);
-      mirrored.push(pr.clone().addScaledVector(n, -2 * d));
-    }
-    for (const pm of mirrored) {
-      const t0 = sym.tiles ? Math.max(1, sym.tiles[0]) : 1, t1 = sym.tiles ? Math.max(1, sym.tiles[1]) : 1;
-      for (let i = 0; i < t0; i++) {
-        for (let j = 0; j < t1; j++) {
-          const q = pm.clone();
-          if (sym.tile_step) {
-            q.addScaledVector(new THREE.Vector3(...sym.tile_step[0]), i);
-            q.addScaledVector(new THREE.Vector3(...sym.tile_step[1]), j);
-          }
-          out.push(q);
-        }
-      }
-    }
-  }
-  return out;
-}
+export class BrushTool {
+  id = 'brush';
+  key = 'b';
+  icon = '✎';
+  label = 'Brush';
+  title = 'Brush: lay markers of free space (B)';
+  hint = 'Drag to lay markers in a plane facing you · start on a branch to grow only from it · right-drag orbits';
 
-export class Brush {
-  /**
-   * @param viewer the Viewer
-   * @param opts {getSettings: () => {radius, count, pressure, constrain, symmetry},
-   *   getCentre: () => [x,y,z], send: (edits) => Promise, onStrokeStart(info), onStrokeEnd()}
-   */
-  constructor(viewer, opts) {
+  constructor({ viewer, session }) {
     this.viewer = viewer;
-    this.opts = opts;
+    this.session = session;
     this.stroke = null;
     this.requests = 0;      // batches sent (the tests read it)
     this.dabsSent = 0;
@@ -63,10 +35,30 @@ export class Brush {
     this.dabMesh.renderOrder = 5;
     this.dabMesh.frustumCulled = false;
     viewer.preview.add(this.dabMesh);
-    this.planeHelper = null;
   }
 
-  /** Clears the drawn dabs (after the snapshot shows the real markers). */
+  /** The brush panel's settings: {radius, count, pressure, constrain, symmetry}. */
+  settings() {
+    return {
+      radius: Number($('#radius').value), count: Number($('#count').value),
+      pressure: Number($('#pressure').value), constrain: $('#constrain').checked,
+      symmetry: symmetrySettings(this.viewer),
+    };
+  }
+
+  /** The centre of the tree's bounds (where a stroke off the tree lays its plane). */
+  _centre() {
+    const b = this.session.state.summary?.bounds;
+    if (!b) return [0, 5, 0];
+    return [0, 1, 2].map((k) => round3((b.min[k] + b.max[k]) / 2));
+  }
+
+  busy() { return Boolean(this.stroke); }
+
+  /** A new snapshot shows the real markers: the drawn dabs go, unless a stroke is on. */
+  loaded() { if (!this.stroke) this.clearPreview(); }
+
+  /** Clears the drawn dabs. */
   clearPreview() {
     this.dabMesh.count = 0;
     this.dabMesh.instanceMatrix.needsUpdate = true;
@@ -89,7 +81,7 @@ export class Brush {
   }
 
   _pressure(e) {
-    const s = this.opts.getSettings();
+    const s = this.settings();
     // A mouse reports 0.5 while a button is down: use the slider. A pen (or touch with
     // force) reports its own pressure.
     if (e.pointerType === 'mouse' || !(e.pressure > 0)) return s.pressure;
@@ -98,9 +90,9 @@ export class Brush {
 
   /** Starts a stroke at a pointerdown; returns true when it took the event. */
   begin(e) {
-    const s = this.opts.getSettings();
+    const s = this.settings();
     const hit = this.viewer.pick(e.clientX, e.clientY);
-    const anchor = hit ? hit.point.clone() : new THREE.Vector3(...this.opts.getCentre());
+    const anchor = hit ? hit.point.clone() : new THREE.Vector3(...this._centre());
     const normal = new THREE.Vector3();
     this.viewer.camera.getWorldDirection(normal);
     const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, anchor);
@@ -110,7 +102,8 @@ export class Brush {
       startNode: hit ? hit.node : null, anchor, dabs: 0, pointerId: e.pointerId,
     };
     this.stroke.timer = setInterval(() => this._flush(), BATCH_MS);
-    this.opts.onStrokeStart?.({ hit, constrain: this.stroke.constrain, anchor });
+    const { constrain } = this.stroke;
+    if (constrain) this.viewer.setHighlight('picked', new Set([constrain.node]), CONSTRAINED);
     this._addAt(e, true);
     return true;
   }
@@ -129,7 +122,8 @@ export class Brush {
     this.stroke = null;
     this._flush(st);
     await st.pending;
-    this.opts.onStrokeEnd?.(st);
+    this.viewer.setHighlight('picked', null);
+    this.session.refresh();
   }
 
   _addAt(e, first) {
@@ -137,11 +131,11 @@ export class Brush {
     const ray = this.viewer.ray(e.clientX, e.clientY);
     const p = new THREE.Vector3();
     if (!ray.intersectPlane(st.plane, p)) return;
-    const s = this.opts.getSettings();
+    const s = this.settings();
     const pressure = this._pressure(e);
     const spacing = Math.max(0.05, s.radius * 0.6);
     const dab = (c) => {
-      const d = { op: 'add_markers', center: [c.x, c.y, c.z].map((x) => Math.round(x * 1000) / 1000),
+      const d = { op: 'add_markers', center: [c.x, c.y, c.z].map(round3),
         radius: s.radius, pressure: Math.round(pressure * 1000) / 1000, count: s.count };
       if (s.symmetry) d.symmetry = s.symmetry;
       if (st.dabs === 0 && st.constrain) d.constrain = st.constrain;
@@ -163,6 +157,6 @@ export class Brush {
     const batch = st.queue.splice(0);
     this.requests++;
     this.dabsSent += batch.length;
-    st.pending = st.pending.then(() => this.opts.send(batch)).catch(() => {});
+    st.pending = st.pending.then(() => this.session.send(batch)).catch(() => {});
   }
 }

@@ -1,52 +1,22 @@
-// Prune and bend (Palubicki et al. 2009, §5, after Power et al. 1999): pick an
-// internode by the _NODE_ID of the bark under the pointer; the picked node is
-// highlighted before the edit is sent.
+// The Bend tool (Palubicki et al. 2009, §5, after Power et al. 1999): drag a branch
+// to turn it about its base; the picked node is highlighted and a line shows the bend
+// while the drag goes on.
 import * as THREE from 'three';
+import { NodeTool } from './hover.js';
 
-const HOVER = 0xf0a030, PICKED = 0xd23c2c, BEND = 0x2f86d6;
+const BEND = 0x2f86d6;
 
-const nextFrame = () => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+export class BendTool extends NodeTool {
+  id = 'bend';
+  key = 'n';
+  icon = '↷';
+  label = 'Bend';
+  title = 'Bend: drag a branch about its base (N)';
+  hint = 'Drag a branch to bend it about its base · right-drag orbits';
 
-/** Highlights the node under the pointer (tool.hoverNode remembers it). */
-function hoverPick(tool, e) {
-  const hit = tool.viewer.pick(e.clientX, e.clientY);
-  const node = hit ? hit.node : null;
-  if (node === tool.hoverNode) return;
-  tool.hoverNode = node;
-  tool.viewer.setHighlight('hover', node === null ? null : new Set([node]), HOVER);
-}
-
-export class PruneTool {
-  constructor(viewer, { send }) {
-    this.viewer = viewer;
-    this.send = send;
-    this.hoverNode = null;
-  }
-
-  hover(e) { hoverPick(this, e); }
-
-  leave() { this.hoverNode = null; this.viewer.setHighlight('hover', null); }
-
-  /** Click: highlight the node, then send the prune. */
-  async click(e) {
-    const hit = this.viewer.pick(e.clientX, e.clientY);
-    if (!hit) return null;
-    this.viewer.setHighlight('hover', null);
-    this.viewer.setHighlight('picked', new Set([hit.node]), PICKED);
-    this.viewer.render();
-    await nextFrame();
-    try {
-      return await this.send([{ op: 'prune', node: hit.node }]);
-    } finally {
-      this.viewer.setHighlight('picked', null);
-    }
-  }
-}
-
-export class BendTool {
-  constructor(viewer, { send }) {
-    this.viewer = viewer;
-    this.send = send;
+  constructor(ctx) {
+    super(ctx);
+    const { viewer } = ctx;
     this.drag = null;
     const mat = new THREE.LineBasicMaterial({ color: BEND, depthTest: false, transparent: true });
     this.line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(
@@ -57,9 +27,9 @@ export class BendTool {
     this.lastBend = null;
   }
 
-  hover(e) { if (!this.drag) hoverPick(this, e); }
+  hover(e) { if (!this.drag) super.hover(e); }
 
-  leave() { this.hoverNode = null; this.viewer.setHighlight('hover', null); }
+  busy() { return Boolean(this.drag); }
 
   /** The base of the node: the end of its axis nearer the root. */
   _pivot(node) {
@@ -79,7 +49,7 @@ export class BendTool {
    * `reach` from the node's base (so a short drag is a small bend, not a swing about a
    * point next to the pivot); the bend takes the handle to where the drag puts it.
    */
-  begin(e, reach = 4) {
+  begin(e, reach = this._reach()) {
     const hit = this.viewer.pick(e.clientX, e.clientY);
     if (!hit) return false;
     const pivot = this._pivot(hit.node) || hit.point.clone();
@@ -97,6 +67,9 @@ export class BendTool {
     this._drawLine();
     return true;
   }
+
+  /** A third of the tree's height, at least 2 (10 before the tree has one). */
+  _reach() { return Math.max(2, (this.session.state.summary?.height || 10) * 0.3); }
 
   move(e) {
     const d = this.drag;
@@ -147,7 +120,7 @@ export class BendTool {
       if (!rot) return null;
       const edit = { op: 'bend', node: d.node, axis: rot.axis, angle: rot.angle };
       this.lastBend = edit;
-      return await this.send([edit]);
+      return await this.session.send([edit]);
     } finally {
       this.viewer.setHighlight('picked', null);
     }
