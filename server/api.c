@@ -21,17 +21,17 @@
 
 /* ----------------------------------------------------------------- helpers */
 
-static enum MHD_Result refuse(mer_request *req, const mer_refusal *why)
+static enum MHD_Result refuse(merd_request *req, const merd_refusal *why)
 {
     size_t size = 0;
-    struct MHD_Response *r = mer_problem_response(why->status, why->slug, mer_status_title(why->status),
+    struct MHD_Response *r = merd_problem_response(why->status, why->slug, merd_status_title(why->status),
                                                   why->detail, why->field, &size);
-    return mer_reply(req, why->status, r, size);
+    return merd_reply(req, why->status, r, size);
 }
 
 static struct MHD_Response *json_response(const json_t *j, size_t *size)
 {
-    char *text = json_dumps(j, MER_JSON_DUMP_FLAGS);
+    char *text = json_dumps(j, MERD_JSON_DUMP_FLAGS);
     if (text == NULL)
         return NULL;
     *size = strlen(text);
@@ -45,7 +45,7 @@ static struct MHD_Response *json_response(const json_t *j, size_t *size)
 }
 
 /* Queues `text` (taken over, freed by libmicrohttpd) as `content_type`. */
-static enum MHD_Result reply_text(mer_request *req, unsigned status, char *text,
+static enum MHD_Result reply_text(merd_request *req, unsigned status, char *text,
                                   const char *content_type)
 {
     if (text == NULL)
@@ -57,12 +57,12 @@ static enum MHD_Result reply_text(mer_request *req, unsigned status, char *text,
         return MHD_NO;
     }
     MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
-    return mer_reply(req, status, r, size);
+    return merd_reply(req, status, r, size);
 }
 
-static struct MHD_Response *refusal_response(const mer_refusal *why, size_t *size)
+static struct MHD_Response *refusal_response(const merd_refusal *why, size_t *size)
 {
-    return mer_problem_response(why->status, why->slug, mer_status_title(why->status), why->detail,
+    return merd_problem_response(why->status, why->slug, merd_status_title(why->status), why->detail,
                                 why->field, size);
 }
 
@@ -94,7 +94,7 @@ static int depth_of(const json_t *j)
 /* The request body as JSON: an empty body is `{}`; a body must be
  * application/json (415), well-formed (400 naming line and column), without
  * duplicate keys and no deeper than JSON_DEPTH_MAX (400). */
-static json_t *parse_body(mer_request *req, mer_refusal *why)
+static json_t *parse_body(merd_request *req, merd_refusal *why)
 {
     if (req->body == NULL || req->body_size == 0)
         return json_object();
@@ -102,41 +102,41 @@ static json_t *parse_body(mer_request *req, mer_refusal *why)
                                                    MHD_HTTP_HEADER_CONTENT_TYPE);
     if (type == NULL || strncasecmp(type, "application/json", 16) != 0 ||
         (type[16] != '\0' && type[16] != ';' && type[16] != ' ')) {
-        mer_refuse(why, 415, "unsupported-media-type", "",
+        merd_refuse(why, 415, "unsupported-media-type", "",
                    "send the body as application/json (got %s)", type ? type : "no Content-Type");
         return NULL;
     }
     json_error_t err;
     json_t *doc = json_loadb(req->body, req->body_size, JSON_REJECT_DUPLICATES, &err);
     if (doc == NULL) {
-        mer_refuse(why, 400, "malformed-json", "", "malformed JSON at line %d, column %d: %s",
+        merd_refuse(why, 400, "malformed-json", "", "malformed JSON at line %d, column %d: %s",
                    err.line, err.column, err.text);
         return NULL;
     }
     if (depth_of(doc) > JSON_DEPTH_MAX) {
         json_decref(doc);
-        mer_refuse(why, 400, "malformed-json", "", "JSON nested deeper than %d levels", JSON_DEPTH_MAX);
+        merd_refuse(why, 400, "malformed-json", "", "JSON nested deeper than %d levels", JSON_DEPTH_MAX);
         return NULL;
     }
     return doc;
 }
 
-static mer_session *find_session(mer_request *req, const char *id, mer_refusal *why)
+static merd_session *find_session(merd_request *req, const char *id, merd_refusal *why)
 {
-    mer_session *s = mer_registry_get(req->app->registry, id);
+    merd_session *s = merd_registry_get(req->app->registry, id);
     if (s == NULL)
-        mer_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET /v1/sessions "
+        merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET /v1/sessions "
                    "lists them)", id);
     return s;
 }
 
-static const char *query(mer_request *req, const char *key)
+static const char *query(merd_request *req, const char *key)
 {
     return MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, key);
 }
 
-static int query_uint(mer_request *req, const char *key, uint32_t lo, uint32_t hi, uint32_t *out,
-                      mer_refusal *why)
+static int query_uint(merd_request *req, const char *key, uint32_t lo, uint32_t hi, uint32_t *out,
+                      merd_refusal *why)
 {
     const char *v = query(req, key);
     if (v == NULL)
@@ -144,13 +144,13 @@ static int query_uint(mer_request *req, const char *key, uint32_t lo, uint32_t h
     char *end = NULL;
     unsigned long x = strtoul(v, &end, 10);
     if (end == v || *end != '\0' || x < lo || x > hi)
-        return mer_refuse(why, 422, "out-of-range", key, "%s must be an integer from %u to %u, got '%.40s'",
+        return merd_refuse(why, 422, "out-of-range", key, "%s must be an integer from %u to %u, got '%.40s'",
                           key, lo, hi, v);
     *out = (uint32_t)x;
     return 0;
 }
 
-static int snapshot_options(mer_request *req, mer_snapshot_options *o, mer_refusal *why)
+static int snapshot_options(merd_request *req, merd_snapshot_options *o, merd_refusal *why)
 {
     memset(o, 0, sizeof *o);
     o->mesh.detail = 3;
@@ -166,32 +166,32 @@ static int snapshot_options(mer_request *req, mer_snapshot_options *o, mer_refus
     o->mesh.no_uvs = !texcoords;
     const char *compress = query(req, "compress");
     if (compress != NULL) {
-        int mode = mer_compression_parse(compress);
+        int mode = merd_compression_parse(compress);
         if (mode < 0)
-            return mer_refuse(why, 422, "out-of-range", "compress",
+            return merd_refuse(why, 422, "out-of-range", "compress",
                               "compress must be none or meshopt, got '%.40s'", compress);
         o->compression = (uint32_t)mode;
     }
     const char *color = query(req, "color");
     if (color != NULL) {
-        int mode = mer_color_mode_parse(color);
+        int mode = merd_color_mode_parse(color);
         if (mode < 0)
-            return mer_refuse(why, 422, "out-of-range", "color",
+            return merd_refuse(why, 422, "out-of-range", "color",
                               "color must be none, order, light or age, got '%.40s'", color);
         o->mesh.color = (uint32_t)mode;
     }
     return 0;
 }
 
-static struct MHD_Response *glb_response(mer_snapshot *snap, const char *etag, size_t *size)
+static struct MHD_Response *glb_response(merd_snapshot *snap, const char *etag, size_t *size)
 {
-    const uint8_t *bytes = mer_snapshot_bytes(snap, size);
+    const uint8_t *bytes = merd_snapshot_bytes(snap, size);
     // The snapshot is shared with the cache: libmicrohttpd sends it in place and
     // releases our reference when the response is gone.
     struct MHD_Response *r = MHD_create_response_from_buffer_with_free_callback_cls(
-        *size, (void *)bytes, (MHD_ContentReaderFreeCallback)mer_snapshot_release, snap);
+        *size, (void *)bytes, (MHD_ContentReaderFreeCallback)merd_snapshot_release, snap);
     if (r == NULL) {
-        mer_snapshot_release(snap);
+        merd_snapshot_release(snap);
         return NULL;
     }
     MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "model/gltf-binary");
@@ -200,7 +200,7 @@ static struct MHD_Response *glb_response(mer_snapshot *snap, const char *etag, s
     return r;
 }
 
-static bool wants_glb(mer_request *req)
+static bool wants_glb(merd_request *req)
 {
     const char *accept = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
                                                      MHD_HTTP_HEADER_ACCEPT);
@@ -219,7 +219,7 @@ static void build_health(void)
     health_size = n > 0 && (size_t)n < sizeof health_body ? (size_t)n : 0;
 }
 
-enum MHD_Result mer_api_health(mer_request *req, const char *id)
+enum MHD_Result merd_api_health(merd_request *req, const char *id)
 {
     (void)id;
     // The hottest route: a constant body, built once.
@@ -230,7 +230,7 @@ enum MHD_Result mer_api_health(mer_request *req, const char *id)
     if (r == NULL)
         return MHD_NO;
     MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
-    return mer_reply(req, 200, r, health_size);
+    return merd_reply(req, 200, r, health_size);
 }
 
 /* The presets never change while meristemd runs: their JSON is built once. */
@@ -244,28 +244,28 @@ static void build_presets(void)
         mer_preset_params(mer_preset_name(i), &p, NULL);
         json_array_append_new(presets, json_pack("{s:s, s:s, s:o, s:o}", "name", mer_preset_name(i),
                                                  "description", mer_preset_description(i),
-                                                 "params", mer_json_params(&p),
-                                                 "schedule", mer_json_schedule(&p.schedule)));
+                                                 "params", merd_json_params(&p),
+                                                 "schedule", merd_json_schedule(&p.schedule)));
     }
     mer_params d = mer_params_default();
     for (size_t f = 0; f < mer_params_field_count(); f++) {
         const char *name = mer_params_field_name(f);
-        if (mer_param_in_schedule(name))
+        if (merd_param_in_schedule(name))
             continue;  // set_apical_schedule's business
         double lo, hi, v = 0;
         mer_params_field_range(f, &lo, &hi);
         mer_params_get(&d, name, &v, NULL);
         json_array_append_new(fields, json_pack("{s:s, s:s, s:o, s:o, s:o}", "name", name, "symbol",
-                                                mer_params_field_symbol(f), "min", mer_json_param(lo),
-                                                "max", mer_json_param(hi), "default",
-                                                mer_json_param(v)));
+                                                mer_params_field_symbol(f), "min", merd_json_param(lo),
+                                                "max", merd_json_param(hi), "default",
+                                                merd_json_param(v)));
     }
     json_t *body = json_pack("{s:o, s:o}", "presets", presets, "parameters", fields);
-    presets_text = json_dumps(body, MER_JSON_DUMP_FLAGS);
+    presets_text = json_dumps(body, MERD_JSON_DUMP_FLAGS);
     json_decref(body);
 }
 
-enum MHD_Result mer_api_presets(mer_request *req, const char *id)
+enum MHD_Result merd_api_presets(merd_request *req, const char *id)
 {
     (void)id;
     static pthread_once_t once = PTHREAD_ONCE_INIT;
@@ -278,69 +278,69 @@ enum MHD_Result mer_api_presets(mer_request *req, const char *id)
     if (r == NULL)
         return MHD_NO;
     MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
-    return mer_reply(req, 200, r, size);
+    return merd_reply(req, 200, r, size);
 }
 
-enum MHD_Result mer_api_metrics(mer_request *req, const char *id)
+enum MHD_Result merd_api_metrics(merd_request *req, const char *id)
 {
     (void)id;
     uint32_t sessions;
     uint64_t internodes;
-    mer_registry_totals(req->app->registry, &sessions, &internodes);
-    char *text = mer_metrics_render(req->app->metrics, sessions, internodes,
-                                    mer_jobs_pending(req->app->jobs));
+    merd_registry_totals(req->app->registry, &sessions, &internodes);
+    char *text = merd_metrics_render(req->app->metrics, sessions, internodes,
+                                    merd_jobs_pending(req->app->jobs));
     return reply_text(req, 200, text, "text/plain; version=0.0.4; charset=utf-8");
 }
 
-enum MHD_Result mer_api_list(mer_request *req, const char *id)
+enum MHD_Result merd_api_list(merd_request *req, const char *id)
 {
     (void)id;
-    json_t *body = mer_registry_list(req->app->registry);
-    enum MHD_Result ok = mer_reply_json(req, 200, body);
+    json_t *body = merd_registry_list(req->app->registry);
+    enum MHD_Result ok = merd_reply_json(req, 200, body);
     json_decref(body);
     return ok;
 }
 
-enum MHD_Result mer_api_get(mer_request *req, const char *id)
+enum MHD_Result merd_api_get(merd_request *req, const char *id)
 {
-    mer_refusal why = {0};
-    mer_session *s = find_session(req, id, &why);
+    merd_refusal why = {0};
+    merd_session *s = find_session(req, id, &why);
     if (s == NULL)
         return refuse(req, &why);
     uint64_t revision = 0;
-    char *text = mer_session_summary_text(s, true, &revision);
-    mer_session_unref(s);
+    char *text = merd_session_summary_text(s, true, &revision);
+    merd_session_unref(s);
     req->revision = (long long)revision;
     return reply_text(req, 200, text, "application/json");
 }
 
-enum MHD_Result mer_api_delete(mer_request *req, const char *id)
+enum MHD_Result merd_api_delete(merd_request *req, const char *id)
 {
-    mer_session *s = mer_registry_get(req->app->registry, id);
+    merd_session *s = merd_registry_get(req->app->registry, id);
     if (s != NULL) {
-        req->revision = (long long)mer_session_revision(s);
-        mer_session_unref(s);
+        req->revision = (long long)merd_session_revision(s);
+        merd_session_unref(s);
     }
-    if (mer_registry_delete(req->app->registry, id) != 0) {
-        mer_refusal why = {0};
-        mer_refuse(&why, 404, "unknown-session", "", "there is no session %.64s", id);
+    if (merd_registry_delete(req->app->registry, id) != 0) {
+        merd_refusal why = {0};
+        merd_refuse(&why, 404, "unknown-session", "", "there is no session %.64s", id);
         return refuse(req, &why);
     }
     struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
-    return mer_reply(req, 204, r, 0);
+    return merd_reply(req, 204, r, 0);
 }
 
-enum MHD_Result mer_api_cancel(mer_request *req, const char *id)
+enum MHD_Result merd_api_cancel(merd_request *req, const char *id)
 {
-    mer_refusal why = {0};
-    mer_session *s = find_session(req, id, &why);
+    merd_refusal why = {0};
+    merd_session *s = find_session(req, id, &why);
     if (s == NULL)
         return refuse(req, &why);
-    bool running = mer_session_cancel(s);
-    req->revision = (long long)mer_session_revision(s);
-    mer_session_unref(s);
+    bool running = merd_session_cancel(s);
+    req->revision = (long long)merd_session_revision(s);
+    merd_session_unref(s);
     json_t *body = json_pack("{s:b}", "cancelling", running);
-    enum MHD_Result ok = mer_reply_json(req, 202, body);
+    enum MHD_Result ok = merd_reply_json(req, 202, body);
     json_decref(body);
     return ok;
 }
@@ -348,51 +348,51 @@ enum MHD_Result mer_api_cancel(mer_request *req, const char *id)
 /* ------------------------------------------------------------ worker jobs */
 
 typedef struct job {
-    mer_request *req;
-    mer_app *app;
-    mer_session *session;   /* a reference, or NULL for create */
+    merd_request *req;
+    merd_app *app;
+    merd_session *session;   /* a reference, or NULL for create */
     json_t *spec;           /* create */
-    mer_batch *batch;       /* edits */
+    merd_batch *batch;       /* edits */
     bool glb;               /* edits: answer with the snapshot */
-    mer_snapshot_options snap;
+    merd_snapshot_options snap;
     char etag[64];
 } job;
 
 static void job_free(job *j)
 {
-    mer_session_unref(j->session);
+    merd_session_unref(j->session);
     json_decref(j->spec);
-    mer_batch_free(j->batch);
+    merd_batch_free(j->batch);
     free(j);
 }
 
-static void finish_refused(job *j, const mer_refusal *why)
+static void finish_refused(job *j, const merd_refusal *why)
 {
     size_t size = 0;
     struct MHD_Response *r = refusal_response(why, &size);
-    mer_request_finish(j->req, why->status, r, size);
+    merd_request_finish(j->req, why->status, r, size);
 }
 
 static void run_create(void *arg)
 {
     job *j = arg;
-    mer_refusal why = {0};
-    mer_session *s = NULL;
-    if (mer_registry_create(j->app->registry, j->spec, &s, &why) != 0) {
+    merd_refusal why = {0};
+    merd_session *s = NULL;
+    if (merd_registry_create(j->app->registry, j->spec, &s, &why) != 0) {
         finish_refused(j, &why);
     } else {
-        json_t *body = mer_session_summary(s, true);
+        json_t *body = merd_session_summary(s, true);
         size_t size = 0;
         struct MHD_Response *r = json_response(body, &size);
         json_decref(body);
         if (r != NULL) {
             char location[64];
-            snprintf(location, sizeof location, "/v1/sessions/%s", mer_session_id(s));
+            snprintf(location, sizeof location, "/v1/sessions/%s", merd_session_id(s));
             MHD_add_response_header(r, MHD_HTTP_HEADER_LOCATION, location);
         }
         j->req->revision = 0;
-        mer_session_unref(s);
-        mer_request_finish(j->req, 201, r, size);
+        merd_session_unref(s);
+        merd_request_finish(j->req, 201, r, size);
     }
     job_free(j);
 }
@@ -407,13 +407,13 @@ static double now(void)
 static void run_edits(void *arg)
 {
     job *j = arg;
-    mer_refusal why = {0};
-    mer_batch_outcome outcome;
+    merd_refusal why = {0};
+    merd_batch_outcome outcome;
     double t0 = now();
-    int rc = mer_session_apply(j->session, j->batch, &outcome, &why);
+    int rc = merd_session_apply(j->session, j->batch, &outcome, &why);
     if (rc == 0 && outcome.steps_done > 0)
-        mer_metrics_step(j->app->metrics, now() - t0, outcome.steps_done);
-    j->req->revision = (long long)mer_session_revision(j->session);
+        merd_metrics_step(j->app->metrics, now() - t0, outcome.steps_done);
+    j->req->revision = (long long)merd_session_revision(j->session);
     if (rc != 0) {
         finish_refused(j, &why);
         job_free(j);
@@ -422,15 +422,15 @@ static void run_edits(void *arg)
     size_t size = 0;
     struct MHD_Response *r = NULL;
     if (j->glb) {
-        mer_snapshot *snap = NULL;
-        if (mer_session_snapshot(j->session, &j->snap, &snap, j->etag, &why) != 0) {
+        merd_snapshot *snap = NULL;
+        if (merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &why) != 0) {
             finish_refused(j, &why);
             job_free(j);
             return;
         }
         r = glb_response(snap, j->etag, &size);
     } else {
-        json_t *body = mer_session_summary(j->session, true);
+        json_t *body = merd_session_summary(j->session, true);
         if (outcome.interrupted != NULL)
             json_object_set_new(body, "interrupted", json_string(outcome.interrupted));
         json_object_set_new(body, "steps_done", json_integer(outcome.steps_done));
@@ -439,32 +439,32 @@ static void run_edits(void *arg)
     }
     if (r != NULL && outcome.interrupted != NULL)
         MHD_add_response_header(r, "Meristem-Interrupted", outcome.interrupted);
-    mer_request_finish(j->req, 200, r, size);
+    merd_request_finish(j->req, 200, r, size);
     job_free(j);
 }
 
 static void run_snapshot(void *arg)
 {
     job *j = arg;
-    mer_refusal why = {0};
-    mer_snapshot *snap = NULL;
-    j->req->revision = (long long)mer_session_revision(j->session);
-    if (mer_session_snapshot(j->session, &j->snap, &snap, j->etag, &why) != 0) {
+    merd_refusal why = {0};
+    merd_snapshot *snap = NULL;
+    j->req->revision = (long long)merd_session_revision(j->session);
+    if (merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &why) != 0) {
         finish_refused(j, &why);
     } else {
         size_t size = 0;
         struct MHD_Response *r = glb_response(snap, j->etag, &size);
-        mer_request_finish(j->req, 200, r, size);
+        merd_request_finish(j->req, 200, r, size);
     }
     job_free(j);
 }
 
-static enum MHD_Result submit(mer_request *req, job *j, mer_job_fn fn)
+static enum MHD_Result submit(merd_request *req, job *j, merd_job_fn fn)
 {
-    mer_request_suspend(req);
-    if (mer_jobs_submit(req->app->jobs, fn, j) != 0) {
-        mer_refusal why = {0};
-        mer_refuse(&why, 503, "shutting-down", "", "meristemd is stopping");
+    merd_request_suspend(req);
+    if (merd_jobs_submit(req->app->jobs, fn, j) != 0) {
+        merd_refusal why = {0};
+        merd_refuse(&why, 503, "shutting-down", "", "meristemd is stopping");
         finish_refused(j, &why);
         job_free(j);
     }
@@ -473,10 +473,10 @@ static enum MHD_Result submit(mer_request *req, job *j, mer_job_fn fn)
 
 /* ---------------------------------------------------------- async routes */
 
-enum MHD_Result mer_api_create(mer_request *req, const char *id)
+enum MHD_Result merd_api_create(merd_request *req, const char *id)
 {
     (void)id;
-    mer_refusal why = {0};
+    merd_refusal why = {0};
     json_t *spec = parse_body(req, &why);
     if (spec == NULL)
         return refuse(req, &why);
@@ -489,28 +489,28 @@ enum MHD_Result mer_api_create(mer_request *req, const char *id)
     return submit(req, j, run_create);
 }
 
-enum MHD_Result mer_api_edits(mer_request *req, const char *id)
+enum MHD_Result merd_api_edits(merd_request *req, const char *id)
 {
-    mer_refusal why = {0};
-    mer_session *s = find_session(req, id, &why);
+    merd_refusal why = {0};
+    merd_session *s = find_session(req, id, &why);
     if (s == NULL)
         return refuse(req, &why);
     json_t *body = parse_body(req, &why);
-    mer_batch *batch = NULL;
-    mer_snapshot_options snap;
-    if (body == NULL || mer_batch_decode(body, &req->app->session_config.limits, &batch, &why) != 0 ||
+    merd_batch *batch = NULL;
+    merd_snapshot_options snap;
+    if (body == NULL || merd_batch_decode(body, &req->app->session_config.limits, &batch, &why) != 0 ||
         snapshot_options(req, &snap, &why) != 0) {
         json_decref(body);
-        mer_batch_free(batch);
-        req->revision = (long long)mer_session_revision(s);
-        mer_session_unref(s);
+        merd_batch_free(batch);
+        req->revision = (long long)merd_session_revision(s);
+        merd_session_unref(s);
         return refuse(req, &why);
     }
     json_decref(body);
     job *j = calloc(1, sizeof *j);
     if (j == NULL) {
-        mer_batch_free(batch);
-        mer_session_unref(s);
+        merd_batch_free(batch);
+        merd_session_unref(s);
         return MHD_NO;
     }
     *j = (job){.req = req, .app = req->app, .session = s, .batch = batch, .glb = wants_glb(req),
@@ -518,34 +518,34 @@ enum MHD_Result mer_api_edits(mer_request *req, const char *id)
     return submit(req, j, run_edits);
 }
 
-enum MHD_Result mer_api_snapshot(mer_request *req, const char *id)
+enum MHD_Result merd_api_snapshot(merd_request *req, const char *id)
 {
-    mer_refusal why = {0};
-    mer_session *s = find_session(req, id, &why);
+    merd_refusal why = {0};
+    merd_session *s = find_session(req, id, &why);
     if (s == NULL)
         return refuse(req, &why);
-    mer_snapshot_options snap;
-    req->revision = (long long)mer_session_revision(s);
+    merd_snapshot_options snap;
+    req->revision = (long long)merd_session_revision(s);
     if (snapshot_options(req, &snap, &why) != 0) {
-        mer_session_unref(s);
+        merd_session_unref(s);
         return refuse(req, &why);
     }
     // A client that has this revision with these options gets 304 without meshing.
     char etag[64];
-    mer_session_etag(s, &snap, etag);
+    merd_session_etag(s, &snap, etag);
     const char *match = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
                                                     MHD_HTTP_HEADER_IF_NONE_MATCH);
     if (match != NULL && (strstr(match, etag) != NULL || strcmp(match, "*") == 0)) {
-        req->revision = (long long)mer_session_revision(s);
-        mer_session_unref(s);
+        req->revision = (long long)merd_session_revision(s);
+        merd_session_unref(s);
         struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
         if (r != NULL)
             MHD_add_response_header(r, MHD_HTTP_HEADER_ETAG, etag);
-        return mer_reply(req, 304, r, 0);
+        return merd_reply(req, 304, r, 0);
     }
     job *j = calloc(1, sizeof *j);
     if (j == NULL) {
-        mer_session_unref(s);
+        merd_session_unref(s);
         return MHD_NO;
     }
     *j = (job){.req = req, .app = req->app, .session = s, .snap = snap};

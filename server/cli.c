@@ -127,7 +127,7 @@ static int grow(const grow_args *a)
         status = fail("growth stopped", &err);
         goto done;
     }
-    json_t *summary = mer_json_summary(scene);
+    json_t *summary = merd_json_summary(scene);
     json_object_set_new(summary, "preset", json_string(a->preset));
     json_object_set_new(summary, "seed", json_integer((json_int_t)a->seed));
 
@@ -255,7 +255,7 @@ int main(int argc, char **argv)
         case O_NO_TEXCOORDS: a.mesh.no_uvs = 1; break;
         case O_TWIG_LINES: a.mesh.twig_lines = 1; break;
         case O_COMPRESS: {
-            int mode = mer_compression_parse(optarg);
+            int mode = merd_compression_parse(optarg);
             if (mode < 0) {
                 fprintf(stderr, "meristem: --compress wants none or meshopt, got '%s'\n", optarg);
                 return 2;
@@ -264,7 +264,7 @@ int main(int argc, char **argv)
             break;
         }
         case O_COLOR: {
-            int mode = mer_color_mode_parse(optarg);
+            int mode = merd_color_mode_parse(optarg);
             if (mode < 0) {
                 fprintf(stderr, "meristem: --color wants none, order, light or age, got '%s'\n", optarg);
                 return 2;

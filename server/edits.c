@@ -38,13 +38,13 @@ typedef struct edit {
 
 enum { SCHED_APICAL = 1, SCHED_ETA_SCALE = 2, SCHED_LAMBDA = 4, SCHED_ETA = 8 };
 
-struct mer_batch {
+struct merd_batch {
     json_t *body;         /* a reference keeping `json` pointers valid */
     edit *edits;
     size_t count;
 };
 
-int mer_refuse(mer_refusal *why, unsigned status, const char *slug, const char *field,
+int merd_refuse(merd_refusal *why, unsigned status, const char *slug, const char *field,
                const char *fmt, ...)
 {
     why->status = status;
@@ -77,30 +77,30 @@ static void path(char *out, size_t n, const char *where, const char *key)
     append(out, n, &used, key);
 }
 
-static int bad_type(mer_refusal *why, const char *where, const char *key, const char *want)
+static int bad_type(merd_refusal *why, const char *where, const char *key, const char *want)
 {
     char f[96];
     path(f, sizeof f, where, key);
-    return mer_refuse(why, 422, "invalid-field", f, "%s must be %s", f, want);
+    return merd_refuse(why, 422, "invalid-field", f, "%s must be %s", f, want);
 }
 
 /* The field `key` of `obj`; NULL when absent, which is a refusal (returned
  * through *failed) only when it is required. */
 static const json_t *field(const json_t *obj, const char *key, const char *where, bool required,
-                           int *failed, mer_refusal *why)
+                           int *failed, merd_refusal *why)
 {
     const json_t *v = json_object_get(obj, key);
     *failed = 0;
     if (v == NULL && required) {
         char f[96];
         path(f, sizeof f, where, key);
-        *failed = mer_refuse(why, 422, "missing-field", f, "%s is required", f);
+        *failed = merd_refuse(why, 422, "missing-field", f, "%s is required", f);
     }
     return v;
 }
 
 static int get_number(const json_t *obj, const char *key, const char *where, double lo, double hi,
-                      bool required, double fallback, double *out, mer_refusal *why)
+                      bool required, double fallback, double *out, merd_refusal *why)
 {
     int failed;
     const json_t *v = field(obj, key, where, required, &failed, why);
@@ -114,7 +114,7 @@ static int get_number(const json_t *obj, const char *key, const char *where, dou
     if (!isfinite(x) || x < lo || x > hi) {
         char f[96];
         path(f, sizeof f, where, key);
-        return mer_refuse(why, 422, "out-of-range", f, "%s must be from %g to %g, got %g", f, lo,
+        return merd_refuse(why, 422, "out-of-range", f, "%s must be from %g to %g, got %g", f, lo,
                           hi, x);
     }
     *out = x;
@@ -122,7 +122,7 @@ static int get_number(const json_t *obj, const char *key, const char *where, dou
 }
 
 static int get_uint(const json_t *obj, const char *key, const char *where, uint64_t lo, uint64_t hi,
-                    bool required, uint64_t fallback, uint64_t *out, mer_refusal *why)
+                    bool required, uint64_t fallback, uint64_t *out, merd_refusal *why)
 {
     int failed;
     const json_t *v = field(obj, key, where, required, &failed, why);
@@ -136,7 +136,7 @@ static int get_uint(const json_t *obj, const char *key, const char *where, uint6
     if (x < 0 || (uint64_t)x < lo || (uint64_t)x > hi) {
         char f[96];
         path(f, sizeof f, where, key);
-        return mer_refuse(why, 422, "out-of-range", f,
+        return merd_refuse(why, 422, "out-of-range", f,
                           "%s must be an integer from %llu to %llu, got %lld", f,
                           (unsigned long long)lo, (unsigned long long)hi, (long long)x);
     }
@@ -145,15 +145,15 @@ static int get_uint(const json_t *obj, const char *key, const char *where, uint6
 }
 
 /* A vector of 3 finite numbers within ±limit. */
-static int get_vec3(const json_t *v, const char *field, double limit, float out[3], mer_refusal *why)
+static int get_vec3(const json_t *v, const char *field, double limit, float out[3], merd_refusal *why)
 {
     if (!json_is_array(v) || json_array_size(v) != 3)
-        return mer_refuse(why, 422, "invalid-field", field, "%s must be an array of 3 numbers", field);
+        return merd_refuse(why, 422, "invalid-field", field, "%s must be an array of 3 numbers", field);
     for (size_t k = 0; k < 3; k++) {
         const json_t *x = json_array_get(v, k);
         if (!json_is_number(x) || !isfinite(json_number_value(x)) ||
             fabs(json_number_value(x)) > limit)
-            return mer_refuse(why, 422, "out-of-range", field,
+            return merd_refuse(why, 422, "out-of-range", field,
                               "%s must hold 3 numbers from %g to %g", field, -limit, limit);
         out[k] = (float)json_number_value(x);
     }
@@ -161,19 +161,19 @@ static int get_vec3(const json_t *v, const char *field, double limit, float out[
 }
 
 static int get_vec3_field(const json_t *obj, const char *key, const char *where, bool required,
-                          float out[3], mer_refusal *why)
+                          float out[3], merd_refusal *why)
 {
     char f[96];
     path(f, sizeof f, where, key);
     const json_t *v = json_object_get(obj, key);
     if (v == NULL)
-        return required ? mer_refuse(why, 422, "missing-field", f, "%s is required", f) : 0;
+        return required ? merd_refuse(why, 422, "missing-field", f, "%s is required", f) : 0;
     return get_vec3(v, f, 1e6, out, why);
 }
 
 /* Every key of `obj` must be one of `allowed` (NULL-terminated): 400 otherwise. */
 static int only_fields(const json_t *obj, const char *const *allowed, const char *what,
-                       const char *where, mer_refusal *why)
+                       const char *where, merd_refusal *why)
 {
     const char *key;
     const json_t *value;
@@ -189,7 +189,7 @@ static int only_fields(const json_t *obj, const char *const *allowed, const char
             for (const char *const *a = allowed; *a != NULL; a++)
                 snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
                          a == allowed ? "" : ", ", *a);
-            return mer_refuse(why, 400, "unknown-field", f,
+            return merd_refuse(why, 400, "unknown-field", f,
                               "unknown field '%s' in %s; allowed: %s", key, what, list);
         }
     }
@@ -198,8 +198,8 @@ static int only_fields(const json_t *obj, const char *const *allowed, const char
 
 /* ---------------------------------------------------------------- decoding */
 
-static int decode_step(const json_t *o, const char *w, const mer_edit_limits *lim, edit *e,
-                       uint64_t *steps, mer_refusal *why)
+static int decode_step(const json_t *o, const char *w, const merd_edit_limits *lim, edit *e,
+                       uint64_t *steps, merd_refusal *why)
 {
     static const char *const allowed[] = {"op", "count", NULL};
     uint64_t n;
@@ -210,18 +210,18 @@ static int decode_step(const json_t *o, const char *w, const mer_edit_limits *li
     char f[96];
     path(f, sizeof f, w, "count");
     if (*steps > lim->max_steps)
-        return mer_refuse(why, 422, "out-of-range", f,
+        return merd_refuse(why, 422, "out-of-range", f,
                           "a request may step at most %u times (meristemd --max-steps), this one "
                           "asks for %llu", lim->max_steps, (unsigned long long)*steps);
     e->count = (uint32_t)n;
     return 0;
 }
 
-static int decode_symmetry(const json_t *s, const char *w, mer_symmetry *out, mer_refusal *why)
+static int decode_symmetry(const json_t *s, const char *w, mer_symmetry *out, merd_refusal *why)
 {
     static const char *const allowed[] = {"rotational", "center", "mirror", "tiles", "tile_step", NULL};
     if (!json_is_object(s))
-        return mer_refuse(why, 422, "invalid-field", w, "%s must be an object", w);
+        return merd_refuse(why, 422, "invalid-field", w, "%s must be an object", w);
     if (only_fields(s, allowed, "a symmetry", w, why))
         return -1;
     uint64_t n;
@@ -235,7 +235,7 @@ static int decode_symmetry(const json_t *s, const char *w, mer_symmetry *out, me
         char mw[96];
         path(mw, sizeof mw, w, "mirror");
         if (!json_is_object(m))
-            return mer_refuse(why, 422, "invalid-field", mw, "%s must be an object", mw);
+            return merd_refuse(why, 422, "invalid-field", mw, "%s must be an object", mw);
         if (only_fields(m, mirror_fields, "a mirror", mw, why) ||
             get_vec3_field(m, "point", mw, false, out->mirror_point, why) ||
             get_vec3_field(m, "normal", mw, true, out->mirror_normal, why))
@@ -248,18 +248,18 @@ static int decode_symmetry(const json_t *s, const char *w, mer_symmetry *out, me
         path(tw, sizeof tw, w, "tiles");
         if (!json_is_array(t) || json_array_size(t) != 2 || !json_is_integer(json_array_get(t, 0)) ||
             !json_is_integer(json_array_get(t, 1)))
-            return mer_refuse(why, 422, "invalid-field", tw, "%s must be [nu, nv], two integers", tw);
+            return merd_refuse(why, 422, "invalid-field", tw, "%s must be [nu, nv], two integers", tw);
         for (size_t k = 0; k < 2; k++) {
             json_int_t x = json_integer_value(json_array_get(t, k));
             if (x < 0 || x > 1024)
-                return mer_refuse(why, 422, "out-of-range", tw, "%s holds integers from 0 to 1024", tw);
+                return merd_refuse(why, 422, "out-of-range", tw, "%s holds integers from 0 to 1024", tw);
             out->tiles[k] = (uint32_t)x;
         }
         const json_t *st = json_object_get(s, "tile_step");
         char sw[96];
         path(sw, sizeof sw, w, "tile_step");
         if (!json_is_array(st) || json_array_size(st) != 2)
-            return mer_refuse(why, 422, "invalid-field", sw,
+            return merd_refuse(why, 422, "invalid-field", sw,
                               "%s must be two lattice vectors [[x,y,z],[x,y,z]] when tiles is given", sw);
         for (size_t k = 0; k < 2; k++)
             if (get_vec3(json_array_get(st, k), sw, 1e6, out->tile_step[k], why))
@@ -268,8 +268,8 @@ static int decode_symmetry(const json_t *s, const char *w, mer_symmetry *out, me
     return 0;
 }
 
-static int decode_markers(const json_t *o, const char *w, const mer_edit_limits *lim, edit *e,
-                          uint64_t *markers, mer_refusal *why)
+static int decode_markers(const json_t *o, const char *w, const merd_edit_limits *lim, edit *e,
+                          uint64_t *markers, merd_refusal *why)
 {
     const json_t *pts = json_object_get(o, "points");
     if (pts != NULL) {
@@ -279,16 +279,16 @@ static int decode_markers(const json_t *o, const char *w, const mer_edit_limits 
         if (only_fields(o, allowed, "an add_markers edit with points", w, why))
             return -1;
         if (!json_is_array(pts))
-            return mer_refuse(why, 422, "invalid-field", f, "%s must be an array of [x, y, z]", f);
+            return merd_refuse(why, 422, "invalid-field", f, "%s must be an array of [x, y, z]", f);
         e->npoints = json_array_size(pts);
         *markers += e->npoints;
         if (*markers > lim->max_markers)
-            return mer_refuse(why, 422, "out-of-range", f,
+            return merd_refuse(why, 422, "out-of-range", f,
                               "a request may add at most %u markers (meristemd --max-markers), "
                               "this one adds %llu", lim->max_markers, (unsigned long long)*markers);
         e->points = malloc((e->npoints ? e->npoints : 1) * 3 * sizeof(float));
         if (e->points == NULL)
-            return mer_refuse(why, 500, "internal", f, "out of memory for markers");
+            return merd_refuse(why, 500, "internal", f, "out of memory for markers");
         for (size_t i = 0; i < e->npoints; i++) {
             char pf[128];
             snprintf(pf, sizeof pf, "%s[%zu]", f, i);
@@ -328,7 +328,7 @@ static int decode_markers(const json_t *o, const char *w, const mer_edit_limits 
     char count_field[96];
     path(count_field, sizeof count_field, w, "count");
     if (*markers > lim->max_markers)
-        return mer_refuse(why, 422, "out-of-range", count_field,
+        return merd_refuse(why, 422, "out-of-range", count_field,
                           "a request may add at most %u markers (meristemd --max-markers); this "
                           "dab may add up to %llu with its symmetric copies",
                           lim->max_markers, (unsigned long long)*markers);
@@ -339,7 +339,7 @@ static int decode_markers(const json_t *o, const char *w, const mer_edit_limits 
         path(cw, sizeof cw, w, "constrain");
         uint64_t node, bud;
         if (!json_is_object(c))
-            return mer_refuse(why, 422, "invalid-field", cw, "%s must be {\"node\", \"bud\"}", cw);
+            return merd_refuse(why, 422, "invalid-field", cw, "%s must be {\"node\", \"bud\"}", cw);
         if (only_fields(c, cf, "a constraint", cw, why) ||
             get_uint(c, "node", cw, 0, UINT32_MAX - 1, true, 0, &node, why) ||
             get_uint(c, "bud", cw, 0, 2, false, 0, &bud, why))
@@ -352,7 +352,7 @@ static int decode_markers(const json_t *o, const char *w, const mer_edit_limits 
     return 0;
 }
 
-static int decode_node_edit(const json_t *o, const char *w, edit *e, mer_refusal *why)
+static int decode_node_edit(const json_t *o, const char *w, edit *e, merd_refusal *why)
 {
     uint64_t node;
     if (get_uint(o, "node", w, 0, UINT32_MAX - 1, true, 0, &node, why))
@@ -363,29 +363,29 @@ static int decode_node_edit(const json_t *o, const char *w, edit *e, mer_refusal
 
 /* A keyframe list [[step, value], ...] in step order, at most MER_KEYS_MAX. */
 static int decode_keys_into(const json_t *v, const char *f, double lo, double hi,
-                            mer_keyframe *keys, uint32_t *count, mer_refusal *why)
+                            mer_keyframe *keys, uint32_t *count, merd_refusal *why)
 {
     if (!json_is_array(v) || json_array_size(v) > MER_KEYS_MAX)
-        return mer_refuse(why, 422, "invalid-field", f,
+        return merd_refuse(why, 422, "invalid-field", f,
                           "%s must be an array of at most %d [step, value] pairs", f, MER_KEYS_MAX);
     *count = (uint32_t)json_array_size(v);
     for (size_t i = 0; i < *count; i++) {
         const json_t *k = json_array_get(v, i);
         if (!json_is_array(k) || json_array_size(k) != 2 || !json_is_number(json_array_get(k, 0)) ||
             !json_is_number(json_array_get(k, 1)))
-            return mer_refuse(why, 422, "invalid-field", f, "%s[%zu] must be [step, value]", f, i);
+            return merd_refuse(why, 422, "invalid-field", f, "%s[%zu] must be [step, value]", f, i);
         double step = json_number_value(json_array_get(k, 0)), value = json_number_value(json_array_get(k, 1));
         if (!(step >= 0 && step <= 1e6) || !(value >= lo && value <= hi))
-            return mer_refuse(why, 422, "out-of-range", f,
+            return merd_refuse(why, 422, "out-of-range", f,
                               "%s[%zu]: step must be from 0 to 1e6 and value from %g to %g", f, i, lo, hi);
         if (i > 0 && step <= (double)keys[i - 1].step)
-            return mer_refuse(why, 422, "out-of-range", f, "%s must be in increasing step order", f);
+            return merd_refuse(why, 422, "out-of-range", f, "%s must be in increasing step order", f);
         keys[i] = (mer_keyframe){(float)step, (float)value};
     }
     return 0;
 }
 
-static int decode_schedule(const json_t *o, const char *w, edit *e, mer_refusal *why)
+static int decode_schedule(const json_t *o, const char *w, edit *e, merd_refusal *why)
 {
     static const char *const allowed[] = {"op", "apical_off", "eta_order_scale", "lambda_keys",
                                           "eta_keys", NULL};
@@ -396,7 +396,7 @@ static int decode_schedule(const json_t *o, const char *w, edit *e, mer_refusal 
     if ((v = json_object_get(o, "apical_off")) != NULL) {
         path(f, sizeof f, w, "apical_off");
         if (!json_is_array(v) || json_array_size(v) == 0 || json_array_size(v) > MER_ORDERS_MAX)
-            return mer_refuse(why, 422, "invalid-field", f,
+            return merd_refuse(why, 422, "invalid-field", f,
                               "%s must be an array of 1 to %d steps (null: never), one per branch "
                               "order from the trunk", f, MER_ORDERS_MAX);
         size_t n = json_array_size(v);
@@ -409,7 +409,7 @@ static int decode_schedule(const json_t *o, const char *w, edit *e, mer_refusal 
                        json_integer_value(x) < (json_int_t)MER_NEVER) {
                 e->schedule.apical_off[k] = (uint32_t)json_integer_value(x);
             } else {
-                return mer_refuse(why, 422, "out-of-range", f,
+                return merd_refuse(why, 422, "out-of-range", f,
                                   "%s[%zu] must be a step (an integer from 0) or null for never", f,
                                   k < n ? k : n - 1);
             }
@@ -419,14 +419,14 @@ static int decode_schedule(const json_t *o, const char *w, edit *e, mer_refusal 
     if ((v = json_object_get(o, "eta_order_scale")) != NULL) {
         path(f, sizeof f, w, "eta_order_scale");
         if (!json_is_array(v) || json_array_size(v) == 0 || json_array_size(v) > MER_ORDERS_MAX)
-            return mer_refuse(why, 422, "invalid-field", f,
+            return merd_refuse(why, 422, "invalid-field", f,
                               "%s must be an array of 1 to %d numbers, one per branch order", f,
                               MER_ORDERS_MAX);
         size_t n = json_array_size(v);
         for (size_t k = 0; k < MER_ORDERS_MAX; k++) {
             const json_t *x = json_array_get(v, k < n ? k : n - 1);
             if (!json_is_number(x) || !(fabs(json_number_value(x)) <= 100))
-                return mer_refuse(why, 422, "out-of-range", f, "%s holds numbers from -100 to 100", f);
+                return merd_refuse(why, 422, "out-of-range", f, "%s holds numbers from -100 to 100", f);
             e->schedule.eta_order_scale[k] = (float)json_number_value(x);
         }
         e->sched_mask |= SCHED_ETA_SCALE;
@@ -444,16 +444,16 @@ static int decode_schedule(const json_t *o, const char *w, edit *e, mer_refusal 
         e->sched_mask |= SCHED_ETA;
     }
     if (e->sched_mask == 0)
-        return mer_refuse(why, 422, "missing-field", w,
+        return merd_refuse(why, 422, "missing-field", w,
                           "a set_apical_schedule edit needs apical_off, eta_order_scale, "
                           "lambda_keys or eta_keys");
     return 0;
 }
 
-int mer_params_from_json(const json_t *obj, mer_params *p, const char *where, mer_refusal *why)
+int merd_params_from_json(const json_t *obj, mer_params *p, const char *where, merd_refusal *why)
 {
     if (!json_is_object(obj))
-        return mer_refuse(why, 422, "invalid-field", where, "%s must be an object of name: number",
+        return merd_refuse(why, 422, "invalid-field", where, "%s must be an object of name: number",
                           where);
     const char *key;
     const json_t *value;
@@ -463,17 +463,17 @@ int mer_params_from_json(const json_t *obj, mer_params *p, const char *where, me
         double x;
         mer_error err;
         if (mer_params_get(p, key, &x, &err) != MER_OK)
-            return mer_refuse(why, 400, "unknown-field", f,
+            return merd_refuse(why, 400, "unknown-field", f,
                               "unknown parameter '%s'; GET /v1/presets lists them", key);
         if (!json_is_number(value))
-            return mer_refuse(why, 422, "invalid-field", f, "%s must be a number", f);
+            return merd_refuse(why, 422, "invalid-field", f, "%s must be a number", f);
         if (mer_params_set(p, key, json_number_value(value), &err) != MER_OK)
-            return mer_refuse(why, 422, "out-of-range", f, "%s", err.message);
+            return merd_refuse(why, 422, "out-of-range", f, "%s", err.message);
     }
     return 0;
 }
 
-static int decode_params(const json_t *o, const char *w, edit *e, mer_refusal *why)
+static int decode_params(const json_t *o, const char *w, edit *e, merd_refusal *why)
 {
     static const char *const allowed[] = {"op", "params", NULL};
     if (only_fields(o, allowed, "a set_params edit", w, why))
@@ -482,23 +482,23 @@ static int decode_params(const json_t *o, const char *w, edit *e, mer_refusal *w
     path(f, sizeof f, w, "params");
     e->params = json_object_get(o, "params");
     if (e->params == NULL)
-        return mer_refuse(why, 422, "missing-field", f, "%s is required", f);
+        return merd_refuse(why, 422, "missing-field", f, "%s is required", f);
     // Names and ranges now; cross-field rules against the tree's values when applied.
     mer_params scratch = mer_params_default();
-    return mer_params_from_json(e->params, &scratch, f, why);
+    return merd_params_from_json(e->params, &scratch, f, why);
 }
 
-static int decode_one(const json_t *o, const char *w, const mer_edit_limits *lim, edit *e,
-                      uint64_t *steps, uint64_t *markers, mer_refusal *why)
+static int decode_one(const json_t *o, const char *w, const merd_edit_limits *lim, edit *e,
+                      uint64_t *steps, uint64_t *markers, merd_refusal *why)
 {
     e->json = o;
     if (!json_is_object(o))
-        return mer_refuse(why, 422, "invalid-field", w[0] ? w : "body", "an edit must be an object");
+        return merd_refuse(why, 422, "invalid-field", w[0] ? w : "body", "an edit must be an object");
     const json_t *op = json_object_get(o, "op");
     char f[96];
     path(f, sizeof f, w, "op");
     if (!json_is_string(op))
-        return mer_refuse(why, 400, "unknown-op", f,
+        return merd_refuse(why, 400, "unknown-op", f,
                           "every edit needs \"op\": step, add_markers, prune, bend, "
                           "set_apical_schedule, set_params or release");
     const char *name = json_string_value(op);
@@ -523,7 +523,7 @@ static int decode_one(const json_t *o, const char *w, const mer_edit_limits *lim
             return -1;
         if (e->axis[0] == 0 && e->axis[1] == 0 && e->axis[2] == 0) {
             path(f, sizeof f, w, "axis");
-            return mer_refuse(why, 422, "out-of-range", f, "%s must not be the zero vector", f);
+            return merd_refuse(why, 422, "out-of-range", f, "%s must not be the zero vector", f);
         }
         e->angle = (float)angle;
         return 0;
@@ -541,17 +541,17 @@ static int decode_one(const json_t *o, const char *w, const mer_edit_limits *lim
         e->op = OP_RELEASE;
         return only_fields(o, allowed, "a release edit", w, why);
     }
-    return mer_refuse(why, 400, "unknown-op", f,
+    return merd_refuse(why, 400, "unknown-op", f,
                       "unknown op '%s'; use step, add_markers, prune, bend, set_apical_schedule, "
                       "set_params or release", name);
 }
 
-int mer_batch_decode(const json_t *body, const mer_edit_limits *lim, mer_batch **out,
-                     mer_refusal *why)
+int merd_batch_decode(const json_t *body, const merd_edit_limits *lim, merd_batch **out,
+                     merd_refusal *why)
 {
     *out = NULL;
     if (!json_is_object(body))
-        return mer_refuse(why, 422, "invalid-field", "body",
+        return merd_refuse(why, 422, "invalid-field", "body",
                           "the body must be an edit object or {\"edits\": [...]}");
     const json_t *list = json_object_get(body, "edits");
     bool batch = list != NULL;
@@ -560,14 +560,14 @@ int mer_batch_decode(const json_t *body, const mer_edit_limits *lim, mer_batch *
         if (only_fields(body, allowed, "a batch", "", why))
             return -1;
         if (!json_is_array(list) || json_array_size(list) == 0 || json_array_size(list) > 10000)
-            return mer_refuse(why, 422, "invalid-field", "edits",
+            return merd_refuse(why, 422, "invalid-field", "edits",
                               "edits must be an array of 1 to 10000 edit objects");
     }
-    mer_batch *b = calloc(1, sizeof *b);
+    merd_batch *b = calloc(1, sizeof *b);
     size_t n = batch ? json_array_size(list) : 1;
     if (b == NULL || (b->edits = calloc(n, sizeof *b->edits)) == NULL) {
         free(b);
-        return mer_refuse(why, 500, "internal", "", "out of memory for edits");
+        return merd_refuse(why, 500, "internal", "", "out of memory for edits");
     }
     b->body = json_incref((json_t *)body);
     b->count = n;
@@ -578,7 +578,7 @@ int mer_batch_decode(const json_t *body, const mer_edit_limits *lim, mer_batch *
             snprintf(w, sizeof w, "edits[%zu]", i);
         if (decode_one(batch ? json_array_get(list, i) : body, w, lim, &b->edits[i], &steps,
                        &markers, why) != 0) {
-            mer_batch_free(b);
+            merd_batch_free(b);
             return -1;
         }
     }
@@ -586,7 +586,7 @@ int mer_batch_decode(const json_t *body, const mer_edit_limits *lim, mer_batch *
     return 0;
 }
 
-void mer_batch_free(mer_batch *b)
+void merd_batch_free(merd_batch *b)
 {
     if (b == NULL)
         return;
@@ -601,22 +601,22 @@ void mer_batch_free(mer_batch *b)
 
 /* The library's refusal as an HTTP one: an id that was never issued is 404,
  * a node that is gone or a limit of the tree is 409, a bad value 422. */
-static int from_lib(mer_refusal *why, mer_result rc, const mer_error *err, const char *where)
+static int from_lib(merd_refusal *why, mer_result rc, const mer_error *err, const char *where)
 {
     char f[96];
     path(f, sizeof f, where, err->field);
     switch (rc) {
-    case MER_ERR_NOMEM: return mer_refuse(why, 503, "out-of-memory", f, "%s", err->message);
-    case MER_ERR_LIMIT: return mer_refuse(why, 409, "limit", f, "%s", err->message);
-    case MER_ERR_NOT_FOUND: return mer_refuse(why, 404, "unknown-node", f, "%s", err->message);
-    case MER_ERR_GONE: return mer_refuse(why, 409, "dead-node", f, "%s", err->message);
-    case MER_ERR_RANGE: return mer_refuse(why, 422, "out-of-range", f, "%s", err->message);
-    default: return mer_refuse(why, 422, "invalid-field", f, "%s", err->message);
+    case MER_ERR_NOMEM: return merd_refuse(why, 503, "out-of-memory", f, "%s", err->message);
+    case MER_ERR_LIMIT: return merd_refuse(why, 409, "limit", f, "%s", err->message);
+    case MER_ERR_NOT_FOUND: return merd_refuse(why, 404, "unknown-node", f, "%s", err->message);
+    case MER_ERR_GONE: return merd_refuse(why, 409, "dead-node", f, "%s", err->message);
+    case MER_ERR_RANGE: return merd_refuse(why, 422, "out-of-range", f, "%s", err->message);
+    default: return merd_refuse(why, 422, "invalid-field", f, "%s", err->message);
     }
 }
 
 typedef struct step_ctx {
-    mer_batch_stop_fn stop;
+    merd_batch_stop_fn stop;
     void *ctx;
     volatile int cancel;
 } step_ctx;
@@ -629,21 +629,21 @@ static void on_step(void *ctx, uint32_t done, uint32_t total)
 }
 
 /* A node named by an edit must have been issued (404) and be alive (409). */
-static int check_node(const mer_scene *s, uint32_t node, const char *w, mer_refusal *why)
+static int check_node(const mer_scene *s, uint32_t node, const char *w, merd_refusal *why)
 {
     char f[96];
     path(f, sizeof f, w, "node");
     mer_node n;
     if (node >= mer_scene_node_bound(s) || mer_scene_node(s, node, &n, NULL) != MER_OK)
-        return mer_refuse(why, 404, "unknown-node", f, "node %u was never part of this tree "
+        return merd_refuse(why, 404, "unknown-node", f, "node %u was never part of this tree "
                           "(ids run from 0 to %u)", node, mer_scene_node_bound(s) - 1);
     if (!n.alive)
-        return mer_refuse(why, 409, "dead-node", f, "node %u was pruned or shed", node);
+        return merd_refuse(why, 409, "dead-node", f, "node %u was pruned or shed", node);
     return 0;
 }
 
 static int apply_one(const edit *e, const char *w, mer_scene *s, step_ctx *sc, uint32_t *done,
-                     mer_refusal *why)
+                     merd_refusal *why)
 {
     mer_error err = {0};
     mer_result rc = MER_OK;
@@ -700,7 +700,7 @@ static int apply_one(const edit *e, const char *w, mer_scene *s, step_ctx *sc, u
         mer_params p = *mer_scene_params(s);
         char f[96];
         path(f, sizeof f, w, "params");
-        if (mer_params_from_json(e->params, &p, f, why) != 0)
+        if (merd_params_from_json(e->params, &p, f, why) != 0)
             return -1;
         rc = mer_scene_set_params(s, &p, &err);
         break;
@@ -712,8 +712,8 @@ static int apply_one(const edit *e, const char *w, mer_scene *s, step_ctx *sc, u
     return rc == MER_OK ? 0 : from_lib(why, rc, &err, w);
 }
 
-int mer_batch_apply(const mer_batch *b, mer_scene *scene, mer_batch_stop_fn stop, void *ctx,
-                    mer_batch_outcome *outcome, json_t **applied, mer_refusal *why)
+int merd_batch_apply(const merd_batch *b, mer_scene *scene, merd_batch_stop_fn stop, void *ctx,
+                    merd_batch_outcome *outcome, json_t **applied, merd_refusal *why)
 {
     *applied = json_array();
     memset(outcome, 0, sizeof *outcome);
@@ -745,19 +745,19 @@ int mer_batch_apply(const mer_batch *b, mer_scene *scene, mer_batch_stop_fn stop
     return 0;
 }
 
-int mer_batch_replay(const json_t *applied, mer_scene *scene, mer_refusal *why)
+int merd_batch_replay(const json_t *applied, mer_scene *scene, merd_refusal *why)
 {
-    const mer_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
+    const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
     json_t *body = json_pack("{s:O}", "edits", (json_t *)applied);
-    mer_batch *b = NULL;
-    int rc = mer_batch_decode(body, &unlimited, &b, why);
+    merd_batch *b = NULL;
+    int rc = merd_batch_decode(body, &unlimited, &b, why);
     json_decref(body);
     if (rc != 0)
         return -1;
-    mer_batch_outcome outcome;
+    merd_batch_outcome outcome;
     json_t *again = NULL;
-    rc = mer_batch_apply(b, scene, NULL, NULL, &outcome, &again, why);
+    rc = merd_batch_apply(b, scene, NULL, NULL, &outcome, &again, why);
     json_decref(again);
-    mer_batch_free(b);
+    merd_batch_free(b);
     return rc;
 }

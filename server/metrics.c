@@ -15,7 +15,7 @@
 static const double buckets[] = {0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10, 30, 60};
 #define BUCKETS (sizeof buckets / sizeof buckets[0])
 
-struct mer_metrics {
+struct merd_metrics {
     _Atomic(const char *) routes[ROUTES]; /* labels, filled once, first come first served */
     atomic_uint statuses[STATUSES];
     atomic_uint_fast64_t count[ROUTES][STATUSES];
@@ -25,17 +25,17 @@ struct mer_metrics {
     _Atomic double step_sum;
 };
 
-mer_metrics *mer_metrics_new(void)
+merd_metrics *merd_metrics_new(void)
 {
-    return calloc(1, sizeof(mer_metrics));
+    return calloc(1, sizeof(merd_metrics));
 }
 
-void mer_metrics_free(mer_metrics *m)
+void merd_metrics_free(merd_metrics *m)
 {
     free(m);
 }
 
-static void lock(mer_metrics *m)
+static void lock(merd_metrics *m)
 {
     int expected = 0;
     while (!atomic_compare_exchange_weak(&m->claim, &expected, 1))
@@ -44,7 +44,7 @@ static void lock(mer_metrics *m)
 
 /* The slot of a route label or a status, claiming a free one on first sight.
  * Slots are only ever filled, never emptied, so readers need no lock. */
-static int route_slot(mer_metrics *m, const char *route)
+static int route_slot(merd_metrics *m, const char *route)
 {
     for (int i = 0; i < ROUTES; i++) {
         const char *have = atomic_load(&m->routes[i]);
@@ -62,7 +62,7 @@ static int route_slot(mer_metrics *m, const char *route)
     return -1;
 }
 
-static int status_slot(mer_metrics *m, unsigned status)
+static int status_slot(merd_metrics *m, unsigned status)
 {
     for (int i = 0; i < STATUSES; i++) {
         unsigned have = atomic_load(&m->statuses[i]);
@@ -80,14 +80,14 @@ static int status_slot(mer_metrics *m, unsigned status)
     return -1;
 }
 
-void mer_metrics_request(mer_metrics *m, const char *route, unsigned status)
+void merd_metrics_request(merd_metrics *m, const char *route, unsigned status)
 {
     int r = route_slot(m, route), s = status_slot(m, status);
     if (r >= 0 && s >= 0)
         atomic_fetch_add(&m->count[r][s], 1);
 }
 
-void mer_metrics_step(mer_metrics *m, double seconds, uint32_t steps)
+void merd_metrics_step(merd_metrics *m, double seconds, uint32_t steps)
 {
     size_t b = 0;
     while (b < BUCKETS && seconds > buckets[b])
@@ -100,7 +100,7 @@ void mer_metrics_step(mer_metrics *m, double seconds, uint32_t steps)
         ;
 }
 
-char *mer_metrics_render(mer_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending)
+char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending)
 {
     char *text = NULL;
     size_t size = 0;

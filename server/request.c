@@ -9,7 +9,7 @@
 #include "server/codec.h"
 #include "server/request.h"
 
-enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response *response,
+enum MHD_Result merd_reply(merd_request *req, unsigned status, struct MHD_Response *response,
                           uint64_t size)
 {
     if (response == NULL)
@@ -37,11 +37,11 @@ enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response
     return ok;
 }
 
-enum MHD_Result mer_reply_json(mer_request *req, unsigned status, const json_t *json)
+enum MHD_Result merd_reply_json(merd_request *req, unsigned status, const json_t *json)
 {
-    char *text = json_dumps(json, MER_JSON_DUMP_FLAGS);
+    char *text = json_dumps(json, MERD_JSON_DUMP_FLAGS);
     if (text == NULL)
-        return mer_reply_problem(req, 500, "internal", "Internal Server Error",
+        return merd_reply_problem(req, 500, "internal", "Internal Server Error",
                                  "the response could not be encoded");
     size_t size = strlen(text);
     struct MHD_Response *response =
@@ -51,10 +51,10 @@ enum MHD_Result mer_reply_json(mer_request *req, unsigned status, const json_t *
         return MHD_NO;
     }
     MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
-    return mer_reply(req, status, response, size);
+    return merd_reply(req, status, response, size);
 }
 
-const char *mer_status_title(unsigned status)
+const char *merd_status_title(unsigned status)
 {
     switch (status) {
     case 400: return "Bad Request";
@@ -71,7 +71,7 @@ const char *mer_status_title(unsigned status)
     }
 }
 
-struct MHD_Response *mer_problem_response(unsigned status, const char *slug, const char *title,
+struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
                                           const char *detail, const char *field, size_t *size)
 {
     char type[128];
@@ -95,46 +95,46 @@ struct MHD_Response *mer_problem_response(unsigned status, const char *slug, con
     return response;
 }
 
-enum MHD_Result mer_reply_problem(mer_request *req, unsigned status, const char *slug,
+enum MHD_Result merd_reply_problem(merd_request *req, unsigned status, const char *slug,
                                   const char *title, const char *detail)
 {
     size_t size = 0;
-    struct MHD_Response *response = mer_problem_response(status, slug, title, detail, NULL, &size);
-    return mer_reply(req, status, response, size);
+    struct MHD_Response *response = merd_problem_response(status, slug, title, detail, NULL, &size);
+    return merd_reply(req, status, response, size);
 }
 
-enum MHD_Result mer_reply_method_not_allowed(mer_request *req, const char *allow)
+enum MHD_Result merd_reply_method_not_allowed(merd_request *req, const char *allow)
 {
     char detail[160];
     snprintf(detail, sizeof detail, "%s is not allowed on %s; use %s", req->method, req->url,
              allow);
     size_t size = 0;
     struct MHD_Response *response =
-        mer_problem_response(405, "method-not-allowed", "Method Not Allowed", detail, NULL, &size);
+        merd_problem_response(405, "method-not-allowed", "Method Not Allowed", detail, NULL, &size);
     if (response != NULL)
         MHD_add_response_header(response, MHD_HTTP_HEADER_ALLOW, allow);
-    return mer_reply(req, 405, response, size);
+    return merd_reply(req, 405, response, size);
 }
 
-void mer_request_suspend(mer_request *req)
+void merd_request_suspend(merd_request *req)
 {
-    req->async = MER_ASYNC_WAITING;
+    req->async = MERD_ASYNC_WAITING;
     MHD_suspend_connection(req->connection);
 }
 
-void mer_request_finish(mer_request *req, unsigned status, struct MHD_Response *response,
+void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response *response,
                         uint64_t size)
 {
     if (response == NULL) {
         size_t n = 0;
         status = 500;
-        response = mer_problem_response(500, "internal", "Internal Server Error",
+        response = merd_problem_response(500, "internal", "Internal Server Error",
                                         "the reply could not be built (out of memory?)", NULL, &n);
         size = n;
     }
     req->pending = response;
     req->pending_status = status;
     req->pending_size = size;
-    req->async = MER_ASYNC_READY;
+    req->async = MERD_ASYNC_READY;
     MHD_resume_connection(req->connection);
 }

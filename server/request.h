@@ -13,13 +13,13 @@
 
 #include "server/settings.h"
 
-typedef struct mer_app mer_app;
+typedef struct merd_app merd_app;
 
-enum mer_async { MER_ASYNC_NONE = 0, MER_ASYNC_WAITING, MER_ASYNC_READY };
+enum merd_async { MERD_ASYNC_NONE = 0, MERD_ASYNC_WAITING, MERD_ASYNC_READY };
 
-typedef struct mer_request {
+typedef struct merd_request {
     struct MHD_Connection *connection;
-    mer_app *app;
+    merd_app *app;
     const char *method;        /* borrowed from libmicrohttpd, valid for the request */
     const char *url;           /* decoded path, no query string */
     char *body;                /* NUL-terminated upload, owned; NULL when none */
@@ -31,41 +31,41 @@ typedef struct mer_request {
     const char *route;         /* the route's label, for metrics */
     long long revision;        /* sent as Meristem-Revision when >= 0 */
     /* A request answered by a worker: the connection is suspended meanwhile. */
-    int async;                 /* enum mer_async */
+    int async;                 /* enum merd_async */
     struct MHD_Response *pending;
     unsigned pending_status;
     uint64_t pending_size;
-} mer_request;
+} merd_request;
 
-/* Suspends the connection until mer_request_finish; call from the handler. */
-void mer_request_suspend(mer_request *req);
+/* Suspends the connection until merd_request_finish; call from the handler. */
+void merd_request_suspend(merd_request *req);
 
 /* From a worker: hands over `response` (may be NULL: 500) and resumes the
  * connection, which then queues it. */
-void mer_request_finish(mer_request *req, unsigned status, struct MHD_Response *response,
+void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response *response,
                         uint64_t size);
 
 /* Builds, without queueing, an RFC 9457 body (for workers). NULL when out of memory. */
-struct MHD_Response *mer_problem_response(unsigned status, const char *slug, const char *title,
+struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
                                           const char *detail, const char *field, size_t *size);
 
 /* The reason phrase for a status, for problem titles. */
-const char *mer_status_title(unsigned status);
+const char *merd_status_title(unsigned status);
 
 /* Queues `json` (borrowed, compact, UTF-8) as application/json. */
-enum MHD_Result mer_reply_json(mer_request *req, unsigned status, const json_t *json);
+enum MHD_Result merd_reply_json(merd_request *req, unsigned status, const json_t *json);
 
 /* Queues an RFC 9457 application/problem+json body. `slug` names the problem
  * type (urn:meristem:problem:SLUG), `detail` says what to do about it. */
-enum MHD_Result mer_reply_problem(mer_request *req, unsigned status, const char *slug,
+enum MHD_Result merd_reply_problem(merd_request *req, unsigned status, const char *slug,
                                   const char *title, const char *detail);
 
 /* 405 with the Allow header listing `allow` (e.g. "GET, HEAD"). */
-enum MHD_Result mer_reply_method_not_allowed(mer_request *req, const char *allow);
+enum MHD_Result merd_reply_method_not_allowed(merd_request *req, const char *allow);
 
 /* Queues an already-built response (adding Meristem-Revision and CORS headers)
  * and remembers status and size for the log and metrics. */
-enum MHD_Result mer_reply(mer_request *req, unsigned status, struct MHD_Response *response,
+enum MHD_Result merd_reply(merd_request *req, unsigned status, struct MHD_Response *response,
                           uint64_t size);
 
 #endif

@@ -13,22 +13,22 @@
 #include "server/codec.h"
 #include "server/session.h"
 
-struct mer_snapshot {
+struct merd_snapshot {
     atomic_int refs;
     uint8_t *bytes;
     size_t size;
 };
 
-struct mer_session {
+struct merd_session {
     atomic_int refs;
     char id[33];
     char path[PATH_MAX];
-    const mer_session_config *cfg;
+    const merd_session_config *cfg;
     json_t *spec;            /* the create request, as journaled */
 
     pthread_mutex_t work;    /* held while the scene changes or is meshed */
     mer_scene *scene;
-    mer_journal *journal;
+    merd_journal *journal;
 
     pthread_mutex_t state;   /* guards what follows */
     uint64_t revision;
@@ -40,7 +40,7 @@ struct mer_session {
     uint32_t done, total;    /* progress of the running batch */
     atomic_int cancel;
     bool discarded;
-    mer_snapshot *snap;      /* the last snapshot */
+    merd_snapshot *snap;      /* the last snapshot */
     char snap_key[64];
 };
 
@@ -53,31 +53,31 @@ static const struct {
                {"ellipsoid", MER_VOLUME_ELLIPSOID}, {"cylinder", MER_VOLUME_CYLINDER},
                {"cone", MER_VOLUME_CONE}};
 
-static int vec3(const json_t *v, const char *field, float out[3], mer_refusal *why)
+static int vec3(const json_t *v, const char *field, float out[3], merd_refusal *why)
 {
     if (!json_is_array(v) || json_array_size(v) != 3)
-        return mer_refuse(why, 422, "invalid-field", field, "%s must be [x, y, z]", field);
+        return merd_refuse(why, 422, "invalid-field", field, "%s must be [x, y, z]", field);
     for (size_t k = 0; k < 3; k++) {
         const json_t *x = json_array_get(v, k);
         if (!json_is_number(x) || !(json_number_value(x) >= -1e6 && json_number_value(x) <= 1e6))
-            return mer_refuse(why, 422, "out-of-range", field,
+            return merd_refuse(why, 422, "out-of-range", field,
                               "%s must hold 3 numbers from -1e6 to 1e6", field);
         out[k] = (float)json_number_value(x);
     }
     return 0;
 }
 
-static int lib_refusal(mer_refusal *why, mer_result rc, const mer_error *err, const char *where)
+static int lib_refusal(merd_refusal *why, mer_result rc, const mer_error *err, const char *where)
 {
     char f[96];
     snprintf(f, sizeof f, "%.40s%s%.50s", where, err->field[0] ? "." : "", err->field);
     unsigned status = rc == MER_ERR_NOMEM ? 503 : rc == MER_ERR_LIMIT ? 409 : 422;
-    return mer_refuse(why, status, rc == MER_ERR_LIMIT ? "limit" : "invalid-field", f, "%s",
+    return merd_refuse(why, status, rc == MER_ERR_LIMIT ? "limit" : "invalid-field", f, "%s",
                       err->message);
 }
 
 /* Every key of `obj` must be allowed; `where` is its path ("" at the top). */
-static int only(const json_t *obj, const char *const *allowed, const char *where, mer_refusal *why)
+static int only(const json_t *obj, const char *const *allowed, const char *where, merd_refusal *why)
 {
     const char *key;
     const json_t *v;
@@ -89,7 +89,7 @@ static int only(const json_t *obj, const char *const *allowed, const char *where
         if (!ok) {
             char f[96];
             snprintf(f, sizeof f, "%.60s%s%.30s", where, where[0] ? "." : "", key);
-            return mer_refuse(why, 400, "unknown-field", f, "unknown field '%s' in %s", key,
+            return merd_refuse(why, 400, "unknown-field", f, "unknown field '%s' in %s", key,
                               where[0] ? where : "the session request");
         }
     }
@@ -99,29 +99,29 @@ static int only(const json_t *obj, const char *const *allowed, const char *where
 /* The triangles of a base64 glTF/GLB in a request (caller frees *xyz with
  * mer_gltf_free). */
 static int gltf_triangles(const json_t *v, const char *f, float **xyz, size_t *triangles,
-                          mer_refusal *why)
+                          merd_refusal *why)
 {
     uint8_t *bytes = NULL;
     size_t size = 0;
-    if (!json_is_string(v) || mer_base64_decode(json_string_value(v), &bytes, &size) != 0)
-        return mer_refuse(why, 422, "invalid-field", f,
+    if (!json_is_string(v) || merd_base64_decode(json_string_value(v), &bytes, &size) != 0)
+        return merd_refuse(why, 422, "invalid-field", f,
                           "%s must be a base64 string of a .glb, or of a .gltf with embedded buffers", f);
     mer_error err = {0};
     mer_result rc = mer_gltf_read_triangles(bytes, size, MER_MESH_TRIANGLES_MAX, xyz, triangles, &err);
     free(bytes);
     if (rc != MER_OK)
-        return mer_refuse(why, rc == MER_ERR_LIMIT ? 413 : 422, "invalid-gltf", f, "%s: %s", f,
+        return merd_refuse(why, rc == MER_ERR_LIMIT ? 413 : 422, "invalid-gltf", f, "%s: %s", f,
                           err.message);
     return 0;
 }
 
-static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_refusal *why)
+static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, merd_refusal *why)
 {
     static const char *const kinds[] = {"box", "sphere", "gltf", NULL};
     static const char *const box_fields[] = {"min", "max", NULL};
     static const char *const sphere_fields[] = {"center", "radius", NULL};
     if (!json_is_object(o) || json_object_size(o) != 1)
-        return mer_refuse(why, 422, "invalid-field", w,
+        return merd_refuse(why, 422, "invalid-field", w,
                           "%s must be {\"box\": {...}} or {\"sphere\": {...}}", w);
     if (only(o, kinds, w, why))
         return -1;
@@ -144,7 +144,7 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
         float lo[3], hi[3];
         snprintf(f, sizeof f, "%s.box", w);
         if (!json_is_object(b))
-            return mer_refuse(why, 422, "invalid-field", f, "%s must be {\"min\", \"max\"}", f);
+            return merd_refuse(why, 422, "invalid-field", f, "%s must be {\"min\", \"max\"}", f);
         if (only(b, box_fields, f, why))
             return -1;
         snprintf(g, sizeof g, "%s.min", f);
@@ -159,7 +159,7 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
         float c[3];
         snprintf(f, sizeof f, "%s.sphere", w);
         if (!json_is_object(sp))
-            return mer_refuse(why, 422, "invalid-field", f, "%s must be {\"center\", \"radius\"}", f);
+            return merd_refuse(why, 422, "invalid-field", f, "%s must be {\"center\", \"radius\"}", f);
         if (only(sp, sphere_fields, f, why))
             return -1;
         snprintf(g, sizeof g, "%s.center", f);
@@ -168,10 +168,10 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
         const json_t *r = json_object_get(sp, "radius");
         snprintf(g, sizeof g, "%s.radius", f);
         if (!json_is_number(r))
-            return mer_refuse(why, 422, "invalid-field", g, "%s must be a number", g);
+            return merd_refuse(why, 422, "invalid-field", g, "%s must be a number", g);
         // As vec3's bound: a double past float's range has no float to become.
         if (!(json_number_value(r) > 0.0 && json_number_value(r) <= 1e6))
-            return mer_refuse(why, 422, "out-of-range", g, "%s must be a number in (0, 1e6]", g);
+            return merd_refuse(why, 422, "out-of-range", g, "%s must be a number in (0, 1e6]", g);
         rc = mer_scene_add_sphere(scene, c, (float)json_number_value(r), &err);
     }
     return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
@@ -179,12 +179,12 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_re
 
 /* A marker volume: a shape ({"volume", "center", "size", "count"}) or the
  * inside of a triangle mesh ({"gltf", "count"}). */
-static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_refusal *why)
+static int fill_volume(mer_scene *scene, const json_t *m, const char *w, merd_refusal *why)
 {
     static const char *const allowed[] = {"volume", "center", "size", "count", NULL};
     static const char *const mesh_fields[] = {"gltf", "count", NULL};
     if (!json_is_object(m))
-        return mer_refuse(why, 422, "invalid-field", w, "%s must be an object", w);
+        return merd_refuse(why, 422, "invalid-field", w, "%s must be an object", w);
     const json_t *mesh = json_object_get(m, "gltf");
     if (only(m, mesh != NULL ? mesh_fields : allowed, w, why))
         return -1;
@@ -192,7 +192,7 @@ static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_ref
     char cf[80];
     snprintf(cf, sizeof cf, "%s.count", w);
     if (!json_is_integer(count) || json_integer_value(count) < 1 || json_integer_value(count) > 2000000)
-        return mer_refuse(why, 422, "out-of-range", cf, "%s must be an integer from 1 to 2000000", cf);
+        return merd_refuse(why, 422, "out-of-range", cf, "%s must be an integer from 1 to 2000000", cf);
     if (mesh != NULL) {
         float *xyz = NULL;
         size_t triangles = 0;
@@ -214,7 +214,7 @@ static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_ref
     char f[80];
     snprintf(f, sizeof f, "%s.volume", w);
     if (kind == 0)
-        return mer_refuse(why, 422, "invalid-field", f,
+        return merd_refuse(why, 422, "invalid-field", f,
                           "%s must be box, sphere, ellipsoid, cylinder or cone", f);
     float center[3], size[3];
     snprintf(f, sizeof f, "%s.center", w);
@@ -231,47 +231,47 @@ static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_ref
 
 /* Builds the scene a create request describes. Deterministic: the journal's
  * first record rebuilds the same scene. */
-static mer_scene *scene_from_spec(const json_t *spec, const mer_edit_limits *limits,
-                                  mer_refusal *why)
+static mer_scene *scene_from_spec(const json_t *spec, const merd_edit_limits *limits,
+                                  merd_refusal *why)
 {
     static const char *const allowed[] = {"preset", "seed", "params", "scene", NULL};
     static const char *const scene_fields[] = {"plants", "markers", "obstacles", NULL};
     if (!json_is_object(spec)) {
-        mer_refuse(why, 422, "invalid-field", "body", "the body must be a JSON object ({} for defaults)");
+        merd_refuse(why, 422, "invalid-field", "body", "the body must be a JSON object ({} for defaults)");
         return NULL;
     }
     if (only(spec, allowed, "", why))
         return NULL;
     const json_t *preset = json_object_get(spec, "preset");
     if (preset != NULL && !json_is_string(preset)) {
-        mer_refuse(why, 422, "invalid-field", "preset", "preset must be a string (GET /v1/presets)");
+        merd_refuse(why, 422, "invalid-field", "preset", "preset must be a string (GET /v1/presets)");
         return NULL;
     }
     mer_params p;
     mer_error err = {0};
     if (mer_preset_params(preset ? json_string_value(preset) : "default", &p, &err) != MER_OK) {
-        mer_refuse(why, 422, "invalid-field", "preset", "%s; GET /v1/presets lists them", err.message);
+        merd_refuse(why, 422, "invalid-field", "preset", "%s; GET /v1/presets lists them", err.message);
         return NULL;
     }
     const json_t *seed = json_object_get(spec, "seed");
     if (seed != NULL && (!json_is_integer(seed) || json_integer_value(seed) < 0 ||
                          json_integer_value(seed) > (json_int_t)((1ULL << 53) - 1))) {
-        mer_refuse(why, 422, "out-of-range", "seed", "seed must be an integer from 0 to 2^53 - 1");
+        merd_refuse(why, 422, "out-of-range", "seed", "seed must be an integer from 0 to 2^53 - 1");
         return NULL;
     }
     const json_t *params = json_object_get(spec, "params");
-    if (params != NULL && mer_params_from_json(params, &p, "params", why) != 0)
+    if (params != NULL && merd_params_from_json(params, &p, "params", why) != 0)
         return NULL;
     const json_t *sc = json_object_get(spec, "scene");
     if (sc != NULL && (!json_is_object(sc) || only(sc, scene_fields, "scene", why))) {
         if (!why->status)
-            mer_refuse(why, 422, "invalid-field", "scene", "scene must be an object");
+            merd_refuse(why, 422, "invalid-field", "scene", "scene must be an object");
         return NULL;
     }
     const json_t *plants = sc ? json_object_get(sc, "plants") : NULL;
     if (plants != NULL) {
         if (!json_is_array(plants) || json_array_size(plants) > MER_PLANTS_MAX) {
-            mer_refuse(why, 422, "invalid-field", "scene.plants",
+            merd_refuse(why, 422, "invalid-field", "scene.plants",
                        "scene.plants must be an array of at most %u [x, y, z] bases", MER_PLANTS_MAX);
             return NULL;
         }
@@ -291,7 +291,7 @@ static mer_scene *scene_from_spec(const json_t *spec, const mer_edit_limits *lim
             marker_total += (uint64_t)json_integer_value(c);
     }
     if (marker_total > limits->max_markers) {
-        mer_refuse(why, 422, "out-of-range", vols ? "scene.markers" : "params.marker_count",
+        merd_refuse(why, 422, "out-of-range", vols ? "scene.markers" : "params.marker_count",
                    "a session may start with at most %u markers (meristemd --max-markers); this one "
                    "asks for %llu", limits->max_markers, (unsigned long long)marker_total);
         return NULL;
@@ -311,7 +311,7 @@ static mer_scene *scene_from_spec(const json_t *spec, const mer_edit_limits *lim
     const json_t *markers = sc ? json_object_get(sc, "markers") : NULL;
     if ((obstacles != NULL && !json_is_array(obstacles)) || (markers != NULL && !json_is_array(markers))) {
         const char *f = obstacles != NULL && !json_is_array(obstacles) ? "scene.obstacles" : "scene.markers";
-        mer_refuse(why, 422, "invalid-field", f, "%s must be an array", f);
+        merd_refuse(why, 422, "invalid-field", f, "%s must be an array", f);
         goto fail;
     }
     json_array_foreach(obstacles, i, item) {
@@ -325,7 +325,7 @@ static mer_scene *scene_from_spec(const json_t *spec, const mer_edit_limits *lim
         if (vec3(item, w, base, why) != 0)
             goto fail;
         if ((rc = mer_scene_add_plant(scene, base, NULL, &err)) != MER_OK) {
-            mer_refuse(why, rc == MER_ERR_LIMIT ? 409 : 422, rc == MER_ERR_LIMIT ? "limit" : "out-of-range",
+            merd_refuse(why, rc == MER_ERR_LIMIT ? 409 : 422, rc == MER_ERR_LIMIT ? "limit" : "out-of-range",
                        w, "%s: %s", w, err.message);
             goto fail;
         }
@@ -344,9 +344,9 @@ fail:
 /* ---------------------------------------------------------------- summary */
 
 /* The summary of the scene as it is (caller holds `work`). */
-static json_t *build_summary(mer_session *s, uint64_t revision)
+static json_t *build_summary(merd_session *s, uint64_t revision)
 {
-    json_t *j = mer_json_summary(s->scene);
+    json_t *j = merd_json_summary(s->scene);
     const json_t *preset = json_object_get(s->spec, "preset");
     const json_t *seed = json_object_get(s->spec, "seed");
     json_object_set_new(j, "id", json_string(s->id));
@@ -359,21 +359,21 @@ static json_t *build_summary(mer_session *s, uint64_t revision)
                                              ? json_pack("{s:i, s:i}", "node", (json_int_t)node,
                                                          "bud", (json_int_t)slot)
                                              : json_null());
-    json_object_set_new(j, "params", mer_json_params(p));
-    json_object_set_new(j, "schedule", mer_json_schedule(&p->schedule));
+    json_object_set_new(j, "params", merd_json_params(p));
+    json_object_set_new(j, "schedule", merd_json_schedule(&p->schedule));
     return j;
 }
 
 /* Serializes `j` without its closing brace, so "running" can be appended. */
 static char *open_text(const json_t *j)
 {
-    char *text = json_dumps(j, MER_JSON_DUMP_FLAGS);
+    char *text = json_dumps(j, MERD_JSON_DUMP_FLAGS);
     if (text != NULL)
         text[strlen(text) - 1] = '\0';
     return text;
 }
 
-static void publish(mer_session *s, uint64_t revision)
+static void publish(merd_session *s, uint64_t revision)
 {
     json_t *summary = build_summary(s, revision);
     char *full = open_text(summary);
@@ -396,7 +396,7 @@ static void publish(mer_session *s, uint64_t revision)
     pthread_mutex_unlock(&s->state);
 }
 
-char *mer_session_summary_text(mer_session *s, bool full, uint64_t *revision)
+char *merd_session_summary_text(merd_session *s, bool full, uint64_t *revision)
 {
     pthread_mutex_lock(&s->state);
     const char *base = full ? s->summary_text : s->short_text;
@@ -410,7 +410,7 @@ char *mer_session_summary_text(mer_session *s, bool full, uint64_t *revision)
     return text;
 }
 
-json_t *mer_session_summary(mer_session *s, bool full)
+json_t *merd_session_summary(merd_session *s, bool full)
 {
     pthread_mutex_lock(&s->state);
     json_t *j = json_deep_copy(s->summary);
@@ -427,9 +427,9 @@ json_t *mer_session_summary(mer_session *s, bool full)
 
 /* ---------------------------------------------------------------- lifecycle */
 
-static mer_session *session_new(const mer_session_config *cfg, const char *id)
+static merd_session *session_new(const merd_session_config *cfg, const char *id)
 {
-    mer_session *s = calloc(1, sizeof *s);
+    merd_session *s = calloc(1, sizeof *s);
     if (s == NULL)
         return NULL;
     atomic_init(&s->refs, 1);
@@ -442,27 +442,27 @@ static mer_session *session_new(const mer_session_config *cfg, const char *id)
     return s;
 }
 
-static void session_free(mer_session *s, bool remove)
+static void session_free(merd_session *s, bool remove)
 {
-    mer_journal_close(s->journal, remove);
+    merd_journal_close(s->journal, remove);
     mer_scene_free(s->scene);
     json_decref(s->spec);
     json_decref(s->summary);
     free(s->summary_text);
     free(s->short_text);
     if (s->snap != NULL)
-        mer_snapshot_release(s->snap);
+        merd_snapshot_release(s->snap);
     pthread_mutex_destroy(&s->work);
     pthread_mutex_destroy(&s->state);
     free(s);
 }
 
-mer_session *mer_session_create(const mer_session_config *cfg, const char *id, const json_t *spec,
-                                mer_refusal *why)
+merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
+                                merd_refusal *why)
 {
-    mer_session *s = session_new(cfg, id);
+    merd_session *s = session_new(cfg, id);
     if (s == NULL) {
-        mer_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
+        merd_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
         return NULL;
     }
     s->scene = scene_from_spec(spec, &cfg->limits, why);
@@ -474,11 +474,11 @@ mer_session *mer_session_create(const mer_session_config *cfg, const char *id, c
     json_t *record = json_pack("{s:i, s:s, s:O}", "version", 1, "id", id, "create", s->spec);
     char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);
     json_decref(record);
-    char error[MER_JOURNAL_ERROR_MAX] = "";
-    s->journal = text ? mer_journal_create(s->path, text, strlen(text), cfg->fsync, error) : NULL;
+    char error[MERD_JOURNAL_ERROR_MAX] = "";
+    s->journal = text ? merd_journal_create(s->path, text, strlen(text), cfg->fsync, error) : NULL;
     free(text);
     if (s->journal == NULL) {
-        mer_refuse(why, 500, "journal", "", "the session could not be journaled: %s", error);
+        merd_refuse(why, 500, "journal", "", "the session could not be journaled: %s", error);
         session_free(s, false);
         return NULL;
     }
@@ -487,7 +487,7 @@ mer_session *mer_session_create(const mer_session_config *cfg, const char *id, c
 }
 
 typedef struct replay_ctx {
-    mer_session *s;
+    merd_session *s;
     uint64_t revision;
     char *error;
 } replay_ctx;
@@ -497,7 +497,7 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
     replay_ctx *r = ctx;
     json_error_t jerr;
     json_t *doc = json_loadb(payload, size, JSON_REJECT_DUPLICATES, &jerr);
-    mer_refusal why = {0};
+    merd_refusal why = {0};
     int rc = -1;
     if (doc == NULL)
         goto done;
@@ -507,7 +507,7 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         if (create == NULL || !json_is_string(id) || strcmp(json_string_value(id), r->s->id) != 0)
             goto done;
         // Replay builds what was accepted once, whatever today's limits say.
-        const mer_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
+        const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
         r->s->scene = scene_from_spec(create, &unlimited, &why);
         r->s->spec = json_deep_copy(create);
         rc = r->s->scene != NULL ? 0 : -1;
@@ -516,48 +516,48 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         const json_t *edits = json_object_get(doc, "edits");
         if (r->s->scene == NULL || !json_is_integer(rev) || !json_is_array(edits))
             goto done;
-        rc = mer_batch_replay(edits, r->s->scene, &why);
+        rc = merd_batch_replay(edits, r->s->scene, &why);
         r->revision = (uint64_t)json_integer_value(rev);
     }
 done:
     if (rc != 0)
-        snprintf(r->error, MER_JOURNAL_ERROR_MAX, "record %zu: %.200s", index,
+        snprintf(r->error, MERD_JOURNAL_ERROR_MAX, "record %zu: %.200s", index,
                  why.detail[0] ? why.detail : "not a meristem journal record");
     json_decref(doc);
     return rc;
 }
 
 /* Builds the session's scene afresh from its journal (caller holds `work`). */
-static int rebuild(mer_session *s, char *error)
+static int rebuild(merd_session *s, char *error)
 {
-    mer_journal_close(s->journal, false);
+    merd_journal_close(s->journal, false);
     s->journal = NULL;
     mer_scene_free(s->scene);
     s->scene = NULL;
     json_decref(s->spec);
     s->spec = NULL;
     replay_ctx r = {s, 0, error};
-    s->journal = mer_journal_open(s->path, s->cfg->fsync, replay_record, &r, NULL, error);
+    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, &r, NULL, error);
     return s->journal != NULL && s->scene != NULL ? 0 : -1;
 }
 
-mer_session *mer_session_restore(const mer_session_config *cfg, const char *path, size_t *dropped,
+merd_session *merd_session_restore(const merd_session_config *cfg, const char *path, size_t *dropped,
                                  char *error)
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     char id[33];
     if (strlen(base) != 32 + 8 || strcmp(base + 32, ".journal") != 0) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "%.200s is not a session journal", path);
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s is not a session journal", path);
         return NULL;
     }
     memcpy(id, base, 32);
     id[32] = '\0';
-    mer_session *s = session_new(cfg, id);
+    merd_session *s = session_new(cfg, id);
     if (s == NULL)
         return NULL;
     replay_ctx r = {s, 0, error};
-    s->journal = mer_journal_open(s->path, cfg->fsync, replay_record, &r, dropped, error);
+    s->journal = merd_journal_open(s->path, cfg->fsync, replay_record, &r, dropped, error);
     if (s->journal == NULL || s->scene == NULL) {
         session_free(s, false);
         return NULL;
@@ -566,18 +566,18 @@ mer_session *mer_session_restore(const mer_session_config *cfg, const char *path
     return s;
 }
 
-void mer_session_ref(mer_session *s)
+void merd_session_ref(merd_session *s)
 {
     atomic_fetch_add(&s->refs, 1);
 }
 
-void mer_session_unref(mer_session *s)
+void merd_session_unref(merd_session *s)
 {
     if (s != NULL && atomic_fetch_sub(&s->refs, 1) == 1)
         session_free(s, s->discarded);
 }
 
-void mer_session_discard(mer_session *s)
+void merd_session_discard(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     s->discarded = true;
@@ -585,12 +585,12 @@ void mer_session_discard(mer_session *s)
     atomic_store(&s->cancel, 1);
 }
 
-const char *mer_session_id(const mer_session *s)
+const char *merd_session_id(const merd_session *s)
 {
     return s->id;
 }
 
-uint64_t mer_session_revision(mer_session *s)
+uint64_t merd_session_revision(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     uint64_t r = s->revision;
@@ -598,7 +598,7 @@ uint64_t mer_session_revision(mer_session *s)
     return r;
 }
 
-uint32_t mer_session_internodes(mer_session *s)
+uint32_t merd_session_internodes(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     uint32_t n = s->internodes;
@@ -609,7 +609,7 @@ uint32_t mer_session_internodes(mer_session *s)
 /* ---------------------------------------------------------------- edits */
 
 typedef struct stop_ctx {
-    mer_session *s;
+    merd_session *s;
     struct timespec started;
     const char *why;
 } stop_ctx;
@@ -624,7 +624,7 @@ static double seconds_since(const struct timespec *t)
 static int should_stop(void *ctx, uint32_t done, uint32_t total)
 {
     stop_ctx *c = ctx;
-    mer_session *s = c->s;
+    merd_session *s = c->s;
     pthread_mutex_lock(&s->state);
     s->done = done;
     s->total = total;
@@ -646,13 +646,13 @@ static int should_stop(void *ctx, uint32_t done, uint32_t total)
     return 0;
 }
 
-int mer_session_apply(mer_session *s, const mer_batch *batch, mer_batch_outcome *outcome,
-                      mer_refusal *why)
+int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
+                      merd_refusal *why)
 {
     pthread_mutex_lock(&s->work);
     int rc = -1;
-    if (mer_session_internodes(s) >= s->cfg->max_internodes) {
-        mer_refuse(why, 409, "limit", "", "the tree has reached %u internodes, the most a session "
+    if (merd_session_internodes(s) >= s->cfg->max_internodes) {
+        merd_refuse(why, 409, "limit", "", "the tree has reached %u internodes, the most a session "
                    "may grow (meristemd --max-internodes); prune it or start another session",
                    s->cfg->max_internodes);
         goto out;
@@ -666,8 +666,8 @@ int mer_session_apply(mer_session *s, const mer_batch *batch, mer_batch_outcome 
     stop_ctx sc = {s, {0, 0}, NULL};
     clock_gettime(CLOCK_MONOTONIC, &sc.started);
     json_t *applied = NULL;
-    char error[MER_JOURNAL_ERROR_MAX] = "";
-    if (mer_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
+    char error[MERD_JOURNAL_ERROR_MAX] = "";
+    if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
         // Refused halfway: undo what was applied by rebuilding from the journal.
         if (rebuild(s, error) != 0)
             fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
@@ -675,13 +675,13 @@ int mer_session_apply(mer_session *s, const mer_batch *batch, mer_batch_outcome 
     }
     if (outcome->interrupted != NULL)
         outcome->interrupted = sc.why;
-    uint64_t revision = mer_session_revision(s);
+    uint64_t revision = merd_session_revision(s);
     if (json_array_size(applied) > 0) {
         json_t *record = json_pack("{s:i, s:O}", "revision", (json_int_t)(revision + 1), "edits", applied);
         char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);
         json_decref(record);
-        if (text == NULL || mer_journal_append(s->journal, text, strlen(text), error) != 0) {
-            mer_refuse(why, 503, "journal", "", "the edits could not be journaled, so they were "
+        if (text == NULL || merd_journal_append(s->journal, text, strlen(text), error) != 0) {
+            merd_refuse(why, 503, "journal", "", "the edits could not be journaled, so they were "
                        "undone: %s", text ? error : "out of memory");
             free(text);
             json_decref(applied);
@@ -703,15 +703,15 @@ out:
     return rc;
 }
 
-void mer_session_sync(mer_session *s)
+void merd_session_sync(merd_session *s)
 {
     if (pthread_mutex_trylock(&s->work) == 0) {
-        mer_journal_sync(s->journal);
+        merd_journal_sync(s->journal);
         pthread_mutex_unlock(&s->work);
     }
 }
 
-bool mer_session_cancel(mer_session *s)
+bool merd_session_cancel(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     bool running = s->running;
@@ -723,7 +723,7 @@ bool mer_session_cancel(mer_session *s)
 
 /* ---------------------------------------------------------------- snapshots */
 
-static void options_key(const mer_snapshot_options *o, char *out, size_t n)
+static void options_key(const merd_snapshot_options *o, char *out, size_t n)
 {
     // Twig lines add "w1", so the keys of snapshots without them stay as they were.
     snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s", o->mesh.detail ? o->mesh.detail : 3,
@@ -731,18 +731,18 @@ static void options_key(const mer_snapshot_options *o, char *out, size_t n)
              o->mesh.no_uvs ? 0 : 1, o->compression, o->mesh.twig_lines ? "w1" : "");
 }
 
-void mer_session_etag(mer_session *s, const mer_snapshot_options *options, char *etag)
+void merd_session_etag(merd_session *s, const merd_snapshot_options *options, char *etag)
 {
     char key[48];
     options_key(options, key, sizeof key);
-    snprintf(etag, 64, "\"r%" PRIu64 "-%s\"", mer_session_revision(s), key);
+    snprintf(etag, 64, "\"r%" PRIu64 "-%s\"", merd_session_revision(s), key);
 }
 
-int mer_session_snapshot(mer_session *s, const mer_snapshot_options *options, mer_snapshot **out,
-                         char *etag, mer_refusal *why)
+int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options, merd_snapshot **out,
+                         char *etag, merd_refusal *why)
 {
     pthread_mutex_lock(&s->work);
-    mer_session_etag(s, options, etag);
+    merd_session_etag(s, options, etag);
     if (s->snap != NULL && strcmp(s->snap_key, etag) == 0) {
         atomic_fetch_add(&s->snap->refs, 1);
         *out = s->snap;
@@ -752,12 +752,12 @@ int mer_session_snapshot(mer_session *s, const mer_snapshot_options *options, me
     mer_mesh *mesh = NULL;
     mer_error err = {0};
     mer_result rc = mer_mesh_build(s->scene, &options->mesh, &mesh, &err);
-    mer_snapshot *snap = calloc(1, sizeof *snap);
+    merd_snapshot *snap = calloc(1, sizeof *snap);
     if (rc == MER_OK && snap != NULL) {
         const json_t *preset = json_object_get(s->spec, "preset");
         const json_t *seed = json_object_get(s->spec, "seed");
         mer_gltf_meta meta = {.session = s->id,
-                              .revision = mer_session_revision(s),
+                              .revision = merd_session_revision(s),
                               .step = mer_scene_step_index(s->scene),
                               .preset = preset ? json_string_value(preset) : "default",
                               .seed = seed ? (uint64_t)json_integer_value(seed) : 0,
@@ -774,13 +774,13 @@ int mer_session_snapshot(mer_session *s, const mer_snapshot_options *options, me
     if (rc != MER_OK || snap == NULL) {
         free(snap);
         pthread_mutex_unlock(&s->work);
-        return rc == MER_ERR_RANGE ? mer_refuse(why, 422, "out-of-range", err.field, "%s", err.message)
-                                   : mer_refuse(why, 503, "snapshot", "", "the snapshot failed: %s",
+        return rc == MER_ERR_RANGE ? merd_refuse(why, 422, "out-of-range", err.field, "%s", err.message)
+                                   : merd_refuse(why, 503, "snapshot", "", "the snapshot failed: %s",
                                                 err.message);
     }
     atomic_init(&snap->refs, 2);  // the cache's and the caller's
     if (s->snap != NULL)
-        mer_snapshot_release(s->snap);
+        merd_snapshot_release(s->snap);
     s->snap = snap;
     snprintf(s->snap_key, sizeof s->snap_key, "%s", etag);
     *out = snap;
@@ -788,13 +788,13 @@ int mer_session_snapshot(mer_session *s, const mer_snapshot_options *options, me
     return 0;
 }
 
-const uint8_t *mer_snapshot_bytes(const mer_snapshot *snap, size_t *size)
+const uint8_t *merd_snapshot_bytes(const merd_snapshot *snap, size_t *size)
 {
     *size = snap->size;
     return snap->bytes;
 }
 
-void mer_snapshot_release(mer_snapshot *snap)
+void merd_snapshot_release(merd_snapshot *snap)
 {
     if (snap != NULL && atomic_fetch_sub(&snap->refs, 1) == 1) {
         mer_gltf_free(snap->bytes);
