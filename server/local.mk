@@ -8,6 +8,10 @@ server_meristemd_SOURCES = \
 	server/routes.c server/routes.h \
 	server/static_files.c server/static_files.h \
 	server/codec.c server/codec.h \
+	server/refusal.c server/refusal.h \
+	server/decode.c server/decode.h \
+	server/spec.c server/spec.h \
+	server/edit_ops.c server/edit_ops.h \
 	server/edits.c server/edits.h \
 	server/journal.c server/journal.h \
 	server/session.c server/session.h \

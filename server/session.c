@@ -12,6 +12,7 @@
 
 #include "server/codec.h"
 #include "server/session.h"
+#include "server/spec.h"
 
 struct merd_snapshot {
     atomic_int refs;
@@ -43,303 +44,6 @@ struct merd_session {
     merd_snapshot *snap;      /* the last snapshot */
     char snap_key[64];
 };
-
-/* --------------------------------------------------------------- the spec */
-
-static const struct {
-    const char *name;
-    uint32_t kind;
-} volumes[] = {{"box", MER_VOLUME_BOX},           {"sphere", MER_VOLUME_SPHERE},
-               {"ellipsoid", MER_VOLUME_ELLIPSOID}, {"cylinder", MER_VOLUME_CYLINDER},
-               {"cone", MER_VOLUME_CONE}};
-
-static int vec3(const json_t *v, const char *field, float out[3], merd_refusal *why)
-{
-    if (!json_is_array(v) || json_array_size(v) != 3)
-        return merd_refuse(why, 422, "invalid-field", field, "%s must be [x, y, z]", field);
-    for (size_t k = 0; k < 3; k++) {
-        const json_t *x = json_array_get(v, k);
-        if (!json_is_number(x) || !(json_number_value(x) >= -1e6 && json_number_value(x) <= 1e6))
-            return merd_refuse(why, 422, "out-of-range", field,
-                              "%s must hold 3 numbers from -1e6 to 1e6", field);
-        out[k] = (float)json_number_value(x);
-    }
-    return 0;
-}
-
-static int lib_refusal(merd_refusal *why, mer_result rc, const mer_error *err, const char *where)
-{
-    char f[96];
-    snprintf(f, sizeof f, "%.40s%s%.50s", where, err->field[0] ? "." : "", err->field);
-    unsigned status = rc == MER_ERR_NOMEM ? 503 : rc == MER_ERR_LIMIT ? 409 : 422;
-    return merd_refuse(why, status, rc == MER_ERR_LIMIT ? "limit" : "invalid-field", f, "%s",
-                      err->message);
-}
-
-/* Every key of `obj` must be allowed; `where` is its path ("" at the top). */
-static int only(const json_t *obj, const char *const *allowed, const char *where, merd_refusal *why)
-{
-    const char *key;
-    const json_t *v;
-    json_object_foreach((json_t *)obj, key, v) {
-        (void)v;
-        bool ok = false;
-        for (const char *const *a = allowed; *a && !ok; a++)
-            ok = strcmp(*a, key) == 0;
-        if (!ok) {
-            char f[96];
-            snprintf(f, sizeof f, "%.60s%s%.30s", where, where[0] ? "." : "", key);
-            return merd_refuse(why, 400, "unknown-field", f, "unknown field '%s' in %s", key,
-                              where[0] ? where : "the session request");
-        }
-    }
-    return 0;
-}
-
-/* The triangles of a base64 glTF/GLB in a request (caller frees *xyz with
- * mer_gltf_free). */
-static int gltf_triangles(const json_t *v, const char *f, float **xyz, size_t *triangles,
-                          merd_refusal *why)
-{
-    uint8_t *bytes = NULL;
-    size_t size = 0;
-    if (!json_is_string(v) || merd_base64_decode(json_string_value(v), &bytes, &size) != 0)
-        return merd_refuse(why, 422, "invalid-field", f,
-                          "%s must be a base64 string of a .glb, or of a .gltf with embedded buffers", f);
-    mer_error err = {0};
-    mer_result rc = mer_gltf_read_triangles(bytes, size, MER_MESH_TRIANGLES_MAX, xyz, triangles, &err);
-    free(bytes);
-    if (rc != MER_OK)
-        return merd_refuse(why, rc == MER_ERR_LIMIT ? 413 : 422, "invalid-gltf", f, "%s: %s", f,
-                          err.message);
-    return 0;
-}
-
-static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, merd_refusal *why)
-{
-    static const char *const kinds[] = {"box", "sphere", "gltf", NULL};
-    static const char *const box_fields[] = {"min", "max", NULL};
-    static const char *const sphere_fields[] = {"center", "radius", NULL};
-    if (!json_is_object(o) || json_object_size(o) != 1)
-        return merd_refuse(why, 422, "invalid-field", w,
-                          "%s must be {\"box\": {...}} or {\"sphere\": {...}}", w);
-    if (only(o, kinds, w, why))
-        return -1;
-    mer_error err = {0};
-    mer_result rc;
-    char f[80], g[96];
-    const json_t *mesh = json_object_get(o, "gltf");
-    if (mesh != NULL) {
-        float *xyz = NULL;
-        size_t triangles = 0;
-        snprintf(f, sizeof f, "%s.gltf", w);
-        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
-            return -1;
-        rc = mer_scene_add_mesh(scene, xyz, triangles, &err);
-        mer_gltf_free(xyz);
-        return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
-    }
-    const json_t *b = json_object_get(o, "box");
-    if (b != NULL) {
-        float lo[3], hi[3];
-        snprintf(f, sizeof f, "%s.box", w);
-        if (!json_is_object(b))
-            return merd_refuse(why, 422, "invalid-field", f, "%s must be {\"min\", \"max\"}", f);
-        if (only(b, box_fields, f, why))
-            return -1;
-        snprintf(g, sizeof g, "%s.min", f);
-        if (vec3(json_object_get(b, "min"), g, lo, why))
-            return -1;
-        snprintf(g, sizeof g, "%s.max", f);
-        if (vec3(json_object_get(b, "max"), g, hi, why))
-            return -1;
-        rc = mer_scene_add_box(scene, lo, hi, &err);
-    } else {
-        const json_t *sp = json_object_get(o, "sphere");
-        float c[3];
-        snprintf(f, sizeof f, "%s.sphere", w);
-        if (!json_is_object(sp))
-            return merd_refuse(why, 422, "invalid-field", f, "%s must be {\"center\", \"radius\"}", f);
-        if (only(sp, sphere_fields, f, why))
-            return -1;
-        snprintf(g, sizeof g, "%s.center", f);
-        if (vec3(json_object_get(sp, "center"), g, c, why))
-            return -1;
-        const json_t *r = json_object_get(sp, "radius");
-        snprintf(g, sizeof g, "%s.radius", f);
-        if (!json_is_number(r))
-            return merd_refuse(why, 422, "invalid-field", g, "%s must be a number", g);
-        // As vec3's bound: a double past float's range has no float to become.
-        if (!(json_number_value(r) > 0.0 && json_number_value(r) <= 1e6))
-            return merd_refuse(why, 422, "out-of-range", g, "%s must be a number in (0, 1e6]", g);
-        rc = mer_scene_add_sphere(scene, c, (float)json_number_value(r), &err);
-    }
-    return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
-}
-
-/* A marker volume: a shape ({"volume", "center", "size", "count"}) or the
- * inside of a triangle mesh ({"gltf", "count"}). */
-static int fill_volume(mer_scene *scene, const json_t *m, const char *w, merd_refusal *why)
-{
-    static const char *const allowed[] = {"volume", "center", "size", "count", NULL};
-    static const char *const mesh_fields[] = {"gltf", "count", NULL};
-    if (!json_is_object(m))
-        return merd_refuse(why, 422, "invalid-field", w, "%s must be an object", w);
-    const json_t *mesh = json_object_get(m, "gltf");
-    if (only(m, mesh != NULL ? mesh_fields : allowed, w, why))
-        return -1;
-    const json_t *count = json_object_get(m, "count");
-    char cf[80];
-    snprintf(cf, sizeof cf, "%s.count", w);
-    if (!json_is_integer(count) || json_integer_value(count) < 1 || json_integer_value(count) > 2000000)
-        return merd_refuse(why, 422, "out-of-range", cf, "%s must be an integer from 1 to 2000000", cf);
-    if (mesh != NULL) {
-        float *xyz = NULL;
-        size_t triangles = 0;
-        char f[80];
-        snprintf(f, sizeof f, "%s.gltf", w);
-        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
-            return -1;
-        mer_error err = {0};
-        mer_result rc = mer_scene_fill_mesh_markers(scene, xyz, triangles,
-                                                    (uint32_t)json_integer_value(count), &err);
-        mer_gltf_free(xyz);
-        return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
-    }
-    const json_t *v = json_object_get(m, "volume");
-    uint32_t kind = 0;
-    for (size_t i = 0; json_is_string(v) && i < sizeof volumes / sizeof volumes[0]; i++)
-        if (strcmp(volumes[i].name, json_string_value(v)) == 0)
-            kind = volumes[i].kind;
-    char f[80];
-    snprintf(f, sizeof f, "%s.volume", w);
-    if (kind == 0)
-        return merd_refuse(why, 422, "invalid-field", f,
-                          "%s must be box, sphere, ellipsoid, cylinder or cone", f);
-    float center[3], size[3];
-    snprintf(f, sizeof f, "%s.center", w);
-    if (vec3(json_object_get(m, "center"), f, center, why))
-        return -1;
-    snprintf(f, sizeof f, "%s.size", w);
-    if (vec3(json_object_get(m, "size"), f, size, why))
-        return -1;
-    mer_error err = {0};
-    mer_result rc = mer_scene_fill_markers(scene, kind, center, size,
-                                           (uint32_t)json_integer_value(count), &err);
-    return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, w);
-}
-
-/* Builds the scene a create request describes. Deterministic: the journal's
- * first record rebuilds the same scene. */
-static mer_scene *scene_from_spec(const json_t *spec, const merd_edit_limits *limits,
-                                  merd_refusal *why)
-{
-    static const char *const allowed[] = {"preset", "seed", "params", "scene", NULL};
-    static const char *const scene_fields[] = {"plants", "markers", "obstacles", NULL};
-    if (!json_is_object(spec)) {
-        merd_refuse(why, 422, "invalid-field", "body", "the body must be a JSON object ({} for defaults)");
-        return NULL;
-    }
-    if (only(spec, allowed, "", why))
-        return NULL;
-    const json_t *preset = json_object_get(spec, "preset");
-    if (preset != NULL && !json_is_string(preset)) {
-        merd_refuse(why, 422, "invalid-field", "preset", "preset must be a string (GET /v1/presets)");
-        return NULL;
-    }
-    mer_params p;
-    mer_error err = {0};
-    if (mer_preset_params(preset ? json_string_value(preset) : "default", &p, &err) != MER_OK) {
-        merd_refuse(why, 422, "invalid-field", "preset", "%s; GET /v1/presets lists them", err.message);
-        return NULL;
-    }
-    const json_t *seed = json_object_get(spec, "seed");
-    if (seed != NULL && (!json_is_integer(seed) || json_integer_value(seed) < 0 ||
-                         json_integer_value(seed) > (json_int_t)((1ULL << 53) - 1))) {
-        merd_refuse(why, 422, "out-of-range", "seed", "seed must be an integer from 0 to 2^53 - 1");
-        return NULL;
-    }
-    const json_t *params = json_object_get(spec, "params");
-    if (params != NULL && merd_params_from_json(params, &p, "params", why) != 0)
-        return NULL;
-    const json_t *sc = json_object_get(spec, "scene");
-    if (sc != NULL && (!json_is_object(sc) || only(sc, scene_fields, "scene", why))) {
-        if (!why->status)
-            merd_refuse(why, 422, "invalid-field", "scene", "scene must be an object");
-        return NULL;
-    }
-    const json_t *plants = sc ? json_object_get(sc, "plants") : NULL;
-    if (plants != NULL) {
-        if (!json_is_array(plants) || json_array_size(plants) > MER_PLANTS_MAX) {
-            merd_refuse(why, 422, "invalid-field", "scene.plants",
-                       "scene.plants must be an array of at most %u [x, y, z] bases", MER_PLANTS_MAX);
-            return NULL;
-        }
-        p.seedlings = 0;  // the given plants replace the preset's seedlings
-    }
-    if (mer_params_validate(&p, &err) != MER_OK) {
-        lib_refusal(why, MER_ERR_RANGE, &err, "params");
-        return NULL;
-    }
-    uint64_t marker_total = p.environment == MER_ENV_MARKERS ? p.marker_count : 0;
-    const json_t *vols = sc ? json_object_get(sc, "markers") : NULL;
-    size_t vi;
-    const json_t *vol;
-    json_array_foreach(vols, vi, vol) {
-        const json_t *c = json_object_get(vol, "count");
-        if (json_is_integer(c) && json_integer_value(c) > 0)
-            marker_total += (uint64_t)json_integer_value(c);
-    }
-    if (marker_total > limits->max_markers) {
-        merd_refuse(why, 422, "out-of-range", vols ? "scene.markers" : "params.marker_count",
-                   "a session may start with at most %u markers (meristemd --max-markers); this one "
-                   "asks for %llu", limits->max_markers, (unsigned long long)marker_total);
-        return NULL;
-    }
-    mer_scene *scene = NULL;
-    mer_result rc = mer_scene_new(&p, seed ? (uint64_t)json_integer_value(seed) : 0, &scene, &err);
-    if (rc != MER_OK) {
-        lib_refusal(why, rc, &err, "params");
-        return NULL;
-    }
-    size_t i;
-    const json_t *item;
-    char w[48];
-    // Obstacles first: plants are checked against them, and they clear the
-    // markers filled after them.
-    const json_t *obstacles = sc ? json_object_get(sc, "obstacles") : NULL;
-    const json_t *markers = sc ? json_object_get(sc, "markers") : NULL;
-    if ((obstacles != NULL && !json_is_array(obstacles)) || (markers != NULL && !json_is_array(markers))) {
-        const char *f = obstacles != NULL && !json_is_array(obstacles) ? "scene.obstacles" : "scene.markers";
-        merd_refuse(why, 422, "invalid-field", f, "%s must be an array", f);
-        goto fail;
-    }
-    json_array_foreach(obstacles, i, item) {
-        snprintf(w, sizeof w, "scene.obstacles[%zu]", i);
-        if (add_obstacle(scene, item, w, why) != 0)
-            goto fail;
-    }
-    json_array_foreach(plants, i, item) {
-        float base[3];
-        snprintf(w, sizeof w, "scene.plants[%zu]", i);
-        if (vec3(item, w, base, why) != 0)
-            goto fail;
-        if ((rc = mer_scene_add_plant(scene, base, NULL, &err)) != MER_OK) {
-            merd_refuse(why, rc == MER_ERR_LIMIT ? 409 : 422, rc == MER_ERR_LIMIT ? "limit" : "out-of-range",
-                       w, "%s: %s", w, err.message);
-            goto fail;
-        }
-    }
-    json_array_foreach(markers, i, item) {
-        snprintf(w, sizeof w, "scene.markers[%zu]", i);
-        if (fill_volume(scene, item, w, why) != 0)
-            goto fail;
-    }
-    return scene;
-fail:
-    mer_scene_free(scene);
-    return NULL;
-}
 
 /* ---------------------------------------------------------------- summary */
 
@@ -465,7 +169,7 @@ merd_session *merd_session_create(const merd_session_config *cfg, const char *id
         merd_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
         return NULL;
     }
-    s->scene = scene_from_spec(spec, &cfg->limits, why);
+    s->scene = merd_scene_from_spec(spec, &cfg->limits, why);
     if (s->scene == NULL) {
         session_free(s, false);
         return NULL;
@@ -508,7 +212,7 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
             goto done;
         // Replay builds what was accepted once, whatever today's limits say.
         const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
-        r->s->scene = scene_from_spec(create, &unlimited, &why);
+        r->s->scene = merd_scene_from_spec(create, &unlimited, &why);
         r->s->spec = json_deep_copy(create);
         rc = r->s->scene != NULL ? 0 : -1;
     } else {
@@ -611,7 +315,6 @@ uint32_t merd_session_internodes(merd_session *s)
 typedef struct stop_ctx {
     merd_session *s;
     struct timespec started;
-    const char *why;
 } stop_ctx;
 
 static double seconds_since(const struct timespec *t)
@@ -621,7 +324,8 @@ static double seconds_since(const struct timespec *t)
     return (double)(now.tv_sec - t->tv_sec) + 1e-9 * (double)(now.tv_nsec - t->tv_nsec);
 }
 
-static int should_stop(void *ctx, uint32_t done, uint32_t total)
+/* Why the running batch should stop at this whole step, or NULL. */
+static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
 {
     stop_ctx *c = ctx;
     merd_session *s = c->s;
@@ -629,21 +333,15 @@ static int should_stop(void *ctx, uint32_t done, uint32_t total)
     s->done = done;
     s->total = total;
     pthread_mutex_unlock(&s->state);
-    if (atomic_load(&s->cancel)) {
-        c->why = "cancelled";
-        return 1;
-    }
-    if (c->s->cfg->max_seconds > 0 && seconds_since(&c->started) > s->cfg->max_seconds) {
-        c->why = "time limit";
-        return 1;
-    }
+    if (atomic_load(&s->cancel))
+        return "cancelled";
+    if (c->s->cfg->max_seconds > 0 && seconds_since(&c->started) > s->cfg->max_seconds)
+        return "time limit";
     mer_summary sum;
     mer_scene_summary(s->scene, &sum);
-    if (sum.internodes >= s->cfg->max_internodes) {
-        c->why = "internode limit";
-        return 1;
-    }
-    return 0;
+    if (sum.internodes >= s->cfg->max_internodes)
+        return "internode limit";
+    return NULL;
 }
 
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
@@ -663,7 +361,7 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     pthread_mutex_unlock(&s->state);
     atomic_store(&s->cancel, 0);
 
-    stop_ctx sc = {s, {0, 0}, NULL};
+    stop_ctx sc = {s, {0, 0}};
     clock_gettime(CLOCK_MONOTONIC, &sc.started);
     json_t *applied = NULL;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
@@ -673,8 +371,6 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
             fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
         goto done;
     }
-    if (outcome->interrupted != NULL)
-        outcome->interrupted = sc.why;
     uint64_t revision = merd_session_revision(s);
     if (json_array_size(applied) > 0) {
         json_t *record = json_pack("{s:i, s:O}", "revision", (json_int_t)(revision + 1), "edits", applied);
@@ -774,9 +470,8 @@ int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
     if (rc != MER_OK || snap == NULL) {
         free(snap);
         pthread_mutex_unlock(&s->work);
-        return rc == MER_ERR_RANGE ? merd_refuse(why, 422, "out-of-range", err.field, "%s", err.message)
-                                   : merd_refuse(why, 503, "snapshot", "", "the snapshot failed: %s",
-                                                err.message);
+        return rc != MER_OK ? merd_refuse_lib(why, rc, &err, "")
+                            : merd_refuse(why, 503, "out-of-memory", "", "out of memory for a snapshot");
     }
     atomic_init(&snap->refs, 2);  // the cache's and the caller's
     if (s->snap != NULL)
