@@ -18,6 +18,7 @@
 #include <meristem.h>
 
 #include "server/codec.h"
+#include "server/export.h"
 
 #define SETS_MAX 256
 
@@ -43,7 +44,7 @@ static void usage(FILE *out)
             "  --seed=S           random seed, 0..2^64-1 (default 0)\n"
             "  --set=KEY=VALUE    override one parameter, e.g. --set lambda=0.52 (repeatable)\n"
             "  -o, --output=FILE  write the snapshot: FILE.glb binary, FILE.gltf embedded JSON\n"
-            "  --detail=1..5      bark level of detail (default 3)\n"
+            "  --detail=1..5      bark level of detail (default %d)\n"
             "  --leaves           add leaf cards\n"
             "  --markers          add the marker points\n"
             "  --color=MODE       vertex colours: none, order, light or age (default none)\n"
@@ -53,7 +54,8 @@ static void usage(FILE *out)
             "                     three.js reads it, Blender does not)\n"
             "  --twig-lines       twigs in primitives of their own, each with a LINES\n"
             "                     primitive of their lines (a viewer's level of detail)\n"
-            "  --help, --version\n");
+            "  --help, --version\n",
+            MER_MESH_DETAIL_DEFAULT);
 }
 
 static int parse_u64(const char *text, uint64_t max, uint64_t *out)
@@ -132,33 +134,24 @@ static int grow(const grow_args *a)
     json_object_set_new(summary, "seed", json_integer((json_int_t)a->seed));
 
     if (a->output != NULL) {
-        mer_mesh *mesh = NULL;
-        if (mer_mesh_build(scene, &a->mesh, &mesh, &err) != MER_OK) {
-            json_decref(summary);
-            status = fail("cannot mesh the tree", &err);
-            goto done;
-        }
         size_t n = strlen(a->output);
         mer_gltf_options gopt = {
             .format = n >= 5 && strcmp(a->output + n - 5, ".gltf") == 0 ? MER_GLTF_EMBEDDED
                                                                         : MER_GLTF_BINARY,
             .unquantized = a->unquantized,
             .compression = a->compression};
-        mer_gltf_meta meta = {.step = mer_scene_step_index(scene), .preset = a->preset,
-                              .seed = a->seed, .detail = a->mesh.detail ? a->mesh.detail : 3,
-                              .leaves = a->mesh.leaves, .markers = a->mesh.markers,
-                              .color = a->mesh.color};
+        merd_origin origin = {.preset = a->preset, .seed = a->seed};
         uint8_t *bytes = NULL;
-        size_t size = 0;
-        mer_result rc = mer_gltf_write_tree(mesh, &meta, &gopt, &bytes, &size, &err);
-        json_object_set_new(summary, "triangles",
-                            json_integer((json_int_t)(mesh->bark.index_count + mesh->leaves.index_count) / 3));
-        mer_mesh_free(mesh);
+        size_t size = 0, triangles = 0;
+        mer_result rc = merd_export_tree(scene, &a->mesh, &gopt, &origin, &bytes, &size,
+                                         &triangles, &err);
         if (rc != MER_OK) {
             json_decref(summary);
-            status = fail("cannot encode glTF", &err);
+            // Triangles are counted once the tree is meshed (a tree has at least one).
+            status = fail(triangles ? "cannot encode glTF" : "cannot mesh the tree", &err);
             goto done;
         }
+        json_object_set_new(summary, "triangles", json_integer((json_int_t)triangles));
         status = write_file(a->output, bytes, size);
         mer_gltf_free(bytes);
         json_object_set_new(summary, "bytes", json_integer((json_int_t)size));

@@ -12,6 +12,7 @@
 #include <sys/socket.h>
 
 #include "server/app.h"
+#include "server/clock.h"
 #include "server/http.h"
 #include "server/request.h"
 #include "server/routes.h"
@@ -23,13 +24,6 @@ struct merd_server {
     char web_root[PATH_MAX];   /* canonical */
     struct sockaddr_storage address;
 };
-
-static double elapsed_ms(const struct timespec *since)
-{
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (double)(now.tv_sec - since->tv_sec) * 1e3 + (double)(now.tv_nsec - since->tv_nsec) / 1e6;
-}
 
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, const char *url,
                                   const char *method, const char *version,
@@ -50,7 +44,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         req->route = "unknown";
         req->method = method;
         req->url = url;
-        clock_gettime(CLOCK_MONOTONIC, &req->started);
+        req->started = merd_now();
         *state = req;
         // Refuse an announced oversize body before reading any of it.
         const char *length = MHD_lookup_connection_value(connection, MHD_HEADER_KIND,
@@ -144,7 +138,7 @@ static void on_completed(void *cls, struct MHD_Connection *connection, void **st
         MHD_destroy_response(req->pending);
     if (!server->config.quiet)
         printf("%s %s %u %llu %.2fms%s\n", req->method, req->url, req->status,
-               (unsigned long long)req->bytes_out, elapsed_ms(&req->started),
+               (unsigned long long)req->bytes_out, (merd_now() - req->started) * 1e3,
                code == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
     free(req->body);
     free(req);

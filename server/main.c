@@ -13,6 +13,7 @@
 #include <meristem/version.h>
 
 #include "server/app.h"
+#include "server/clock.h"
 #include "server/http.h"
 #include "server/settings.h"
 
@@ -55,15 +56,13 @@ int main(int argc, char **argv)
     app.registry = merd_registry_new(&app.session_config, (uint32_t)config.max_sessions);
     if (app.metrics == NULL || app.registry == NULL)
         return EXIT_FAILURE;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double t0 = merd_now();
     long restored = merd_registry_restore(app.registry, stderr);
     if (restored < 0)
         return EXIT_FAILURE;
-    clock_gettime(CLOCK_MONOTONIC, &t1);
     if (restored > 0)
         printf("meristemd: restored %ld sessions from %s in %.2f s\n", restored, config.data_dir,
-               (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
+               merd_now() - t0);
     app.jobs = merd_jobs_start((size_t)config.workers);
     if (app.jobs == NULL)
         return EXIT_FAILURE;

@@ -23,6 +23,7 @@ struct merd_metrics {
     atomic_uint_fast64_t step_bucket[BUCKETS + 1];
     atomic_uint_fast64_t step_count, steps;
     _Atomic double step_sum;
+    atomic_uint_fast64_t snapshot_hits, snapshot_misses;
 };
 
 merd_metrics *merd_metrics_new(void)
@@ -100,6 +101,11 @@ void merd_metrics_step(merd_metrics *m, double seconds, uint32_t steps)
         ;
 }
 
+void merd_metrics_snapshot(merd_metrics *m, bool cached)
+{
+    atomic_fetch_add(cached ? &m->snapshot_hits : &m->snapshot_misses, 1);
+}
+
 char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending)
 {
     char *text = NULL;
@@ -131,6 +137,12 @@ char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internode
             atomic_load(&m->step_sum), (unsigned long long)atomic_load(&m->step_count));
     fprintf(f, "# HELP meristem_steps_total Simulation steps run.\n# TYPE meristem_steps_total counter\n"
                "meristem_steps_total %llu\n", (unsigned long long)atomic_load(&m->steps));
+    fprintf(f, "# HELP meristem_snapshot_cache_total Snapshots sent, by whether the session's "
+               "cache of variants held them.\n# TYPE meristem_snapshot_cache_total counter\n"
+               "meristem_snapshot_cache_total{result=\"hit\"} %llu\n"
+               "meristem_snapshot_cache_total{result=\"miss\"} %llu\n",
+            (unsigned long long)atomic_load(&m->snapshot_hits),
+            (unsigned long long)atomic_load(&m->snapshot_misses));
     fprintf(f, "# HELP meristem_sessions Live sessions.\n# TYPE meristem_sessions gauge\n"
                "meristem_sessions %u\n", sessions);
     fprintf(f, "# HELP meristem_internodes Living internodes in all sessions.\n"

@@ -2,6 +2,7 @@
 #ifndef MERISTEMD_METRICS_H
 #define MERISTEMD_METRICS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -16,6 +17,9 @@ void merd_metrics_request(merd_metrics *m, const char *route, unsigned status);
 
 /* Records one edit batch that stepped, and how long it took. */
 void merd_metrics_step(merd_metrics *m, double seconds, uint32_t steps);
+
+/* Records one snapshot sent: `cached` when the session's cache held it. */
+void merd_metrics_snapshot(merd_metrics *m, bool cached);
 
 /* The exposition text (caller frees), with the gauges given. */
 char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending);

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "server/app.h"
 #include "server/codec.h"
@@ -37,21 +38,56 @@ enum MHD_Result merd_reply(merd_request *req, unsigned status, struct MHD_Respon
     return ok;
 }
 
-enum MHD_Result merd_reply_json(merd_request *req, unsigned status, const json_t *json)
+struct MHD_Response *merd_json_response(const json_t *json, size_t *size)
 {
     char *text = json_dumps(json, MERD_JSON_DUMP_FLAGS);
     if (text == NULL)
-        return merd_reply_problem(req, 500, "internal", "Internal Server Error",
-                                 "the response could not be encoded");
-    size_t size = strlen(text);
-    struct MHD_Response *response =
-        MHD_create_response_from_buffer(size, text, MHD_RESPMEM_MUST_FREE);
+        return NULL;
+    *size = strlen(text);
+    struct MHD_Response *response = MHD_create_response_from_buffer(*size, text, MHD_RESPMEM_MUST_FREE);
     if (response == NULL) {
+        free(text);
+        return NULL;
+    }
+    MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+    return response;
+}
+
+enum MHD_Result merd_reply_json(merd_request *req, unsigned status, const json_t *json)
+{
+    size_t size = 0;
+    struct MHD_Response *response = merd_json_response(json, &size);
+    if (response == NULL)
+        return merd_reply_problem(req, 500, "internal", "Internal Server Error",
+                                  "the response could not be encoded");
+    return merd_reply(req, status, response, size);
+}
+
+enum MHD_Result merd_reply_text(merd_request *req, unsigned status, char *text,
+                                const char *content_type)
+{
+    if (text == NULL)
+        return MHD_NO;
+    size_t size = strlen(text);
+    struct MHD_Response *r = MHD_create_response_from_buffer(size, text, MHD_RESPMEM_MUST_FREE);
+    if (r == NULL) {
         free(text);
         return MHD_NO;
     }
-    MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
-    return merd_reply(req, status, response, size);
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
+    return merd_reply(req, status, r, size);
+}
+
+struct MHD_Response *merd_refusal_response(const merd_refusal *why, size_t *size)
+{
+    return merd_problem_response(why->status, why->slug, merd_status_title(why->status),
+                                 why->detail, why->field, size);
+}
+
+enum MHD_Result merd_reply_refusal(merd_request *req, const merd_refusal *why)
+{
+    size_t size = 0;
+    return merd_reply(req, why->status, merd_refusal_response(why, &size), size);
 }
 
 const char *merd_status_title(unsigned status)
@@ -137,4 +173,57 @@ void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response
     req->pending_size = size;
     req->async = MERD_ASYNC_READY;
     MHD_resume_connection(req->connection);
+}
+
+static int depth_of(const json_t *j)
+{
+    int deepest = 0;
+    if (json_is_object(j)) {
+        const char *k;
+        const json_t *v;
+        json_object_foreach((json_t *)j, k, v) {
+            (void)k;
+            int d = depth_of(v);
+            deepest = d > deepest ? d : deepest;
+        }
+        return deepest + 1;
+    }
+    if (json_is_array(j)) {
+        size_t i;
+        const json_t *v;
+        json_array_foreach(j, i, v) {
+            int d = depth_of(v);
+            deepest = d > deepest ? d : deepest;
+        }
+        return deepest + 1;
+    }
+    return 0;
+}
+
+json_t *merd_request_json(merd_request *req, merd_refusal *why)
+{
+    if (req->body == NULL || req->body_size == 0)
+        return json_object();
+    const char *type = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
+                                                   MHD_HTTP_HEADER_CONTENT_TYPE);
+    if (type == NULL || strncasecmp(type, "application/json", 16) != 0 ||
+        (type[16] != '\0' && type[16] != ';' && type[16] != ' ')) {
+        merd_refuse(why, 415, "unsupported-media-type", "",
+                    "send the body as application/json (got %s)", type ? type : "no Content-Type");
+        return NULL;
+    }
+    json_error_t err;
+    json_t *doc = json_loadb(req->body, req->body_size, JSON_REJECT_DUPLICATES, &err);
+    if (doc == NULL) {
+        merd_refuse(why, 400, "malformed-json", "", "malformed JSON at line %d, column %d: %s",
+                    err.line, err.column, err.text);
+        return NULL;
+    }
+    if (depth_of(doc) > MERD_JSON_DEPTH_MAX) {
+        json_decref(doc);
+        merd_refuse(why, 400, "malformed-json", "", "JSON nested deeper than %d levels",
+                    MERD_JSON_DEPTH_MAX);
+        return NULL;
+    }
+    return doc;
 }

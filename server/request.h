@@ -6,12 +6,15 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <time.h>
 
 #include <jansson.h>
 #include <microhttpd.h>
 
+#include "server/refusal.h"
 #include "server/settings.h"
+
+/* The deepest nesting a JSON body may have. */
+#define MERD_JSON_DEPTH_MAX 32
 
 typedef struct merd_app merd_app;
 
@@ -27,7 +30,7 @@ typedef struct merd_request {
     bool body_too_large;       /* the upload passed --max-body and was discarded */
     unsigned status;           /* what was queued, for the log line */
     uint64_t bytes_out;
-    struct timespec started;
+    double started;            /* merd_now() at the first header */
     const char *route;         /* the route's label, for metrics */
     long long revision;        /* sent as Meristem-Revision when >= 0 */
     /* A request answered by a worker: the connection is suspended meanwhile. */
@@ -52,8 +55,29 @@ struct MHD_Response *merd_problem_response(unsigned status, const char *slug, co
 /* The reason phrase for a status, for problem titles. */
 const char *merd_status_title(unsigned status);
 
+/* Builds, without queueing, `json` (borrowed) as a compact application/json
+ * body (for workers). NULL when out of memory. */
+struct MHD_Response *merd_json_response(const json_t *json, size_t *size);
+
 /* Queues `json` (borrowed, compact, UTF-8) as application/json. */
 enum MHD_Result merd_reply_json(merd_request *req, unsigned status, const json_t *json);
+
+/* Queues `text` (taken over: freed by libmicrohttpd) as `content_type`.
+ * MHD_NO when `text` is NULL or out of memory. */
+enum MHD_Result merd_reply_text(merd_request *req, unsigned status, char *text,
+                                const char *content_type);
+
+/* Builds, without queueing, the problem body of a refusal (for workers). */
+struct MHD_Response *merd_refusal_response(const merd_refusal *why, size_t *size);
+
+/* Queues the problem body of a refusal with its status. */
+enum MHD_Result merd_reply_refusal(merd_request *req, const merd_refusal *why);
+
+/* The request body as JSON (new reference): an empty body is `{}`; a body
+ * must be application/json (415), well-formed (400 naming line and column),
+ * without duplicate keys and no deeper than MERD_JSON_DEPTH_MAX (400). NULL
+ * with `why` filled otherwise. */
+json_t *merd_request_json(merd_request *req, merd_refusal *why);
 
 /* Queues an RFC 9457 application/problem+json body. `slug` names the problem
  * type (urn:meristem:problem:SLUG), `detail` says what to do about it. */

@@ -1,135 +1,14 @@
-/* meristemd — live sessions (see session.h). */
+/* meristemd — live sessions: lifecycle, reference counts, applying and
+ * journaling batches (see session.h). */
 #include "config.h"
 
-#include <inttypes.h>
-#include <limits.h>
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
-#include "server/codec.h"
-#include "server/session.h"
+#include "server/clock.h"
+#include "server/session_private.h"
 #include "server/spec.h"
-
-struct merd_snapshot {
-    atomic_int refs;
-    uint8_t *bytes;
-    size_t size;
-};
-
-struct merd_session {
-    atomic_int refs;
-    char id[33];
-    char path[PATH_MAX];
-    const merd_session_config *cfg;
-    json_t *spec;            /* the create request, as journaled */
-
-    pthread_mutex_t work;    /* held while the scene changes or is meshed */
-    mer_scene *scene;
-    merd_journal *journal;
-
-    pthread_mutex_t state;   /* guards what follows */
-    uint64_t revision;
-    json_t *summary;         /* after the last accepted batch */
-    char *summary_text;      /* the same, full, serialized, without its closing brace */
-    char *short_text;        /* without params and schedule, likewise */
-    uint32_t internodes;
-    bool running;
-    uint32_t done, total;    /* progress of the running batch */
-    atomic_int cancel;
-    bool discarded;
-    merd_snapshot *snap;      /* the last snapshot */
-    char snap_key[64];
-};
-
-/* ---------------------------------------------------------------- summary */
-
-/* The summary of the scene as it is (caller holds `work`). */
-static json_t *build_summary(merd_session *s, uint64_t revision)
-{
-    json_t *j = merd_json_summary(s->scene);
-    const json_t *preset = json_object_get(s->spec, "preset");
-    const json_t *seed = json_object_get(s->spec, "seed");
-    json_object_set_new(j, "id", json_string(s->id));
-    json_object_set_new(j, "revision", json_integer((json_int_t)revision));
-    json_object_set_new(j, "preset", json_string(preset ? json_string_value(preset) : "default"));
-    json_object_set_new(j, "seed", json_integer(seed ? json_integer_value(seed) : 0));
-    const mer_params *p = mer_scene_params(s->scene);
-    uint32_t node, slot;
-    json_object_set_new(j, "constraint", mer_scene_constraint(s->scene, &node, &slot)
-                                             ? json_pack("{s:i, s:i}", "node", (json_int_t)node,
-                                                         "bud", (json_int_t)slot)
-                                             : json_null());
-    json_object_set_new(j, "params", merd_json_params(p));
-    json_object_set_new(j, "schedule", merd_json_schedule(&p->schedule));
-    return j;
-}
-
-/* Serializes `j` without its closing brace, so "running" can be appended. */
-static char *open_text(const json_t *j)
-{
-    char *text = json_dumps(j, MERD_JSON_DUMP_FLAGS);
-    if (text != NULL)
-        text[strlen(text) - 1] = '\0';
-    return text;
-}
-
-static void publish(merd_session *s, uint64_t revision)
-{
-    json_t *summary = build_summary(s, revision);
-    char *full = open_text(summary);
-    json_t *brief = json_copy(summary);
-    json_object_del(brief, "params");
-    json_object_del(brief, "schedule");
-    char *short_text = open_text(brief);
-    json_decref(brief);
-    mer_summary sum;
-    mer_scene_summary(s->scene, &sum);
-    pthread_mutex_lock(&s->state);
-    json_decref(s->summary);
-    free(s->summary_text);
-    free(s->short_text);
-    s->summary = summary;
-    s->summary_text = full;
-    s->short_text = short_text;
-    s->revision = revision;
-    s->internodes = sum.internodes;
-    pthread_mutex_unlock(&s->state);
-}
-
-char *merd_session_summary_text(merd_session *s, bool full, uint64_t *revision)
-{
-    pthread_mutex_lock(&s->state);
-    const char *base = full ? s->summary_text : s->short_text;
-    char *text = NULL;
-    if (base != NULL &&
-        asprintf(&text, "%s,\"running\":{\"active\":%s,\"done\":%u,\"total\":%u}}", base,
-                 s->running ? "true" : "false", s->done, s->total) < 0)
-        text = NULL;
-    *revision = s->revision;
-    pthread_mutex_unlock(&s->state);
-    return text;
-}
-
-json_t *merd_session_summary(merd_session *s, bool full)
-{
-    pthread_mutex_lock(&s->state);
-    json_t *j = json_deep_copy(s->summary);
-    json_t *running = json_pack("{s:b, s:i, s:i}", "active", s->running, "done",
-                                (json_int_t)s->done, "total", (json_int_t)s->total);
-    pthread_mutex_unlock(&s->state);
-    json_object_set_new(j, "running", running);
-    if (!full) {
-        json_object_del(j, "params");
-        json_object_del(j, "schedule");
-    }
-    return j;
-}
-
-/* ---------------------------------------------------------------- lifecycle */
 
 static merd_session *session_new(const merd_session_config *cfg, const char *id)
 {
@@ -154,8 +33,7 @@ static void session_free(merd_session *s, bool remove)
     json_decref(s->summary);
     free(s->summary_text);
     free(s->short_text);
-    if (s->snap != NULL)
-        merd_snapshot_release(s->snap);
+    merd_snapshot_cache_clear(&s->snaps);
     pthread_mutex_destroy(&s->work);
     pthread_mutex_destroy(&s->state);
     free(s);
@@ -186,7 +64,7 @@ merd_session *merd_session_create(const merd_session_config *cfg, const char *id
         session_free(s, false);
         return NULL;
     }
-    publish(s, 0);
+    merd_session_publish(s, 0);
     return s;
 }
 
@@ -266,7 +144,7 @@ merd_session *merd_session_restore(const merd_session_config *cfg, const char *p
         session_free(s, false);
         return NULL;
     }
-    publish(s, r.revision);
+    merd_session_publish(s, r.revision);
     return s;
 }
 
@@ -310,19 +188,12 @@ uint32_t merd_session_internodes(merd_session *s)
     return n;
 }
 
-/* ---------------------------------------------------------------- edits */
+/* ---------------------------------------------------------------- applying */
 
 typedef struct stop_ctx {
     merd_session *s;
-    struct timespec started;
+    double started;   /* merd_now() */
 } stop_ctx;
-
-static double seconds_since(const struct timespec *t)
-{
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (double)(now.tv_sec - t->tv_sec) + 1e-9 * (double)(now.tv_nsec - t->tv_nsec);
-}
 
 /* Why the running batch should stop at this whole step, or NULL. */
 static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
@@ -335,7 +206,7 @@ static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
     pthread_mutex_unlock(&s->state);
     if (atomic_load(&s->cancel))
         return "cancelled";
-    if (c->s->cfg->max_seconds > 0 && seconds_since(&c->started) > s->cfg->max_seconds)
+    if (c->s->cfg->max_seconds > 0 && merd_now() - c->started > s->cfg->max_seconds)
         return "time limit";
     mer_summary sum;
     mer_scene_summary(s->scene, &sum);
@@ -361,8 +232,7 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     pthread_mutex_unlock(&s->state);
     atomic_store(&s->cancel, 0);
 
-    stop_ctx sc = {s, {0, 0}};
-    clock_gettime(CLOCK_MONOTONIC, &sc.started);
+    stop_ctx sc = {s, merd_now()};
     json_t *applied = NULL;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
     if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
@@ -386,7 +256,7 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
             goto done;
         }
         free(text);
-        publish(s, revision + 1);
+        merd_session_publish(s, revision + 1);
     }
     json_decref(applied);
     rc = 0;
@@ -415,84 +285,4 @@ bool merd_session_cancel(merd_session *s)
     if (running)
         atomic_store(&s->cancel, 1);
     return running;
-}
-
-/* ---------------------------------------------------------------- snapshots */
-
-static void options_key(const merd_snapshot_options *o, char *out, size_t n)
-{
-    // Twig lines add "w1", so the keys of snapshots without them stay as they were.
-    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s", o->mesh.detail ? o->mesh.detail : 3,
-             o->mesh.leaves, o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1,
-             o->mesh.no_uvs ? 0 : 1, o->compression, o->mesh.twig_lines ? "w1" : "");
-}
-
-void merd_session_etag(merd_session *s, const merd_snapshot_options *options, char *etag)
-{
-    char key[48];
-    options_key(options, key, sizeof key);
-    snprintf(etag, 64, "\"r%" PRIu64 "-%s\"", merd_session_revision(s), key);
-}
-
-int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options, merd_snapshot **out,
-                         char *etag, merd_refusal *why)
-{
-    pthread_mutex_lock(&s->work);
-    merd_session_etag(s, options, etag);
-    if (s->snap != NULL && strcmp(s->snap_key, etag) == 0) {
-        atomic_fetch_add(&s->snap->refs, 1);
-        *out = s->snap;
-        pthread_mutex_unlock(&s->work);
-        return 0;
-    }
-    mer_mesh *mesh = NULL;
-    mer_error err = {0};
-    mer_result rc = mer_mesh_build(s->scene, &options->mesh, &mesh, &err);
-    merd_snapshot *snap = calloc(1, sizeof *snap);
-    if (rc == MER_OK && snap != NULL) {
-        const json_t *preset = json_object_get(s->spec, "preset");
-        const json_t *seed = json_object_get(s->spec, "seed");
-        mer_gltf_meta meta = {.session = s->id,
-                              .revision = merd_session_revision(s),
-                              .step = mer_scene_step_index(s->scene),
-                              .preset = preset ? json_string_value(preset) : "default",
-                              .seed = seed ? (uint64_t)json_integer_value(seed) : 0,
-                              .detail = options->mesh.detail ? options->mesh.detail : 3,
-                              .leaves = options->mesh.leaves,
-                              .markers = options->mesh.markers,
-                              .color = options->mesh.color};
-        mer_gltf_options gopt = {.format = MER_GLTF_BINARY,
-                                 .unquantized = options->unquantized,
-                                 .compression = options->compression};
-        rc = mer_gltf_write_tree(mesh, &meta, &gopt, &snap->bytes, &snap->size, &err);
-    }
-    mer_mesh_free(mesh);
-    if (rc != MER_OK || snap == NULL) {
-        free(snap);
-        pthread_mutex_unlock(&s->work);
-        return rc != MER_OK ? merd_refuse_lib(why, rc, &err, "")
-                            : merd_refuse(why, 503, "out-of-memory", "", "out of memory for a snapshot");
-    }
-    atomic_init(&snap->refs, 2);  // the cache's and the caller's
-    if (s->snap != NULL)
-        merd_snapshot_release(s->snap);
-    s->snap = snap;
-    snprintf(s->snap_key, sizeof s->snap_key, "%s", etag);
-    *out = snap;
-    pthread_mutex_unlock(&s->work);
-    return 0;
-}
-
-const uint8_t *merd_snapshot_bytes(const merd_snapshot *snap, size_t *size)
-{
-    *size = snap->size;
-    return snap->bytes;
-}
-
-void merd_snapshot_release(merd_snapshot *snap)
-{
-    if (snap != NULL && atomic_fetch_sub(&snap->refs, 1) == 1) {
-        mer_gltf_free(snap->bytes);
-        free(snap);
-    }
 }

@@ -24,6 +24,7 @@
 
 #include "server/edits.h"
 #include "server/journal.h"
+#include "server/snapshot.h"
 
 typedef struct merd_session merd_session;
 
@@ -80,15 +81,13 @@ typedef struct merd_snapshot_options {
     uint32_t compression; /* mer_gltf_compression */
 } merd_snapshot_options;
 
-/* The current tree as GLB for `options`, from the per-session cache when the
- * revision and options are those of the last snapshot. `*bytes` is a new
- * reference to shared, immutable bytes: release with merd_snapshot_release.
- * `etag` gets "\"r{revision}-{options}\"" (64 bytes). 0, or -1 with `why`. */
-typedef struct merd_snapshot merd_snapshot;
+/* The current tree as GLB for `options`, from the session's cache of variants
+ * when one of this revision and these options is there (`*cached` says so).
+ * `*out` is a new reference to shared, immutable bytes: release with
+ * merd_snapshot_release. `etag` gets "\"r{revision}-{options}\""
+ * (MERD_ETAG_MAX bytes). 0, or -1 with `why`. Blocks while a batch runs. */
 int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
-                         merd_snapshot **out, char *etag, merd_refusal *why);
-const uint8_t *merd_snapshot_bytes(const merd_snapshot *snap, size_t *size);
-void merd_snapshot_release(merd_snapshot *snap);
+                          merd_snapshot **out, char *etag, bool *cached, merd_refusal *why);
 
 /* The ETag a snapshot of `options` would have now (for If-None-Match without meshing). */
 void merd_session_etag(merd_session *s, const merd_snapshot_options *options, char *etag);
