@@ -17,6 +17,36 @@
 #include "server/http.h"
 #include "server/settings.h"
 
+/* What sessions need of the settings. */
+static merd_session_config session_config(const merd_settings *config)
+{
+    return (merd_session_config){
+        .data_dir = config->data_dir,
+        .fsync = strcmp(config->fsync, "interval") == 0 ? MERD_FSYNC_INTERVAL : MERD_FSYNC_ALWAYS,
+        .limits = {.max_steps = (uint32_t)config->max_steps,
+                   .max_markers = (uint32_t)config->max_markers},
+        .max_internodes = (uint32_t)config->max_internodes,
+        .max_seconds = (double)config->max_seconds,
+    };
+}
+
+/* The main thread waits for a stop signal in `stop` and returns it; with
+ * --fsync=interval it also flushes the journals on every tick. */
+static int wait_for_stop(const sigset_t *stop, merd_app *app)
+{
+    int signo = 0;
+    bool interval = app->session_config.fsync == MERD_FSYNC_INTERVAL;
+    long ms = app->settings->fsync_interval;
+    struct timespec tick = {ms / 1000, (ms % 1000) * 1000000L};
+    for (;;) {
+        signo = interval ? sigtimedwait(stop, NULL, &tick) : (sigwait(stop, &signo) == 0 ? signo : -1);
+        if (signo == SIGINT || signo == SIGTERM)
+            return signo;
+        if (interval)
+            merd_registry_sync(app->registry);
+    }
+}
+
 int main(int argc, char **argv)
 {
     merd_settings config;
@@ -44,14 +74,7 @@ int main(int argc, char **argv)
     pthread_sigmask(SIG_BLOCK, &stop, NULL);
     signal(SIGPIPE, SIG_IGN);
 
-    merd_app app = {.settings = &config};
-    app.session_config = (merd_session_config){
-        .data_dir = config.data_dir,
-        .fsync = strcmp(config.fsync, "interval") == 0 ? MERD_FSYNC_INTERVAL : MERD_FSYNC_ALWAYS,
-        .limits = {.max_steps = (uint32_t)config.max_steps, .max_markers = (uint32_t)config.max_markers},
-        .max_internodes = (uint32_t)config.max_internodes,
-        .max_seconds = (double)config.max_seconds,
-    };
+    merd_app app = {.settings = &config, .session_config = session_config(&config)};
     app.metrics = merd_metrics_new();
     app.registry = merd_registry_new(&app.session_config, (uint32_t)config.max_sessions);
     if (app.metrics == NULL || app.registry == NULL)
@@ -75,18 +98,7 @@ int main(int argc, char **argv)
            strchr(host, ':') ? "[" : "", host, strchr(host, ':') ? "]" : "",
            merd_server_port(server), config.web_root);
 
-    // The main thread waits for a stop signal; with --fsync=interval it also
-    // flushes the journals on every tick.
-    int signo = 0;
-    bool interval = app.session_config.fsync == MERD_FSYNC_INTERVAL;
-    struct timespec tick = {config.fsync_interval / 1000, (config.fsync_interval % 1000) * 1000000L};
-    for (;;) {
-        signo = interval ? sigtimedwait(&stop, NULL, &tick) : (sigwait(&stop, &signo) == 0 ? signo : -1);
-        if (signo == SIGINT || signo == SIGTERM)
-            break;
-        if (interval)
-            merd_registry_sync(app.registry);
-    }
+    int signo = wait_for_stop(&stop, &app);
     printf("meristemd: %s, shutting down\n", signo == SIGINT ? "SIGINT" : "SIGTERM");
     merd_server_stop(server);
     merd_jobs_stop(app.jobs);
