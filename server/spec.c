@@ -50,6 +50,22 @@ static int gltf_triangles(const json_t *v, const char *f, float **xyz, size_t *t
     return 0;
 }
 
+/* The glTF at `f` into the scene: an obstacle (`markers` 0), or that many
+ * markers filling its inside. */
+static int add_gltf(mer_scene *scene, const json_t *v, const char *f, uint32_t markers,
+                    merd_refusal *why)
+{
+    float *xyz = NULL;
+    size_t triangles = 0;
+    if (gltf_triangles(v, f, &xyz, &triangles, why) != 0)
+        return -1;
+    mer_error err = {0};
+    mer_result rc = markers == 0 ? mer_scene_add_mesh(scene, xyz, triangles, &err)
+                                 : mer_scene_fill_mesh_markers(scene, xyz, triangles, markers, &err);
+    mer_gltf_free(xyz);
+    return rc == MER_OK ? 0 : merd_refuse_lib(why, rc, &err, f);
+}
+
 static int radius_of(const json_t *r, const char *g, float *out, merd_refusal *why)
 {
     if (!json_is_number(r))
@@ -101,15 +117,8 @@ static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, merd_r
     char f[MERD_FIELD_MAX];
     const json_t *mesh = json_object_get(o, "gltf");
     if (mesh != NULL) {
-        float *xyz = NULL;
-        size_t triangles = 0;
         merd_path(f, sizeof f, w, "gltf");
-        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
-            return -1;
-        mer_error err = {0};
-        mer_result rc = mer_scene_add_mesh(scene, xyz, triangles, &err);
-        mer_gltf_free(xyz);
-        return rc == MER_OK ? 0 : merd_refuse_lib(why, rc, &err, f);
+        return add_gltf(scene, mesh, f, 0, why);
     }
     const json_t *box = json_object_get(o, "box");
     merd_path(f, sizeof f, w, box != NULL ? "box" : "sphere");
@@ -135,17 +144,9 @@ static int fill_volume(mer_scene *scene, const json_t *m, const char *w, merd_re
         return merd_refuse(why, 422, "out-of-range", f, "%s must be an integer from 1 to %d", f,
                            MERD_VOLUME_MARKERS_MAX);
     uint32_t n = (uint32_t)json_integer_value(count);
-    mer_error err = {0};
-    mer_result rc;
     if (mesh != NULL) {
-        float *xyz = NULL;
-        size_t triangles = 0;
         merd_path(f, sizeof f, w, "gltf");
-        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
-            return -1;
-        rc = mer_scene_fill_mesh_markers(scene, xyz, triangles, n, &err);
-        mer_gltf_free(xyz);
-        return rc == MER_OK ? 0 : merd_refuse_lib(why, rc, &err, f);
+        return add_gltf(scene, mesh, f, n, why);
     }
     const json_t *v = json_object_get(m, "volume");
     uint32_t kind = 0;
@@ -163,7 +164,8 @@ static int fill_volume(mer_scene *scene, const json_t *m, const char *w, merd_re
     merd_path(f, sizeof f, w, "size");
     if (merd_vec3(json_object_get(m, "size"), f, &merd_words_spec, size, why))
         return -1;
-    rc = mer_scene_fill_markers(scene, kind, center, size, n, &err);
+    mer_error err = {0};
+    mer_result rc = mer_scene_fill_markers(scene, kind, center, size, n, &err);
     return rc == MER_OK ? 0 : merd_refuse_lib(why, rc, &err, w);
 }
 

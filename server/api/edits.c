@@ -34,17 +34,11 @@ static void run_edits(void *arg)
     }
     size_t size = 0;
     struct MHD_Response *r = NULL;
-    if (j->glb) {
-        merd_snapshot *snap = NULL;
-        bool cached = false;
-        if (merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &cached, &why) != 0) {
-            merd_api_job_refuse(j, &why);
-            return;
-        }
-        merd_metrics_snapshot(j->app->metrics, cached);
-        r = merd_api_glb_response(snap, j->etag, &size);
-    } else {
+    if (!j->glb) {
         r = summary_response(j, &outcome, &size);
+    } else if (merd_api_job_snapshot(j, &r, &size, &why) != 0) {
+        merd_api_job_refuse(j, &why);
+        return;
     }
     if (r != NULL && outcome.interrupted != NULL)
         MHD_add_response_header(r, "Meristem-Interrupted", outcome.interrupted);

@@ -54,4 +54,10 @@ void merd_api_job_finish(merd_api_job *j, unsigned status, struct MHD_Response *
 /* From the worker: answers with the refusal and frees the job. */
 void merd_api_job_refuse(merd_api_job *j, const merd_refusal *why);
 
+/* The job's session as GLB with the job's options (counted in the metrics):
+ * 0 and *r (NULL when out of memory), or -1 with `why`. Blocks while a batch
+ * of the session runs. */
+int merd_api_job_snapshot(merd_api_job *j, struct MHD_Response **r, size_t *size,
+                          merd_refusal *why);
+
 #endif

@@ -86,21 +86,29 @@ bool merd_api_wants_glb(merd_request *req)
     return accept != NULL && strstr(accept, "model/gltf-binary") != NULL;
 }
 
+int merd_api_job_snapshot(merd_api_job *j, struct MHD_Response **r, size_t *size,
+                          merd_refusal *why)
+{
+    merd_snapshot *snap = NULL;
+    bool cached = false;
+    if (merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &cached, why) != 0)
+        return -1;
+    merd_metrics_snapshot(j->app->metrics, cached);
+    *r = merd_api_glb_response(snap, j->etag, size);
+    return 0;
+}
+
 static void run_snapshot(void *arg)
 {
     merd_api_job *j = arg;
     merd_refusal why = {0};
-    merd_snapshot *snap = NULL;
-    bool cached = false;
-    j->req->revision = (long long)merd_session_revision(j->session);
-    if (merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &cached, &why) != 0) {
-        merd_api_job_refuse(j, &why);
-        return;
-    }
-    merd_metrics_snapshot(j->app->metrics, cached);
+    struct MHD_Response *r = NULL;
     size_t size = 0;
-    struct MHD_Response *r = merd_api_glb_response(snap, j->etag, &size);
-    merd_api_job_finish(j, 200, r, size);
+    j->req->revision = (long long)merd_session_revision(j->session);
+    if (merd_api_job_snapshot(j, &r, &size, &why) != 0)
+        merd_api_job_refuse(j, &why);
+    else
+        merd_api_job_finish(j, 200, r, size);
 }
 
 enum MHD_Result merd_api_snapshot(merd_request *req, const char *id)
