@@ -125,7 +125,7 @@ static merd_journal *journal_new(const char *path, merd_fsync_mode mode, char *e
 }
 
 merd_journal *merd_journal_create(const char *path, const char *first, size_t size,
-                                merd_fsync_mode mode, char *error)
+                                  merd_fsync_mode mode, char *error)
 {
     merd_journal *j = journal_new(path, mode, error);
     if (j == NULL)
@@ -175,7 +175,7 @@ static int read_file(const char *path, unsigned char **out, size_t *size, char *
 }
 
 merd_journal *merd_journal_open(const char *path, merd_fsync_mode mode, merd_journal_record_fn fn,
-                              void *ctx, size_t *dropped, char *error)
+                                void *ctx, size_t *dropped, char *error)
 {
     unsigned char *data = NULL;
     size_t size = 0;

@@ -35,7 +35,7 @@ typedef enum merd_fsync_mode {
 /* Creates `path` (which must not exist) with `first` as its first record.
  * NULL on failure, with the reason in `error` (MERD_JOURNAL_ERROR_MAX bytes). */
 merd_journal *merd_journal_create(const char *path, const char *first, size_t size,
-                                merd_fsync_mode mode, char *error);
+                                  merd_fsync_mode mode, char *error);
 
 /* Called once per whole record, in order; returns 0 to go on, non-zero to stop
  * (then merd_journal_open fails with that record's number in `error`). */
@@ -45,7 +45,7 @@ typedef int (*merd_journal_record_fn)(void *ctx, size_t index, const char *paylo
  * tail (reporting the bytes dropped in *dropped, may be NULL) and returns the
  * journal ready for appends. NULL on failure with the reason in `error`. */
 merd_journal *merd_journal_open(const char *path, merd_fsync_mode mode, merd_journal_record_fn fn,
-                              void *ctx, size_t *dropped, char *error);
+                                void *ctx, size_t *dropped, char *error);
 
 /* Appends one record. 0 on success; -1 with `error` filled, and then the file
  * is cut back to where it was, so a failed append leaves no partial record. */

@@ -198,8 +198,8 @@ int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **ou
     pthread_rwlock_unlock(&r->lock);
     if (count >= r->max_sessions)
         return merd_refuse(why, 429, "too-many-sessions", "",
-                          "meristemd holds %u sessions, its limit (--max-sessions); delete one first",
-                          r->max_sessions);
+                           "meristemd holds %u sessions, its limit (--max-sessions); delete one first",
+                           r->max_sessions);
     char id[33];
     if (new_id(id) != 0)
         return merd_refuse(why, 503, "no-entropy", "", "the OS gave no random bytes for a session id");
@@ -213,8 +213,8 @@ int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **ou
         merd_session_discard(s);
         merd_session_unref(s);
         return rc > 0 ? merd_refuse(why, 429, "too-many-sessions", "",
-                                   "meristemd holds %u sessions, its limit (--max-sessions)",
-                                   r->max_sessions)
+                                    "meristemd holds %u sessions, its limit (--max-sessions)",
+                                    r->max_sessions)
                       : merd_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
     }
     merd_session_ref(s);

@@ -11,7 +11,7 @@
 #include "server/request.h"
 
 enum MHD_Result merd_reply(merd_request *req, unsigned status, struct MHD_Response *response,
-                          uint64_t size)
+                           uint64_t size)
 {
     if (response == NULL)
         return MHD_NO;
@@ -108,7 +108,7 @@ const char *merd_status_title(unsigned status)
 }
 
 struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
-                                          const char *detail, const char *field, size_t *size)
+                                           const char *detail, const char *field, size_t *size)
 {
     char type[128];
     snprintf(type, sizeof type, "urn:meristem:problem:%s", slug);
@@ -132,7 +132,7 @@ struct MHD_Response *merd_problem_response(unsigned status, const char *slug, co
 }
 
 enum MHD_Result merd_reply_problem(merd_request *req, unsigned status, const char *slug,
-                                  const char *title, const char *detail)
+                                   const char *title, const char *detail)
 {
     size_t size = 0;
     struct MHD_Response *response = merd_problem_response(status, slug, title, detail, NULL, &size);
@@ -159,13 +159,13 @@ void merd_request_suspend(merd_request *req)
 }
 
 void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response *response,
-                        uint64_t size)
+                         uint64_t size)
 {
     if (response == NULL) {
         size_t n = 0;
         status = 500;
         response = merd_problem_response(500, "internal", "Internal Server Error",
-                                        "the reply could not be built (out of memory?)", NULL, &n);
+                                         "the reply could not be built (out of memory?)", NULL, &n);
         size = n;
     }
     req->pending = response;

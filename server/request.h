@@ -46,11 +46,11 @@ void merd_request_suspend(merd_request *req);
 /* From a worker: hands over `response` (may be NULL: 500) and resumes the
  * connection, which then queues it. */
 void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response *response,
-                        uint64_t size);
+                         uint64_t size);
 
 /* Builds, without queueing, an RFC 9457 body (for workers). NULL when out of memory. */
 struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
-                                          const char *detail, const char *field, size_t *size);
+                                           const char *detail, const char *field, size_t *size);
 
 /* The reason phrase for a status, for problem titles. */
 const char *merd_status_title(unsigned status);
@@ -82,7 +82,7 @@ json_t *merd_request_json(merd_request *req, merd_refusal *why);
 /* Queues an RFC 9457 application/problem+json body. `slug` names the problem
  * type (urn:meristem:problem:SLUG), `detail` says what to do about it. */
 enum MHD_Result merd_reply_problem(merd_request *req, unsigned status, const char *slug,
-                                  const char *title, const char *detail);
+                                   const char *title, const char *detail);
 
 /* 405 with the Allow header listing `allow` (e.g. "GET, HEAD"). */
 enum MHD_Result merd_reply_method_not_allowed(merd_request *req, const char *allow);
@@ -90,6 +90,6 @@ enum MHD_Result merd_reply_method_not_allowed(merd_request *req, const char *all
 /* Queues an already-built response (adding Meristem-Revision and CORS headers)
  * and remembers status and size for the log and metrics. */
 enum MHD_Result merd_reply(merd_request *req, unsigned status, struct MHD_Response *response,
-                          uint64_t size);
+                           uint64_t size);
 
 #endif

@@ -40,7 +40,7 @@ static void session_free(merd_session *s, bool remove)
 }
 
 merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
-                                merd_refusal *why)
+                                  merd_refusal *why)
 {
     merd_session *s = session_new(cfg, id);
     if (s == NULL) {
@@ -124,7 +124,7 @@ static int rebuild(merd_session *s, char *error)
 }
 
 merd_session *merd_session_restore(const merd_session_config *cfg, const char *path, size_t *dropped,
-                                 char *error)
+                                   char *error)
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
@@ -216,14 +216,14 @@ static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
 }
 
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
-                      merd_refusal *why)
+                       merd_refusal *why)
 {
     pthread_mutex_lock(&s->work);
     int rc = -1;
     if (merd_session_internodes(s) >= s->cfg->max_internodes) {
         merd_refuse(why, 409, "limit", "", "the tree has reached %u internodes, the most a session "
-                   "may grow (meristemd --max-internodes); prune it or start another session",
-                   s->cfg->max_internodes);
+                    "may grow (meristemd --max-internodes); prune it or start another session",
+                    s->cfg->max_internodes);
         goto out;
     }
     pthread_mutex_lock(&s->state);
@@ -248,7 +248,7 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
         json_decref(record);
         if (text == NULL || merd_journal_append(s->journal, text, strlen(text), error) != 0) {
             merd_refuse(why, 503, "journal", "", "the edits could not be journaled, so they were "
-                       "undone: %s", text ? error : "out of memory");
+                        "undone: %s", text ? error : "out of memory");
             free(text);
             json_decref(applied);
             if (rebuild(s, error) != 0)

@@ -39,14 +39,14 @@ typedef struct merd_session_config {
 
 /* Creates a session with id `id` (32 hex digits) from a create request `spec`
  * (borrowed): builds the scene and writes the journal's first record. NULL with
- * `why` filled on a refusal (400/422 for the spec, 500 for the disk). */
+ * `why` filled on a refusal (as merd_scene_from_spec says, or 500 for the disk). */
 merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
-                                merd_refusal *why);
+                                  merd_refusal *why);
 
 /* Restores the session journaled at `path` by replaying it. NULL with a reason
  * in `error` (MERD_JOURNAL_ERROR_MAX bytes). `*dropped` gets a torn tail's bytes. */
 merd_session *merd_session_restore(const merd_session_config *cfg, const char *path,
-                                 size_t *dropped, char *error);
+                                   size_t *dropped, char *error);
 
 /* Reference counting: a session stays alive while a request uses it, even after
  * it is deleted from the registry. */
@@ -69,7 +69,7 @@ char *merd_session_summary_text(merd_session *s, bool full, uint64_t *revision);
  * the time limit or the internode limit, keeping whole steps. Returns 0 and the
  * outcome, or -1 with `why`. Blocks while another batch of this session runs. */
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
-                      merd_refusal *why);
+                       merd_refusal *why);
 
 /* Asks the running batch, if any, to stop at its next whole step. Returns
  * whether a batch was running. */

@@ -24,7 +24,7 @@ static int query_uint(merd_request *req, const char *key, uint32_t lo, uint32_t 
     unsigned long x = strtoul(v, &end, 10);
     if (end == v || *end != '\0' || x < lo || x > hi)
         return merd_refuse(why, 422, "out-of-range", key, "%s must be an integer from %u to %u, got '%.40s'",
-                          key, lo, hi, v);
+                           key, lo, hi, v);
     *out = (uint32_t)x;
     return 0;
 }
@@ -48,7 +48,7 @@ int merd_api_snapshot_options(merd_request *req, merd_snapshot_options *o, merd_
         int mode = merd_compression_parse(compress);
         if (mode < 0)
             return merd_refuse(why, 422, "out-of-range", "compress",
-                              "compress must be none or meshopt, got '%.40s'", compress);
+                               "compress must be none or meshopt, got '%.40s'", compress);
         o->compression = (uint32_t)mode;
     }
     const char *color = query(req, "color");
@@ -56,7 +56,7 @@ int merd_api_snapshot_options(merd_request *req, merd_snapshot_options *o, merd_
         int mode = merd_color_mode_parse(color);
         if (mode < 0)
             return merd_refuse(why, 422, "out-of-range", "color",
-                              "color must be none, order, light or age, got '%.40s'", color);
+                               "color must be none, order, light or age, got '%.40s'", color);
         o->mesh.color = (uint32_t)mode;
     }
     return 0;
