@@ -1,6 +1,7 @@
 /* meristemd — refusals and the library-result mapping (see refusal.h). */
 #include "config.h"
 
+#include <assert.h>
 #include <stdarg.h>
 #include <stdio.h>
 
@@ -28,6 +29,7 @@ static void append(char *out, size_t n, size_t *used, const char *text)
 
 void merd_path(char *out, size_t n, const char *where, const char *key)
 {
+    assert(n > 0);
     size_t used = 0;
     out[0] = '\0';
     append(out, n, &used, where);
@@ -49,6 +51,7 @@ static const struct {
 
 int merd_refuse_lib(merd_refusal *why, mer_result rc, const mer_error *err, const char *where)
 {
+    assert(rc != MER_OK && err != NULL);
     char f[MERD_FIELD_MAX];
     merd_path(f, sizeof f, where, err->field);
     unsigned status = 422;

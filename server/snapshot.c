@@ -2,6 +2,7 @@
  * snapshot.h). */
 #include "config.h"
 
+#include <assert.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,6 +63,7 @@ merd_snapshot *merd_snapshot_cache_get(merd_snapshot_cache *c, const char *key)
 void merd_snapshot_cache_put(merd_snapshot_cache *c, uint64_t revision, const char *key,
                              merd_snapshot *snap)
 {
+    assert(snap != NULL && key != NULL);
     for (size_t i = 0; i < MERD_SNAPSHOT_VARIANTS; i++)
         if (c->slot[i].snap != NULL && c->slot[i].revision != revision) {
             merd_snapshot_release(c->slot[i].snap);
