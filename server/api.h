@@ -7,15 +7,15 @@
 
 #include "server/request.h"
 
-enum MHD_Result mer_api_health(mer_request *req, const char *id);
-enum MHD_Result mer_api_presets(mer_request *req, const char *id);
-enum MHD_Result mer_api_metrics(mer_request *req, const char *id);
-enum MHD_Result mer_api_list(mer_request *req, const char *id);
-enum MHD_Result mer_api_create(mer_request *req, const char *id);
-enum MHD_Result mer_api_get(mer_request *req, const char *id);
-enum MHD_Result mer_api_delete(mer_request *req, const char *id);
-enum MHD_Result mer_api_edits(mer_request *req, const char *id);
-enum MHD_Result mer_api_snapshot(mer_request *req, const char *id);
-enum MHD_Result mer_api_cancel(mer_request *req, const char *id);
+enum MHD_Result merd_api_health(merd_request *req, const char *id);
+enum MHD_Result merd_api_presets(merd_request *req, const char *id);
+enum MHD_Result merd_api_metrics(merd_request *req, const char *id);
+enum MHD_Result merd_api_list(merd_request *req, const char *id);
+enum MHD_Result merd_api_create(merd_request *req, const char *id);
+enum MHD_Result merd_api_get(merd_request *req, const char *id);
+enum MHD_Result merd_api_delete(merd_request *req, const char *id);
+enum MHD_Result merd_api_edits(merd_request *req, const char *id);
+enum MHD_Result merd_api_snapshot(merd_request *req, const char *id);
+enum MHD_Result merd_api_cancel(merd_request *req, const char *id);
 
 #endif

@@ -8,12 +8,12 @@
 #include "server/session.h"
 #include "server/settings.h"
 
-typedef struct mer_app {
-    const mer_settings *settings;
-    mer_session_config session_config;
-    mer_registry *registry;
-    mer_jobs *jobs;
-    mer_metrics *metrics;
-} mer_app;
+typedef struct merd_app {
+    const merd_settings *settings;
+    merd_session_config session_config;
+    merd_registry *registry;
+    merd_jobs *jobs;
+    merd_metrics *metrics;
+} merd_app;
 
 #endif

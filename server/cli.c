@@ -18,6 +18,7 @@
 #include <meristem.h>
 
 #include "server/codec.h"
+#include "server/export.h"
 
 #define SETS_MAX 256
 
@@ -43,7 +44,7 @@ static void usage(FILE *out)
             "  --seed=S           random seed, 0..2^64-1 (default 0)\n"
             "  --set=KEY=VALUE    override one parameter, e.g. --set lambda=0.52 (repeatable)\n"
             "  -o, --output=FILE  write the snapshot: FILE.glb binary, FILE.gltf embedded JSON\n"
-            "  --detail=1..5      bark level of detail (default 3)\n"
+            "  --detail=1..5      bark level of detail (default %d)\n"
             "  --leaves           add leaf cards\n"
             "  --markers          add the marker points\n"
             "  --color=MODE       vertex colours: none, order, light or age (default none)\n"
@@ -53,7 +54,8 @@ static void usage(FILE *out)
             "                     three.js reads it, Blender does not)\n"
             "  --twig-lines       twigs in primitives of their own, each with a LINES\n"
             "                     primitive of their lines (a viewer's level of detail)\n"
-            "  --help, --version\n");
+            "  --help, --version\n",
+            MER_MESH_DETAIL_DEFAULT);
 }
 
 static int parse_u64(const char *text, uint64_t max, uint64_t *out)
@@ -127,38 +129,29 @@ static int grow(const grow_args *a)
         status = fail("growth stopped", &err);
         goto done;
     }
-    json_t *summary = mer_json_summary(scene);
+    json_t *summary = merd_json_summary(scene);
     json_object_set_new(summary, "preset", json_string(a->preset));
     json_object_set_new(summary, "seed", json_integer((json_int_t)a->seed));
 
     if (a->output != NULL) {
-        mer_mesh *mesh = NULL;
-        if (mer_mesh_build(scene, &a->mesh, &mesh, &err) != MER_OK) {
-            json_decref(summary);
-            status = fail("cannot mesh the tree", &err);
-            goto done;
-        }
         size_t n = strlen(a->output);
         mer_gltf_options gopt = {
             .format = n >= 5 && strcmp(a->output + n - 5, ".gltf") == 0 ? MER_GLTF_EMBEDDED
                                                                         : MER_GLTF_BINARY,
             .unquantized = a->unquantized,
             .compression = a->compression};
-        mer_gltf_meta meta = {.step = mer_scene_step_index(scene), .preset = a->preset,
-                              .seed = a->seed, .detail = a->mesh.detail ? a->mesh.detail : 3,
-                              .leaves = a->mesh.leaves, .markers = a->mesh.markers,
-                              .color = a->mesh.color};
+        merd_origin origin = {.preset = a->preset, .seed = a->seed};
         uint8_t *bytes = NULL;
-        size_t size = 0;
-        mer_result rc = mer_gltf_write_tree(mesh, &meta, &gopt, &bytes, &size, &err);
-        json_object_set_new(summary, "triangles",
-                            json_integer((json_int_t)(mesh->bark.index_count + mesh->leaves.index_count) / 3));
-        mer_mesh_free(mesh);
+        size_t size = 0, triangles = 0;
+        mer_result rc = merd_export_tree(scene, &a->mesh, &gopt, &origin, &bytes, &size,
+                                         &triangles, &err);
         if (rc != MER_OK) {
             json_decref(summary);
-            status = fail("cannot encode glTF", &err);
+            // Triangles are counted once the tree is meshed (a tree has at least one).
+            status = fail(triangles ? "cannot encode glTF" : "cannot mesh the tree", &err);
             goto done;
         }
+        json_object_set_new(summary, "triangles", json_integer((json_int_t)triangles));
         status = write_file(a->output, bytes, size);
         mer_gltf_free(bytes);
         json_object_set_new(summary, "bytes", json_integer((json_int_t)size));
@@ -184,6 +177,93 @@ static int list_presets(void)
     return 0;
 }
 
+/* grow's long options. */
+enum { O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
+       O_NO_TEXCOORDS, O_COMPRESS, O_TWIG_LINES };
+static const struct option longopts[] = {
+    {"preset", required_argument, NULL, O_PRESET}, {"steps", required_argument, NULL, O_STEPS},
+    {"seed", required_argument, NULL, O_SEED},     {"set", required_argument, NULL, O_SET},
+    {"output", required_argument, NULL, 'o'},      {"detail", required_argument, NULL, O_DETAIL},
+    {"leaves", no_argument, NULL, O_LEAVES},       {"markers", no_argument, NULL, O_MARKERS},
+    {"color", required_argument, NULL, O_COLOR},   {"unquantized", no_argument, NULL, O_UNQUANTIZED},
+    {"no-texcoords", no_argument, NULL, O_NO_TEXCOORDS},
+    {"twig-lines", no_argument, NULL, O_TWIG_LINES},
+    {"compress", required_argument, NULL, O_COMPRESS},
+    {0, 0, 0, 0}};
+
+/* Reads grow's options into *a: 0, or the exit status for a mistake (2). */
+static int parse_grow(int argc, char **argv, grow_args *a)
+{
+    optind = 2;
+    int c;
+    uint64_t v;
+    while ((c = getopt_long(argc, argv, "o:", longopts, NULL)) != -1) {
+        switch (c) {
+        case O_PRESET: a->preset = optarg; break;
+        case O_STEPS:
+            if (parse_u64(optarg, 100000, &v) != 0) {
+                fprintf(stderr, "meristem: --steps wants an integer from 0 to 100000, got '%s'\n", optarg);
+                return 2;
+            }
+            a->steps = (uint32_t)v;
+            break;
+        case O_SEED:
+            if (parse_u64(optarg, UINT64_MAX, &a->seed) != 0) {
+                fprintf(stderr, "meristem: --seed wants an integer from 0 to 2^64-1, got '%s'\n", optarg);
+                return 2;
+            }
+            break;
+        case O_SET:
+            if (a->set_count == SETS_MAX) {
+                fprintf(stderr, "meristem: at most %d --set options\n", SETS_MAX);
+                return 2;
+            }
+            a->sets[a->set_count++] = optarg;
+            break;
+        case 'o': a->output = optarg; break;
+        case O_DETAIL:
+            if (parse_u64(optarg, MER_MESH_DETAIL_MAX, &v) != 0 || v == 0) {
+                fprintf(stderr, "meristem: --detail wants an integer from 1 to %d, got '%s'\n",
+                        MER_MESH_DETAIL_MAX, optarg);
+                return 2;
+            }
+            a->mesh.detail = (uint32_t)v;
+            break;
+        case O_LEAVES: a->mesh.leaves = 1; break;
+        case O_MARKERS: a->mesh.markers = 1; break;
+        case O_UNQUANTIZED: a->unquantized = 1; break;
+        case O_NO_TEXCOORDS: a->mesh.no_uvs = 1; break;
+        case O_TWIG_LINES: a->mesh.twig_lines = 1; break;
+        case O_COMPRESS: {
+            int mode = merd_compression_parse(optarg);
+            if (mode < 0) {
+                fprintf(stderr, "meristem: --compress wants none or meshopt, got '%s'\n", optarg);
+                return 2;
+            }
+            a->compression = (uint32_t)mode;
+            break;
+        }
+        case O_COLOR: {
+            int mode = merd_color_mode_parse(optarg);
+            if (mode < 0) {
+                fprintf(stderr, "meristem: --color wants none, order, light or age, got '%s'\n", optarg);
+                return 2;
+            }
+            a->mesh.color = (uint32_t)mode;
+            break;
+        }
+        default:
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "meristem: unexpected argument '%s'\n", argv[optind]);
+        return 2;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
@@ -200,86 +280,7 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
-
     grow_args a = {.preset = "default", .steps = 20};
-    enum { O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
-           O_NO_TEXCOORDS, O_COMPRESS, O_TWIG_LINES };
-    static const struct option longopts[] = {
-        {"preset", required_argument, NULL, O_PRESET}, {"steps", required_argument, NULL, O_STEPS},
-        {"seed", required_argument, NULL, O_SEED},     {"set", required_argument, NULL, O_SET},
-        {"output", required_argument, NULL, 'o'},      {"detail", required_argument, NULL, O_DETAIL},
-        {"leaves", no_argument, NULL, O_LEAVES},       {"markers", no_argument, NULL, O_MARKERS},
-        {"color", required_argument, NULL, O_COLOR},   {"unquantized", no_argument, NULL, O_UNQUANTIZED},
-        {"no-texcoords", no_argument, NULL, O_NO_TEXCOORDS},
-        {"twig-lines", no_argument, NULL, O_TWIG_LINES},
-        {"compress", required_argument, NULL, O_COMPRESS},
-        {0, 0, 0, 0}};
-    optind = 2;
-    int c;
-    uint64_t v;
-    while ((c = getopt_long(argc, argv, "o:", longopts, NULL)) != -1) {
-        switch (c) {
-        case O_PRESET: a.preset = optarg; break;
-        case O_STEPS:
-            if (parse_u64(optarg, 100000, &v) != 0) {
-                fprintf(stderr, "meristem: --steps wants an integer from 0 to 100000, got '%s'\n", optarg);
-                return 2;
-            }
-            a.steps = (uint32_t)v;
-            break;
-        case O_SEED:
-            if (parse_u64(optarg, UINT64_MAX, &a.seed) != 0) {
-                fprintf(stderr, "meristem: --seed wants an integer from 0 to 2^64-1, got '%s'\n", optarg);
-                return 2;
-            }
-            break;
-        case O_SET:
-            if (a.set_count == SETS_MAX) {
-                fprintf(stderr, "meristem: at most %d --set options\n", SETS_MAX);
-                return 2;
-            }
-            a.sets[a.set_count++] = optarg;
-            break;
-        case 'o': a.output = optarg; break;
-        case O_DETAIL:
-            if (parse_u64(optarg, MER_MESH_DETAIL_MAX, &v) != 0 || v == 0) {
-                fprintf(stderr, "meristem: --detail wants an integer from 1 to %d, got '%s'\n",
-                        MER_MESH_DETAIL_MAX, optarg);
-                return 2;
-            }
-            a.mesh.detail = (uint32_t)v;
-            break;
-        case O_LEAVES: a.mesh.leaves = 1; break;
-        case O_MARKERS: a.mesh.markers = 1; break;
-        case O_UNQUANTIZED: a.unquantized = 1; break;
-        case O_NO_TEXCOORDS: a.mesh.no_uvs = 1; break;
-        case O_TWIG_LINES: a.mesh.twig_lines = 1; break;
-        case O_COMPRESS: {
-            int mode = mer_compression_parse(optarg);
-            if (mode < 0) {
-                fprintf(stderr, "meristem: --compress wants none or meshopt, got '%s'\n", optarg);
-                return 2;
-            }
-            a.compression = (uint32_t)mode;
-            break;
-        }
-        case O_COLOR: {
-            int mode = mer_color_mode_parse(optarg);
-            if (mode < 0) {
-                fprintf(stderr, "meristem: --color wants none, order, light or age, got '%s'\n", optarg);
-                return 2;
-            }
-            a.mesh.color = (uint32_t)mode;
-            break;
-        }
-        default:
-            usage(stderr);
-            return 2;
-        }
-    }
-    if (optind < argc) {
-        fprintf(stderr, "meristem: unexpected argument '%s'\n", argv[optind]);
-        return 2;
-    }
-    return grow(&a);
+    int status = parse_grow(argc, argv, &a);
+    return status != 0 ? status : grow(&a);
 }

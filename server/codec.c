@@ -8,7 +8,7 @@
 
 #include "server/codec.h"
 
-json_t *mer_json_float(float x)
+json_t *merd_json_float(float x)
 {
     char text[32];
     for (int digits = 6; digits <= 9; digits++) {
@@ -19,19 +19,19 @@ json_t *mer_json_float(float x)
     return json_real(strtod(text, NULL));
 }
 
-json_t *mer_json_param(double v)
+json_t *merd_json_param(double v)
 {
     if (v == (double)(json_int_t)v && v > -9007199254740992.0 && v < 9007199254740992.0)
         return json_integer((json_int_t)v);
-    return mer_json_float((float)v);
+    return merd_json_float((float)v);
 }
 
 static json_t *vec3(const float v[3])
 {
-    return json_pack("[o, o, o]", mer_json_float(v[0]), mer_json_float(v[1]), mer_json_float(v[2]));
+    return json_pack("[o, o, o]", merd_json_float(v[0]), merd_json_float(v[1]), merd_json_float(v[2]));
 }
 
-json_t *mer_json_summary(const mer_scene *scene)
+json_t *merd_json_summary(const mer_scene *scene)
 {
     mer_summary s;
     mer_scene_summary(scene, &s);
@@ -41,12 +41,12 @@ json_t *mer_json_summary(const mer_scene *scene)
                      "step", (json_int_t)s.step, "plants", (json_int_t)s.plants,
                      "internodes", (json_int_t)s.internodes, "buds", (json_int_t)s.buds,
                      "flowers", (json_int_t)s.flowers, "markers", (json_int_t)s.markers,
-                     "height", mer_json_float(s.height), "crown_width", mer_json_float(s.crown_width),
-                     "crown_base", mer_json_float(s.crown_base), "crown_depth", mer_json_float(s.crown_depth),
+                     "height", merd_json_float(s.height), "crown_width", merd_json_float(s.crown_width),
+                     "crown_base", merd_json_float(s.crown_base), "crown_depth", merd_json_float(s.crown_depth),
                      "bounds", "min", vec3(s.bbox_min), "max", vec3(s.bbox_max), "hash", hash);
 }
 
-int mer_color_mode_parse(const char *name)
+int merd_color_mode_parse(const char *name)
 {
     static const char *const names[] = {"none", "order", "light", "age"};
     for (int i = 0; i < 4; i++)
@@ -55,7 +55,7 @@ int mer_color_mode_parse(const char *name)
     return -1;
 }
 
-int mer_compression_parse(const char *name)
+int merd_compression_parse(const char *name)
 {
     if (strcmp(name, "none") == 0)
         return MER_GLTF_UNCOMPRESSED;
@@ -64,43 +64,43 @@ int mer_compression_parse(const char *name)
     return -1;
 }
 
-bool mer_param_in_schedule(const char *name)
+bool merd_param_in_schedule(const char *name)
 {
     return strncmp(name, "apical_off.", 11) == 0 || strncmp(name, "eta_order_scale.", 16) == 0;
 }
 
-json_t *mer_json_params(const mer_params *p)
+json_t *merd_json_params(const mer_params *p)
 {
     json_t *o = json_object();
     for (size_t i = 0; i < mer_params_field_count(); i++) {
         const char *name = mer_params_field_name(i);
         double v;
-        if (!mer_param_in_schedule(name) && mer_params_get(p, name, &v, NULL) == MER_OK)
-            json_object_set_new(o, name, mer_json_param(v));
+        if (!merd_param_in_schedule(name) && mer_params_get(p, name, &v, NULL) == MER_OK)
+            json_object_set_new(o, name, merd_json_param(v));
     }
     return o;
 }
 
-json_t *mer_json_schedule(const mer_schedule *s)
+json_t *merd_json_schedule(const mer_schedule *s)
 {
     json_t *apical = json_array(), *scale = json_array(), *lk = json_array(), *ek = json_array();
     for (int k = 0; k < MER_ORDERS_MAX; k++) {
         json_array_append_new(apical, s->apical_off[k] == MER_NEVER
                                           ? json_null()
                                           : json_integer((json_int_t)s->apical_off[k]));
-        json_array_append_new(scale, mer_json_float(s->eta_order_scale[k]));
+        json_array_append_new(scale, merd_json_float(s->eta_order_scale[k]));
     }
     for (uint32_t k = 0; k < s->lambda_key_count; k++)
-        json_array_append_new(lk, json_pack("[o, o]", mer_json_float(s->lambda_keys[k].step),
-                                            mer_json_float(s->lambda_keys[k].value)));
+        json_array_append_new(lk, json_pack("[o, o]", merd_json_float(s->lambda_keys[k].step),
+                                            merd_json_float(s->lambda_keys[k].value)));
     for (uint32_t k = 0; k < s->eta_key_count; k++)
-        json_array_append_new(ek, json_pack("[o, o]", mer_json_float(s->eta_keys[k].step),
-                                            mer_json_float(s->eta_keys[k].value)));
+        json_array_append_new(ek, json_pack("[o, o]", merd_json_float(s->eta_keys[k].step),
+                                            merd_json_float(s->eta_keys[k].value)));
     return json_pack("{s:o, s:o, s:o, s:o}", "apical_off", apical, "eta_order_scale", scale,
                      "lambda_keys", lk, "eta_keys", ek);
 }
 
-int mer_base64_decode(const char *in, uint8_t **out, size_t *size)
+int merd_base64_decode(const char *in, uint8_t **out, size_t *size)
 {
     size_t n = strlen(in);
     while (n > 0 && in[n - 1] == '=')

@@ -16,40 +16,40 @@
 /* The scene summary as an object (new reference; NULL when out of memory):
  * step, plants, internodes, buds, flowers, markers, height, crown_width,
  * crown_base, crown_depth, bounds {min, max}, hash (hex digest of the scene). */
-json_t *mer_json_summary(const mer_scene *scene);
+json_t *merd_json_summary(const mer_scene *scene);
 
 /* A float as the shortest decimal that reads back as the same float, so 0.55f
  * prints as 0.55, not 0.550000011920929 (new reference). */
-json_t *mer_json_float(float x);
+json_t *merd_json_float(float x);
 
 /* A parameter value: integral values as integers (exact, e.g. marker_count),
- * others as mer_json_float (parameters are floats). */
-json_t *mer_json_param(double v);
+ * others as merd_json_float (parameters are floats). */
+json_t *merd_json_param(double v);
 
 /* Every named parameter but those of the schedule, by name (new reference). */
-json_t *mer_json_params(const mer_params *p);
+json_t *merd_json_params(const mer_params *p);
 
 /* The apical-control schedule: apical_off by order (null: never),
  * eta_order_scale, lambda_keys and eta_keys as [step, value] (new reference). */
-json_t *mer_json_schedule(const mer_schedule *s);
+json_t *merd_json_schedule(const mer_schedule *s);
 
 /* True for the named fields that belong to the schedule (apical_off.N, ...). */
-bool mer_param_in_schedule(const char *name);
+bool merd_param_in_schedule(const char *name);
 
 /* json_dumps flags for replies: compact, reals with 15 significant digits
- * (enough for every double that came from a float via mer_json_float). */
-#define MER_JSON_DUMP_FLAGS (JSON_COMPACT | JSON_REAL_PRECISION(15))
+ * (enough for every double that came from a float via merd_json_float). */
+#define MERD_JSON_DUMP_FLAGS (JSON_COMPACT | JSON_REAL_PRECISION(15))
 
 /* Decodes standard base64 (RFC 4648 §4, padding optional, no whitespace)
  * into *out (caller frees). 0, or -1 for a character outside the alphabet or a
  * bad length. */
-int mer_base64_decode(const char *in, uint8_t **out, size_t *size);
+int merd_base64_decode(const char *in, uint8_t **out, size_t *size);
 
 /* Parses a colour mode name ("none", "order", "light", "age"). -1 if unknown. */
-int mer_color_mode_parse(const char *name);
+int merd_color_mode_parse(const char *name);
 
 /* Parses a snapshot compression name ("none", "meshopt") into a
  * mer_gltf_compression. -1 if unknown. */
-int mer_compression_parse(const char *name);
+int merd_compression_parse(const char *name);
 
 #endif

@@ -2,9 +2,10 @@
  *
  * Decoding checks everything that does not depend on the tree (ops, fields,
  * types, ranges, request limits) before anything is applied, so most refusals
- * cost nothing. What depends on the tree (is this node alive?) is found while
- * applying; the caller then restores the session from its journal, which makes
- * a batch all or none.
+ * cost nothing. What depends on the tree (is this node alive?) the library
+ * finds while applying; the caller then restores the session from its journal,
+ * which makes a batch all or none. The ops themselves are one table
+ * (edit_ops.c).
  */
 #ifndef MERISTEMD_EDITS_H
 #define MERISTEMD_EDITS_H
@@ -17,64 +18,51 @@
 
 #include <meristem.h>
 
-/* Why a request was refused: everything a problem+json body needs. */
-typedef struct mer_refusal {
-    unsigned status;  /* 400, 404, 409, 413, 415, 422, 429, 500, 503 */
-    char slug[40];    /* urn:meristem:problem:SLUG */
-    char field[96];   /* JSON path of the input at fault, or "" */
-    char detail[400];
-} mer_refusal;
+#include "server/refusal.h"
 
-/* Fills `why` and returns -1, for `return mer_refuse(...)`. */
-int mer_refuse(mer_refusal *why, unsigned status, const char *slug, const char *field,
-               const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 5, 6)))
-#endif
-    ;
+/* The most edits one {"edits": [...]} batch may hold. */
+#define MERD_BATCH_EDITS_MAX 10000
 
 /* Request limits, from meristemd's settings. */
-typedef struct mer_edit_limits {
+typedef struct merd_edit_limits {
     uint32_t max_steps;      /* steps in one request */
     uint32_t max_markers;    /* markers one request may add (points, or a dab with its copies) */
-} mer_edit_limits;
+} merd_edit_limits;
 
-typedef struct mer_batch mer_batch;
+typedef struct merd_batch merd_batch;
 
 /* Decodes a request body: one edit object or {"edits": [...]}. On success
- * *out (caller frees with mer_batch_free) holds the checked edits; on failure
+ * *out (caller frees with merd_batch_free) holds the checked edits; on failure
  * `why` says what and where (400 for an unknown op or field, 422 for a wrong
  * type or value). `body` is borrowed. */
-int mer_batch_decode(const json_t *body, const mer_edit_limits *limits, mer_batch **out,
-                     mer_refusal *why);
+int merd_batch_decode(const json_t *body, const merd_edit_limits *limits, merd_batch **out,
+                      merd_refusal *why);
 
-void mer_batch_free(mer_batch *b);
+void merd_batch_free(merd_batch *b);
 
 /* How a batch went: steps done of those asked, and whether it stopped early. */
-typedef struct mer_batch_outcome {
+typedef struct merd_batch_outcome {
     uint32_t steps_done;
     uint32_t steps_asked;
-    const char *interrupted;   /* NULL, "cancelled" or "time limit" */
-} mer_batch_outcome;
+    /* NULL, or why it stopped: what the stop function said ("cancelled",
+     * "time limit", "internode limit"). */
+    const char *interrupted;
+} merd_batch_outcome;
 
-/* Called between steps; returns non-zero to stop at this whole step. */
-typedef int (*mer_batch_stop_fn)(void *ctx, uint32_t done, uint32_t total);
+/* Called between steps: NULL to go on, or why to stop at this whole step (a
+ * static string, which becomes the outcome's `interrupted`). */
+typedef const char *(*merd_batch_stop_fn)(void *ctx, uint32_t done, uint32_t total);
 
 /* Applies the edits in order. Stops early, keeping whole steps, when `stop`
- * says so (cancel, time limit, internode limit); later edits are then not
- * applied. Returns 0, or -1 with `why` (the scene may then be partly changed:
- * the caller restores it). `*applied` (new reference) is the JSON of what was
- * applied, for the journal: the edits as given, a stopped step with the count
- * done, the edits after it left out. */
-int mer_batch_apply(const mer_batch *b, mer_scene *scene, mer_batch_stop_fn stop, void *ctx,
-                    mer_batch_outcome *outcome, json_t **applied, mer_refusal *why);
+ * says so; later edits are then not applied. Returns 0, or -1 with `why` (the
+ * scene may then be partly changed: the caller restores it). `*applied` (new
+ * reference) is the JSON of what was applied, for the journal: the edits as
+ * given, a stopped step with the count done, the edits after it left out. */
+int merd_batch_apply(const merd_batch *b, mer_scene *scene, merd_batch_stop_fn stop, void *ctx,
+                     merd_batch_outcome *outcome, json_t **applied, merd_refusal *why);
 
 /* Decodes and applies a journaled `applied` array (replay): the same edits,
  * never stopped. 0, or -1 with `why`. */
-int mer_batch_replay(const json_t *applied, mer_scene *scene, mer_refusal *why);
-
-/* Sets named parameters from a JSON object onto `p` (which holds the base
- * values), checking names and ranges; `where` prefixes field paths. */
-int mer_params_from_json(const json_t *obj, mer_params *p, const char *where, mer_refusal *why);
+int merd_batch_replay(const json_t *applied, mer_scene *scene, merd_refusal *why);
 
 #endif

@@ -12,24 +12,18 @@
 #include <sys/socket.h>
 
 #include "server/app.h"
+#include "server/clock.h"
 #include "server/http.h"
 #include "server/request.h"
 #include "server/routes.h"
 
-struct mer_server {
+struct merd_server {
     struct MHD_Daemon *daemon;
-    mer_app *app;
-    mer_settings config;
+    merd_app *app;
+    merd_settings config;
     char web_root[PATH_MAX];   /* canonical */
     struct sockaddr_storage address;
 };
-
-static double elapsed_ms(const struct timespec *since)
-{
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (double)(now.tv_sec - since->tv_sec) * 1e3 + (double)(now.tv_nsec - since->tv_nsec) / 1e6;
-}
 
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, const char *url,
                                   const char *method, const char *version,
@@ -37,8 +31,8 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
                                   void **state)
 {
     (void)version;
-    mer_server *server = cls;
-    mer_request *req = *state;
+    merd_server *server = cls;
+    merd_request *req = *state;
 
     if (req == NULL) {
         req = calloc(1, sizeof *req);
@@ -50,7 +44,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         req->route = "unknown";
         req->method = method;
         req->url = url;
-        clock_gettime(CLOCK_MONOTONIC, &req->started);
+        req->started = merd_now();
         *state = req;
         // Refuse an announced oversize body before reading any of it.
         const char *length = MHD_lookup_connection_value(connection, MHD_HEADER_KIND,
@@ -60,14 +54,14 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         return MHD_YES;
     }
 
-    if (req->async == MER_ASYNC_READY) {
+    if (req->async == MERD_ASYNC_READY) {
         // A worker has answered while the connection was suspended.
-        req->async = MER_ASYNC_NONE;
+        req->async = MERD_ASYNC_NONE;
         struct MHD_Response *r = req->pending;
         req->pending = NULL;
-        return mer_reply(req, req->pending_status, r, req->pending_size);
+        return merd_reply(req, req->pending_status, r, req->pending_size);
     }
-    if (req->async == MER_ASYNC_WAITING)
+    if (req->async == MERD_ASYNC_WAITING)
         return MHD_YES;
 
     if (*upload_data_size != 0) {
@@ -92,9 +86,9 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         snprintf(detail, sizeof detail,
                  "the request body is larger than %ld bytes (meristemd --max-body)",
                  server->config.body_limit);
-        return mer_reply_problem(req, 413, "body-too-large", "Content Too Large", detail);
+        return merd_reply_problem(req, 413, "body-too-large", "Content Too Large", detail);
     }
-    return mer_route(req, server->web_root);
+    return merd_route(req, server->web_root);
 }
 
 static int hex_value(char c)
@@ -134,24 +128,24 @@ static void on_completed(void *cls, struct MHD_Connection *connection, void **st
                          enum MHD_RequestTerminationCode code)
 {
     (void)connection;
-    mer_server *server = cls;
-    mer_request *req = *state;
+    merd_server *server = cls;
+    merd_request *req = *state;
     if (req == NULL)
         return;
     if (server->app != NULL)
-        mer_metrics_request(server->app->metrics, req->route, req->status);
+        merd_metrics_request(server->app->metrics, req->route, req->status);
     if (req->pending != NULL)
         MHD_destroy_response(req->pending);
     if (!server->config.quiet)
         printf("%s %s %u %llu %.2fms%s\n", req->method, req->url, req->status,
-               (unsigned long long)req->bytes_out, elapsed_ms(&req->started),
+               (unsigned long long)req->bytes_out, (merd_now() - req->started) * 1e3,
                code == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " (aborted)");
     free(req->body);
     free(req);
     *state = NULL;
 }
 
-static bool resolve_bind(mer_server *server, FILE *err)
+static bool resolve_bind(merd_server *server, FILE *err)
 {
     struct addrinfo hints = {.ai_flags = AI_NUMERICHOST | AI_PASSIVE, .ai_socktype = SOCK_STREAM};
     struct addrinfo *found = NULL;
@@ -168,9 +162,9 @@ static bool resolve_bind(mer_server *server, FILE *err)
     return true;
 }
 
-mer_server *mer_server_start(const mer_settings *config, mer_app *app, FILE *err)
+merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE *err)
 {
-    mer_server *server = calloc(1, sizeof *server);
+    merd_server *server = calloc(1, sizeof *server);
     if (server == NULL)
         return NULL;
     server->config = *config;
@@ -208,14 +202,14 @@ mer_server *mer_server_start(const mer_settings *config, mer_app *app, FILE *err
     return server;
 }
 
-unsigned mer_server_port(const mer_server *server)
+unsigned merd_server_port(const merd_server *server)
 {
     const union MHD_DaemonInfo *info =
         MHD_get_daemon_info(server->daemon, MHD_DAEMON_INFO_BIND_PORT);
     return info != NULL ? info->port : (unsigned)server->config.port;
 }
 
-void mer_server_stop(mer_server *server)
+void merd_server_stop(merd_server *server)
 {
     if (server == NULL)
         return;

@@ -6,18 +6,18 @@
 
 #include "server/settings.h"
 
-typedef struct mer_server mer_server;
-typedef struct mer_app mer_app;
+typedef struct merd_server merd_server;
+typedef struct merd_app merd_app;
 
 /* Starts listening as `config` says (copied), answering with `app` (borrowed;
  * may be NULL only in tests of static files). Returns NULL after printing the
  * reason to `err`. The web root must exist. */
-mer_server *mer_server_start(const mer_settings *config, mer_app *app, FILE *err);
+merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE *err);
 
 /* The TCP port actually bound (useful with --port 0). */
-unsigned mer_server_port(const mer_server *server);
+unsigned merd_server_port(const merd_server *server);
 
 /* Stops accepting, finishes or drops open connections, frees everything. NULL is fine. */
-void mer_server_stop(mer_server *server);
+void merd_server_stop(merd_server *server);
 
 #endif

@@ -8,12 +8,12 @@
 #include "server/jobs.h"
 
 typedef struct job {
-    mer_job_fn fn;
+    merd_job_fn fn;
     void *arg;
     struct job *next;
 } job;
 
-struct mer_jobs {
+struct merd_jobs {
     pthread_mutex_t lock;
     pthread_cond_t ready;
     job *head, *tail;
@@ -25,7 +25,7 @@ struct mer_jobs {
 
 static void *worker(void *arg)
 {
-    mer_jobs *jobs = arg;
+    merd_jobs *jobs = arg;
     for (;;) {
         pthread_mutex_lock(&jobs->lock);
         while (jobs->head == NULL && !jobs->stopping)
@@ -45,9 +45,9 @@ static void *worker(void *arg)
     }
 }
 
-mer_jobs *mer_jobs_start(size_t threads)
+merd_jobs *merd_jobs_start(size_t threads)
 {
-    mer_jobs *jobs = calloc(1, sizeof *jobs);
+    merd_jobs *jobs = calloc(1, sizeof *jobs);
     if (jobs == NULL)
         return NULL;
     pthread_mutex_init(&jobs->lock, NULL);
@@ -61,13 +61,13 @@ mer_jobs *mer_jobs_start(size_t threads)
         if (pthread_create(&jobs->workers[jobs->threads], NULL, worker, jobs) != 0)
             break;
     if (jobs->threads == 0) {
-        mer_jobs_stop(jobs);
+        merd_jobs_stop(jobs);
         return NULL;
     }
     return jobs;
 }
 
-int mer_jobs_submit(mer_jobs *jobs, mer_job_fn fn, void *arg)
+int merd_jobs_submit(merd_jobs *jobs, merd_job_fn fn, void *arg)
 {
     job *j = malloc(sizeof *j);
     if (j == NULL)
@@ -90,7 +90,7 @@ int mer_jobs_submit(mer_jobs *jobs, mer_job_fn fn, void *arg)
     return 0;
 }
 
-size_t mer_jobs_pending(mer_jobs *jobs)
+size_t merd_jobs_pending(merd_jobs *jobs)
 {
     pthread_mutex_lock(&jobs->lock);
     size_t n = jobs->pending;
@@ -98,7 +98,7 @@ size_t mer_jobs_pending(mer_jobs *jobs)
     return n;
 }
 
-void mer_jobs_stop(mer_jobs *jobs)
+void merd_jobs_stop(merd_jobs *jobs)
 {
     if (jobs == NULL)
         return;

@@ -6,20 +6,20 @@
 
 #include <stddef.h>
 
-typedef struct mer_jobs mer_jobs;
-typedef void (*mer_job_fn)(void *arg);
+typedef struct merd_jobs merd_jobs;
+typedef void (*merd_job_fn)(void *arg);
 
 /* Starts `threads` workers. NULL on failure. */
-mer_jobs *mer_jobs_start(size_t threads);
+merd_jobs *merd_jobs_start(size_t threads);
 
 /* Queues fn(arg); runs in submission order across the workers. 0, or -1 when
  * out of memory or stopping. */
-int mer_jobs_submit(mer_jobs *jobs, mer_job_fn fn, void *arg);
+int merd_jobs_submit(merd_jobs *jobs, merd_job_fn fn, void *arg);
 
 /* Jobs queued and not yet started. */
-size_t mer_jobs_pending(mer_jobs *jobs);
+size_t merd_jobs_pending(merd_jobs *jobs);
 
 /* Runs every queued job, then joins the workers and frees the pool. NULL is fine. */
-void mer_jobs_stop(mer_jobs *jobs);
+void merd_jobs_stop(merd_jobs *jobs);
 
 #endif

@@ -15,10 +15,10 @@
 
 #include "server/journal.h"
 
-struct mer_journal {
+struct merd_journal {
     int fd;
     char path[PATH_MAX];
-    mer_fsync_mode mode;
+    merd_fsync_mode mode;
     off_t size;      /* bytes of whole records */
     size_t records;
     bool dirty;      /* appended since the last fsync */
@@ -46,7 +46,7 @@ static uint32_t checksum(const char *payload, size_t size)
 
 static int fail(char *error, const char *what, const char *path)
 {
-    snprintf(error, MER_JOURNAL_ERROR_MAX, "%.40s %.140s: %.60s", what, path, strerror(errno));
+    snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.40s %.140s: %.60s", what, path, strerror(errno));
     return -1;
 }
 
@@ -77,16 +77,16 @@ static int write_all(int fd, const unsigned char *p, size_t n)
     return 0;
 }
 
-int mer_journal_append(mer_journal *j, const char *payload, size_t size, char *error)
+int merd_journal_append(merd_journal *j, const char *payload, size_t size, char *error)
 {
-    if (size > MER_JOURNAL_RECORD_MAX) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "a journal record is at most %u bytes, not %zu",
-                 MER_JOURNAL_RECORD_MAX, size);
+    if (size > MERD_JOURNAL_RECORD_MAX) {
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "a journal record is at most %u bytes, not %zu",
+                 MERD_JOURNAL_RECORD_MAX, size);
         return -1;
     }
     unsigned char *buf = malloc(HEADER + size);
     if (buf == NULL) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "out of memory for a journal record");
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory for a journal record");
         return -1;
     }
     put_u32(buf, (uint32_t)size);
@@ -96,7 +96,7 @@ int mer_journal_append(mer_journal *j, const char *payload, size_t size, char *e
     // one that replay detects, never a record that reads as whole but is not.
     int rc = write_all(j->fd, buf, HEADER + size);
     free(buf);
-    if (rc == 0 && j->mode == MER_FSYNC_ALWAYS)
+    if (rc == 0 && j->mode == MERD_FSYNC_ALWAYS)
         rc = fdatasync(j->fd);
     if (rc != 0) {
         fail(error, "cannot append to", j->path);
@@ -107,15 +107,15 @@ int mer_journal_append(mer_journal *j, const char *payload, size_t size, char *e
     }
     j->size += (off_t)(HEADER + size);
     j->records++;
-    j->dirty = j->mode != MER_FSYNC_ALWAYS;
+    j->dirty = j->mode != MERD_FSYNC_ALWAYS;
     return 0;
 }
 
-static mer_journal *journal_new(const char *path, mer_fsync_mode mode, char *error)
+static merd_journal *journal_new(const char *path, merd_fsync_mode mode, char *error)
 {
-    mer_journal *j = calloc(1, sizeof *j);
+    merd_journal *j = calloc(1, sizeof *j);
     if (j == NULL) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "out of memory for a journal");
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory for a journal");
         return NULL;
     }
     snprintf(j->path, sizeof j->path, "%s", path);
@@ -124,10 +124,10 @@ static mer_journal *journal_new(const char *path, mer_fsync_mode mode, char *err
     return j;
 }
 
-mer_journal *mer_journal_create(const char *path, const char *first, size_t size,
-                                mer_fsync_mode mode, char *error)
+merd_journal *merd_journal_create(const char *path, const char *first, size_t size,
+                                  merd_fsync_mode mode, char *error)
 {
-    mer_journal *j = journal_new(path, mode, error);
+    merd_journal *j = journal_new(path, mode, error);
     if (j == NULL)
         return NULL;
     j->fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
@@ -136,9 +136,9 @@ mer_journal *mer_journal_create(const char *path, const char *first, size_t size
         free(j);
         return NULL;
     }
-    if (mer_journal_append(j, first, size, error) != 0 ||
-        (mode == MER_FSYNC_ALWAYS && sync_folder(path) != 0 && fail(error, "cannot sync the folder of", path))) {
-        mer_journal_close(j, true);
+    if (merd_journal_append(j, first, size, error) != 0 ||
+        (mode == MERD_FSYNC_ALWAYS && sync_folder(path) != 0 && fail(error, "cannot sync the folder of", path))) {
+        merd_journal_close(j, true);
         return NULL;
     }
     return j;
@@ -166,7 +166,7 @@ static int read_file(const char *path, unsigned char **out, size_t *size, char *
     }
     close(fd);
     if (buf == NULL) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "out of memory reading %.200s", path);
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory reading %.200s", path);
         return -1;
     }
     *out = buf;
@@ -174,8 +174,8 @@ static int read_file(const char *path, unsigned char **out, size_t *size, char *
     return 0;
 }
 
-mer_journal *mer_journal_open(const char *path, mer_fsync_mode mode, mer_journal_record_fn fn,
-                              void *ctx, size_t *dropped, char *error)
+merd_journal *merd_journal_open(const char *path, merd_fsync_mode mode, merd_journal_record_fn fn,
+                                void *ctx, size_t *dropped, char *error)
 {
     unsigned char *data = NULL;
     size_t size = 0;
@@ -184,11 +184,11 @@ mer_journal *mer_journal_open(const char *path, mer_fsync_mode mode, mer_journal
     size_t at = 0, index = 0;
     while (size - at >= HEADER) {
         uint32_t len = get_u32(data + at);
-        if (len > MER_JOURNAL_RECORD_MAX || len > size - at - HEADER ||
+        if (len > MERD_JOURNAL_RECORD_MAX || len > size - at - HEADER ||
             get_u32(data + at + 4) != checksum((const char *)data + at + HEADER, len))
             break;  // torn or corrupt: the journal ends at the last whole record
         if (fn != NULL && fn(ctx, index, (const char *)data + at + HEADER, len) != 0) {
-            snprintf(error, MER_JOURNAL_ERROR_MAX, "record %zu of %.180s could not be replayed", index, path);
+            snprintf(error, MERD_JOURNAL_ERROR_MAX, "record %zu of %.180s could not be replayed", index, path);
             free(data);
             return NULL;
         }
@@ -197,13 +197,13 @@ mer_journal *mer_journal_open(const char *path, mer_fsync_mode mode, mer_journal
     }
     free(data);
     if (index == 0) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "%.200s has no whole record", path);
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s has no whole record", path);
         return NULL;
     }
     if (dropped != NULL)
         *dropped = size - at;
 
-    mer_journal *j = journal_new(path, mode, error);
+    merd_journal *j = journal_new(path, mode, error);
     if (j == NULL)
         return NULL;
     j->size = (off_t)at;
@@ -219,7 +219,7 @@ mer_journal *mer_journal_open(const char *path, mer_fsync_mode mode, mer_journal
     return j;
 }
 
-int mer_journal_sync(mer_journal *j)
+int merd_journal_sync(merd_journal *j)
 {
     if (j == NULL || !j->dirty)
         return 0;
@@ -229,17 +229,17 @@ int mer_journal_sync(mer_journal *j)
     return 0;
 }
 
-size_t mer_journal_records(const mer_journal *j)
+size_t merd_journal_records(const merd_journal *j)
 {
     return j->records;
 }
 
-void mer_journal_close(mer_journal *j, bool remove)
+void merd_journal_close(merd_journal *j, bool remove)
 {
     if (j == NULL)
         return;
     if (!remove)
-        mer_journal_sync(j);
+        merd_journal_sync(j);
     close(j->fd);
     if (remove) {
         unlink(j->path);

@@ -8,19 +8,29 @@ server_meristemd_SOURCES = \
 	server/routes.c server/routes.h \
 	server/static_files.c server/static_files.h \
 	server/codec.c server/codec.h \
+	server/refusal.c server/refusal.h \
+	server/decode.c server/decode.h \
+	server/spec.c server/spec.h \
+	server/edit_ops.c server/edit_ops.h \
 	server/edits.c server/edits.h \
 	server/journal.c server/journal.h \
-	server/session.c server/session.h \
+	server/session.c server/session.h server/session_private.h \
+	server/session_summary.c server/session_snapshot.c \
+	server/snapshot.c server/snapshot.h \
+	server/export.c server/export.h \
+	server/clock.h \
 	server/registry.c server/registry.h \
 	server/jobs.c server/jobs.h \
 	server/metrics.c server/metrics.h \
-	server/api.c server/api.h \
+	server/api.h server/api/private.h \
+	server/api/async.c server/api/meta.c server/api/sessions.c \
+	server/api/edits.c server/api/snapshot.c \
 	server/app.h
 server_meristemd_CPPFLAGS = $(AM_CPPFLAGS) -DMER_WEB_ROOT='"$(webdir)"' $(MHD_CFLAGS) $(JANSSON_CFLAGS) $(ZLIB_CFLAGS)
 server_meristemd_LDADD = lib/libmeristem.la $(MHD_LIBS) $(JANSSON_LIBS) $(ZLIB_LIBS)
 
 # meristem: the offline command line (grow from a preset, write a GLB).
 bin_PROGRAMS += server/meristem
-server_meristem_SOURCES = server/cli.c server/codec.c server/codec.h
+server_meristem_SOURCES = server/cli.c server/codec.c server/codec.h server/export.c server/export.h
 server_meristem_CPPFLAGS = $(AM_CPPFLAGS) $(JANSSON_CFLAGS)
 server_meristem_LDADD = lib/libmeristem.la $(JANSSON_LIBS)

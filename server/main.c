@@ -13,16 +13,47 @@
 #include <meristem/version.h>
 
 #include "server/app.h"
+#include "server/clock.h"
 #include "server/http.h"
 #include "server/settings.h"
 
+/* What sessions need of the settings. */
+static merd_session_config session_config(const merd_settings *config)
+{
+    return (merd_session_config){
+        .data_dir = config->data_dir,
+        .fsync = strcmp(config->fsync, "interval") == 0 ? MERD_FSYNC_INTERVAL : MERD_FSYNC_ALWAYS,
+        .limits = {.max_steps = (uint32_t)config->max_steps,
+                   .max_markers = (uint32_t)config->max_markers},
+        .max_internodes = (uint32_t)config->max_internodes,
+        .max_seconds = (double)config->max_seconds,
+    };
+}
+
+/* The main thread waits for a stop signal in `stop` and returns it; with
+ * --fsync=interval it also flushes the journals on every tick. */
+static int wait_for_stop(const sigset_t *stop, merd_app *app)
+{
+    int signo = 0;
+    bool interval = app->session_config.fsync == MERD_FSYNC_INTERVAL;
+    long ms = app->settings->fsync_interval;
+    struct timespec tick = {ms / 1000, (ms % 1000) * 1000000L};
+    for (;;) {
+        signo = interval ? sigtimedwait(stop, NULL, &tick) : (sigwait(stop, &signo) == 0 ? signo : -1);
+        if (signo == SIGINT || signo == SIGTERM)
+            return signo;
+        if (interval)
+            merd_registry_sync(app->registry);
+    }
+}
+
 int main(int argc, char **argv)
 {
-    mer_settings config;
-    switch (mer_settings_parse(&config, argc, argv, stdout, stderr)) {
-    case MER_SETTINGS_EXIT: return EXIT_SUCCESS;
-    case MER_SETTINGS_ERROR: return 2;
-    case MER_SETTINGS_RUN: break;
+    merd_settings config;
+    switch (merd_settings_parse(&config, argc, argv, stdout, stderr)) {
+    case MERD_SETTINGS_EXIT: return EXIT_SUCCESS;
+    case MERD_SETTINGS_ERROR: return 2;
+    case MERD_SETTINGS_RUN: break;
     }
     // Snapshots allocate tens of megabytes and free them at once. Keeping freed
     // memory in the heap for the next one, instead of returning it to the kernel
@@ -43,56 +74,36 @@ int main(int argc, char **argv)
     pthread_sigmask(SIG_BLOCK, &stop, NULL);
     signal(SIGPIPE, SIG_IGN);
 
-    mer_app app = {.settings = &config};
-    app.session_config = (mer_session_config){
-        .data_dir = config.data_dir,
-        .fsync = strcmp(config.fsync, "interval") == 0 ? MER_FSYNC_INTERVAL : MER_FSYNC_ALWAYS,
-        .limits = {.max_steps = (uint32_t)config.max_steps, .max_markers = (uint32_t)config.max_markers},
-        .max_internodes = (uint32_t)config.max_internodes,
-        .max_seconds = (double)config.max_seconds,
-    };
-    app.metrics = mer_metrics_new();
-    app.registry = mer_registry_new(&app.session_config, (uint32_t)config.max_sessions);
+    merd_app app = {.settings = &config, .session_config = session_config(&config)};
+    app.metrics = merd_metrics_new();
+    app.registry = merd_registry_new(&app.session_config, (uint32_t)config.max_sessions);
     if (app.metrics == NULL || app.registry == NULL)
         return EXIT_FAILURE;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    long restored = mer_registry_restore(app.registry, stderr);
+    double t0 = merd_now();
+    long restored = merd_registry_restore(app.registry, stderr);
     if (restored < 0)
         return EXIT_FAILURE;
-    clock_gettime(CLOCK_MONOTONIC, &t1);
     if (restored > 0)
         printf("meristemd: restored %ld sessions from %s in %.2f s\n", restored, config.data_dir,
-               (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
-    app.jobs = mer_jobs_start((size_t)config.workers);
+               merd_now() - t0);
+    app.jobs = merd_jobs_start((size_t)config.workers);
     if (app.jobs == NULL)
         return EXIT_FAILURE;
 
-    mer_server *server = mer_server_start(&config, &app, stderr);
+    merd_server *server = merd_server_start(&config, &app, stderr);
     if (server == NULL)
         return EXIT_FAILURE;
     const char *host = config.bind;
     printf("meristemd %s listening on http://%s%s%s:%u/ (web root %s)\n", mer_version(),
            strchr(host, ':') ? "[" : "", host, strchr(host, ':') ? "]" : "",
-           mer_server_port(server), config.web_root);
+           merd_server_port(server), config.web_root);
 
-    // The main thread waits for a stop signal; with --fsync=interval it also
-    // flushes the journals on every tick.
-    int signo = 0;
-    bool interval = app.session_config.fsync == MER_FSYNC_INTERVAL;
-    struct timespec tick = {config.fsync_interval / 1000, (config.fsync_interval % 1000) * 1000000L};
-    for (;;) {
-        signo = interval ? sigtimedwait(&stop, NULL, &tick) : (sigwait(&stop, &signo) == 0 ? signo : -1);
-        if (signo == SIGINT || signo == SIGTERM)
-            break;
-        if (interval)
-            mer_registry_sync(app.registry);
-    }
+    int signo = wait_for_stop(&stop, &app);
     printf("meristemd: %s, shutting down\n", signo == SIGINT ? "SIGINT" : "SIGTERM");
-    mer_server_stop(server);
-    mer_jobs_stop(app.jobs);
-    mer_registry_sync(app.registry);
-    mer_registry_free(app.registry);
-    mer_metrics_free(app.metrics);
+    merd_server_stop(server);
+    merd_jobs_stop(app.jobs);
+    merd_registry_sync(app.registry);
+    merd_registry_free(app.registry);
+    merd_metrics_free(app.metrics);
     return EXIT_SUCCESS;
 }

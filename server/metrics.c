@@ -15,7 +15,7 @@
 static const double buckets[] = {0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10, 30, 60};
 #define BUCKETS (sizeof buckets / sizeof buckets[0])
 
-struct mer_metrics {
+struct merd_metrics {
     _Atomic(const char *) routes[ROUTES]; /* labels, filled once, first come first served */
     atomic_uint statuses[STATUSES];
     atomic_uint_fast64_t count[ROUTES][STATUSES];
@@ -23,19 +23,20 @@ struct mer_metrics {
     atomic_uint_fast64_t step_bucket[BUCKETS + 1];
     atomic_uint_fast64_t step_count, steps;
     _Atomic double step_sum;
+    atomic_uint_fast64_t snapshot_hits, snapshot_misses;
 };
 
-mer_metrics *mer_metrics_new(void)
+merd_metrics *merd_metrics_new(void)
 {
-    return calloc(1, sizeof(mer_metrics));
+    return calloc(1, sizeof(merd_metrics));
 }
 
-void mer_metrics_free(mer_metrics *m)
+void merd_metrics_free(merd_metrics *m)
 {
     free(m);
 }
 
-static void lock(mer_metrics *m)
+static void lock(merd_metrics *m)
 {
     int expected = 0;
     while (!atomic_compare_exchange_weak(&m->claim, &expected, 1))
@@ -44,7 +45,7 @@ static void lock(mer_metrics *m)
 
 /* The slot of a route label or a status, claiming a free one on first sight.
  * Slots are only ever filled, never emptied, so readers need no lock. */
-static int route_slot(mer_metrics *m, const char *route)
+static int route_slot(merd_metrics *m, const char *route)
 {
     for (int i = 0; i < ROUTES; i++) {
         const char *have = atomic_load(&m->routes[i]);
@@ -62,7 +63,7 @@ static int route_slot(mer_metrics *m, const char *route)
     return -1;
 }
 
-static int status_slot(mer_metrics *m, unsigned status)
+static int status_slot(merd_metrics *m, unsigned status)
 {
     for (int i = 0; i < STATUSES; i++) {
         unsigned have = atomic_load(&m->statuses[i]);
@@ -80,14 +81,14 @@ static int status_slot(mer_metrics *m, unsigned status)
     return -1;
 }
 
-void mer_metrics_request(mer_metrics *m, const char *route, unsigned status)
+void merd_metrics_request(merd_metrics *m, const char *route, unsigned status)
 {
     int r = route_slot(m, route), s = status_slot(m, status);
     if (r >= 0 && s >= 0)
         atomic_fetch_add(&m->count[r][s], 1);
 }
 
-void mer_metrics_step(mer_metrics *m, double seconds, uint32_t steps)
+void merd_metrics_step(merd_metrics *m, double seconds, uint32_t steps)
 {
     size_t b = 0;
     while (b < BUCKETS && seconds > buckets[b])
@@ -100,7 +101,12 @@ void mer_metrics_step(mer_metrics *m, double seconds, uint32_t steps)
         ;
 }
 
-char *mer_metrics_render(mer_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending)
+void merd_metrics_snapshot(merd_metrics *m, bool cached)
+{
+    atomic_fetch_add(cached ? &m->snapshot_hits : &m->snapshot_misses, 1);
+}
+
+char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending)
 {
     char *text = NULL;
     size_t size = 0;
@@ -131,6 +137,12 @@ char *mer_metrics_render(mer_metrics *m, uint32_t sessions, uint64_t internodes,
             atomic_load(&m->step_sum), (unsigned long long)atomic_load(&m->step_count));
     fprintf(f, "# HELP meristem_steps_total Simulation steps run.\n# TYPE meristem_steps_total counter\n"
                "meristem_steps_total %llu\n", (unsigned long long)atomic_load(&m->steps));
+    fprintf(f, "# HELP meristem_snapshot_cache_total Snapshots sent, by whether the session's "
+               "cache of variants held them.\n# TYPE meristem_snapshot_cache_total counter\n"
+               "meristem_snapshot_cache_total{result=\"hit\"} %llu\n"
+               "meristem_snapshot_cache_total{result=\"miss\"} %llu\n",
+            (unsigned long long)atomic_load(&m->snapshot_hits),
+            (unsigned long long)atomic_load(&m->snapshot_misses));
     fprintf(f, "# HELP meristem_sessions Live sessions.\n# TYPE meristem_sessions gauge\n"
                "meristem_sessions %u\n", sessions);
     fprintf(f, "# HELP meristem_internodes Living internodes in all sessions.\n"

@@ -12,18 +12,18 @@
 
 #include "server/registry.h"
 
-struct mer_registry {
+struct merd_registry {
     pthread_rwlock_t lock;
-    const mer_session_config *cfg;
+    const merd_session_config *cfg;
     uint32_t max_sessions;
-    mer_session **list;     /* creation order */
+    merd_session **list;     /* creation order */
     size_t count, cap;
-    mer_session **index;    /* open addressing by id; NULL empty, TOMBSTONE removed */
+    merd_session **index;    /* open addressing by id; NULL empty, TOMBSTONE removed */
     size_t slots;           /* power of two */
     size_t used;            /* live + tombstones */
 };
 
-static mer_session *const TOMBSTONE = (mer_session *)&TOMBSTONE;
+static merd_session *const TOMBSTONE = (merd_session *)&TOMBSTONE;
 
 static uint64_t hash_id(const char *id)
 {
@@ -34,40 +34,40 @@ static uint64_t hash_id(const char *id)
     return h;
 }
 
-static mer_session **find_slot(mer_registry *r, const char *id, bool for_insert)
+static merd_session **find_slot(merd_registry *r, const char *id, bool for_insert)
 {
     size_t mask = r->slots - 1, i = (size_t)hash_id(id) & mask;
-    mer_session **first_free = NULL;
+    merd_session **first_free = NULL;
     for (size_t probes = 0; probes < r->slots; probes++, i = (i + 1) & mask) {
-        mer_session *s = r->index[i];
+        merd_session *s = r->index[i];
         if (s == NULL)
             return for_insert && first_free ? first_free : &r->index[i];
         if (s == TOMBSTONE) {
             if (first_free == NULL)
                 first_free = &r->index[i];
-        } else if (strcmp(mer_session_id(s), id) == 0) {
+        } else if (strcmp(merd_session_id(s), id) == 0) {
             return &r->index[i];
         }
     }
     return first_free;
 }
 
-static int grow_index(mer_registry *r)
+static int grow_index(merd_registry *r)
 {
     size_t slots = r->slots ? r->slots : 64;
     while (slots < 2 * (r->count + 1))
         slots *= 2;
-    mer_session **index = calloc(slots, sizeof *index);
+    merd_session **index = calloc(slots, sizeof *index);
     if (index == NULL)
         return -1;
-    mer_session **old = r->index;
+    merd_session **old = r->index;
     size_t old_slots = r->slots;
     r->index = index;
     r->slots = slots;
     r->used = 0;
     for (size_t i = 0; i < old_slots; i++)
         if (old[i] != NULL && old[i] != TOMBSTONE) {
-            *find_slot(r, mer_session_id(old[i]), true) = old[i];
+            *find_slot(r, merd_session_id(old[i]), true) = old[i];
             r->used++;
         }
     free(old);
@@ -75,19 +75,19 @@ static int grow_index(mer_registry *r)
 }
 
 /* Adds `s` (taking over its reference). Caller holds the write lock. */
-static int insert(mer_registry *r, mer_session *s)
+static int insert(merd_registry *r, merd_session *s)
 {
     if ((r->used + 1) * 2 > r->slots && grow_index(r) != 0)
         return -1;
     if (r->count == r->cap) {
         size_t cap = r->cap ? 2 * r->cap : 64;
-        mer_session **list = realloc(r->list, cap * sizeof *list);
+        merd_session **list = realloc(r->list, cap * sizeof *list);
         if (list == NULL)
             return -1;
         r->list = list;
         r->cap = cap;
     }
-    mer_session **slot = find_slot(r, mer_session_id(s), true);
+    merd_session **slot = find_slot(r, merd_session_id(s), true);
     if (*slot == NULL)
         r->used++;
     *slot = s;
@@ -95,9 +95,9 @@ static int insert(mer_registry *r, mer_session *s)
     return 0;
 }
 
-mer_registry *mer_registry_new(const mer_session_config *cfg, uint32_t max_sessions)
+merd_registry *merd_registry_new(const merd_session_config *cfg, uint32_t max_sessions)
 {
-    mer_registry *r = calloc(1, sizeof *r);
+    merd_registry *r = calloc(1, sizeof *r);
     if (r == NULL)
         return NULL;
     pthread_rwlock_init(&r->lock, NULL);
@@ -115,7 +115,7 @@ static int cmp_names(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-long mer_registry_restore(mer_registry *r, FILE *log)
+long merd_registry_restore(merd_registry *r, FILE *log)
 {
     if (mkdir(r->cfg->data_dir, 0755) != 0 && errno != EEXIST) {
         fprintf(log, "meristemd: cannot create --data-dir %s: %s\n", r->cfg->data_dir, strerror(errno));
@@ -148,10 +148,10 @@ long mer_registry_restore(mer_registry *r, FILE *log)
         qsort(names, n, sizeof *names, cmp_names);
     long restored = 0;
     for (size_t i = 0; i < n; i++) {
-        char path[4200], error[MER_JOURNAL_ERROR_MAX];
+        char path[4200], error[MERD_JOURNAL_ERROR_MAX];
         snprintf(path, sizeof path, "%s/%s", r->cfg->data_dir, names[i]);
         size_t dropped = 0;
-        mer_session *s = mer_session_restore(r->cfg, path, &dropped, error);
+        merd_session *s = merd_session_restore(r->cfg, path, &dropped, error);
         if (s == NULL) {
             fprintf(log, "meristemd: not restored: %s\n", error);
         } else {
@@ -161,7 +161,7 @@ long mer_registry_restore(mer_registry *r, FILE *log)
             if (insert(r, s) == 0)
                 restored++;
             else
-                mer_session_unref(s);
+                merd_session_unref(s);
             pthread_rwlock_unlock(&r->lock);
         }
         free(names[i]);
@@ -191,53 +191,53 @@ static int new_id(char id[33])
     return 0;
 }
 
-int mer_registry_create(mer_registry *r, const json_t *spec, mer_session **out, mer_refusal *why)
+int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **out, merd_refusal *why)
 {
     pthread_rwlock_rdlock(&r->lock);
     size_t count = r->count;
     pthread_rwlock_unlock(&r->lock);
     if (count >= r->max_sessions)
-        return mer_refuse(why, 429, "too-many-sessions", "",
-                          "meristemd holds %u sessions, its limit (--max-sessions); delete one first",
-                          r->max_sessions);
+        return merd_refuse(why, 429, "too-many-sessions", "",
+                           "meristemd holds %u sessions, its limit (--max-sessions); delete one first",
+                           r->max_sessions);
     char id[33];
     if (new_id(id) != 0)
-        return mer_refuse(why, 503, "no-entropy", "", "the OS gave no random bytes for a session id");
-    mer_session *s = mer_session_create(r->cfg, id, spec, why);
+        return merd_refuse(why, 503, "no-entropy", "", "the OS gave no random bytes for a session id");
+    merd_session *s = merd_session_create(r->cfg, id, spec, why);
     if (s == NULL)
         return -1;
     pthread_rwlock_wrlock(&r->lock);
     int rc = r->count >= r->max_sessions ? 1 : insert(r, s);
     pthread_rwlock_unlock(&r->lock);
     if (rc != 0) {
-        mer_session_discard(s);
-        mer_session_unref(s);
-        return rc > 0 ? mer_refuse(why, 429, "too-many-sessions", "",
-                                   "meristemd holds %u sessions, its limit (--max-sessions)",
-                                   r->max_sessions)
-                      : mer_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
+        merd_session_discard(s);
+        merd_session_unref(s);
+        return rc > 0 ? merd_refuse(why, 429, "too-many-sessions", "",
+                                    "meristemd holds %u sessions, its limit (--max-sessions)",
+                                    r->max_sessions)
+                      : merd_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
     }
-    mer_session_ref(s);
+    merd_session_ref(s);
     *out = s;
     return 0;
 }
 
-mer_session *mer_registry_get(mer_registry *r, const char *id)
+merd_session *merd_registry_get(merd_registry *r, const char *id)
 {
     pthread_rwlock_rdlock(&r->lock);
-    mer_session **slot = find_slot(r, id, false);
-    mer_session *s = slot != NULL && *slot != NULL && *slot != TOMBSTONE ? *slot : NULL;
+    merd_session **slot = find_slot(r, id, false);
+    merd_session *s = slot != NULL && *slot != NULL && *slot != TOMBSTONE ? *slot : NULL;
     if (s != NULL)
-        mer_session_ref(s);
+        merd_session_ref(s);
     pthread_rwlock_unlock(&r->lock);
     return s;
 }
 
-int mer_registry_delete(mer_registry *r, const char *id)
+int merd_registry_delete(merd_registry *r, const char *id)
 {
     pthread_rwlock_wrlock(&r->lock);
-    mer_session **slot = find_slot(r, id, false);
-    mer_session *s = slot != NULL && *slot != NULL && *slot != TOMBSTONE ? *slot : NULL;
+    merd_session **slot = find_slot(r, id, false);
+    merd_session *s = slot != NULL && *slot != NULL && *slot != TOMBSTONE ? *slot : NULL;
     if (s != NULL) {
         *slot = TOMBSTONE;
         for (size_t i = 0; i < r->count; i++)
@@ -250,45 +250,45 @@ int mer_registry_delete(mer_registry *r, const char *id)
     pthread_rwlock_unlock(&r->lock);
     if (s == NULL)
         return -1;
-    mer_session_discard(s);
-    mer_session_unref(s);
+    merd_session_discard(s);
+    merd_session_unref(s);
     return 0;
 }
 
-json_t *mer_registry_list(mer_registry *r)
+json_t *merd_registry_list(merd_registry *r)
 {
     json_t *list = json_array();
     pthread_rwlock_rdlock(&r->lock);
     for (size_t i = 0; i < r->count; i++)
-        json_array_append_new(list, mer_session_summary(r->list[i], false));
+        json_array_append_new(list, merd_session_summary(r->list[i], false));
     pthread_rwlock_unlock(&r->lock);
     return json_pack("{s:o}", "sessions", list);
 }
 
-void mer_registry_totals(mer_registry *r, uint32_t *sessions, uint64_t *internodes)
+void merd_registry_totals(merd_registry *r, uint32_t *sessions, uint64_t *internodes)
 {
     pthread_rwlock_rdlock(&r->lock);
     *sessions = (uint32_t)r->count;
     *internodes = 0;
     for (size_t i = 0; i < r->count; i++)
-        *internodes += mer_session_internodes(r->list[i]);
+        *internodes += merd_session_internodes(r->list[i]);
     pthread_rwlock_unlock(&r->lock);
 }
 
-void mer_registry_sync(mer_registry *r)
+void merd_registry_sync(merd_registry *r)
 {
     pthread_rwlock_rdlock(&r->lock);
     for (size_t i = 0; i < r->count; i++)
-        mer_session_sync(r->list[i]);
+        merd_session_sync(r->list[i]);
     pthread_rwlock_unlock(&r->lock);
 }
 
-void mer_registry_free(mer_registry *r)
+void merd_registry_free(merd_registry *r)
 {
     if (r == NULL)
         return;
     for (size_t i = 0; i < r->count; i++)
-        mer_session_unref(r->list[i]);
+        merd_session_unref(r->list[i]);
     free(r->list);
     free(r->index);
     pthread_rwlock_destroy(&r->lock);

@@ -10,7 +10,7 @@
 #include "server/routes.h"
 #include "server/static_files.h"
 
-typedef enum MHD_Result (*handler_fn)(mer_request *req, const char *id);
+typedef enum MHD_Result (*handler_fn)(merd_request *req, const char *id);
 
 typedef struct route {
     const char *method;
@@ -20,18 +20,18 @@ typedef struct route {
 } route;
 
 static const route routes[] = {
-    {"GET", "/v1/health", mer_api_health, true},
-    {"HEAD", "/v1/health", mer_api_health, true},
-    {"GET", "/v1/metrics", mer_api_metrics, false},
-    {"GET", "/v1/presets", mer_api_presets, false},
-    {"GET", "/v1/sessions", mer_api_list, false},
-    {"POST", "/v1/sessions", mer_api_create, false},
-    {"GET", "/v1/sessions/{id}", mer_api_get, false},
-    {"DELETE", "/v1/sessions/{id}", mer_api_delete, false},
-    {"POST", "/v1/sessions/{id}/edits", mer_api_edits, false},
-    {"GET", "/v1/sessions/{id}/snapshot.glb", mer_api_snapshot, false},
-    {"HEAD", "/v1/sessions/{id}/snapshot.glb", mer_api_snapshot, false},
-    {"POST", "/v1/sessions/{id}/cancel", mer_api_cancel, false},
+    {"GET", "/v1/health", merd_api_health, true},
+    {"HEAD", "/v1/health", merd_api_health, true},
+    {"GET", "/v1/metrics", merd_api_metrics, false},
+    {"GET", "/v1/presets", merd_api_presets, false},
+    {"GET", "/v1/sessions", merd_api_list, false},
+    {"POST", "/v1/sessions", merd_api_create, false},
+    {"GET", "/v1/sessions/{id}", merd_api_get, false},
+    {"DELETE", "/v1/sessions/{id}", merd_api_delete, false},
+    {"POST", "/v1/sessions/{id}/edits", merd_api_edits, false},
+    {"GET", "/v1/sessions/{id}/snapshot.glb", merd_api_snapshot, false},
+    {"HEAD", "/v1/sessions/{id}/snapshot.glb", merd_api_snapshot, false},
+    {"POST", "/v1/sessions/{id}/cancel", merd_api_cancel, false},
 };
 #define N_ROUTES (sizeof routes / sizeof routes[0])
 
@@ -66,7 +66,7 @@ static const char *route_label(const char *url)
 }
 
 /* Constant time in the token's length: a wrong guess takes as long as a right one. */
-static bool token_ok(mer_request *req)
+static bool token_ok(merd_request *req)
 {
     const char *want = req->app->settings->token;
     if (want[0] == '\0')
@@ -83,28 +83,28 @@ static bool token_ok(mer_request *req)
     return diff == 0;
 }
 
-static enum MHD_Result preflight(mer_request *req)
+static enum MHD_Result preflight(merd_request *req)
 {
     const char *cors = req->app->settings->cors_origin;
     const char *origin = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, "Origin");
     if (cors[0] == '\0' || origin == NULL || strcmp(origin, cors) != 0)
-        return mer_reply_method_not_allowed(req, "GET, POST, DELETE, HEAD");
+        return merd_reply_method_not_allowed(req, "GET, POST, DELETE, HEAD");
     struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
     if (r == NULL)
         return MHD_NO;
     MHD_add_response_header(r, "Access-Control-Allow-Methods", "GET, POST, DELETE, HEAD");
     MHD_add_response_header(r, "Access-Control-Allow-Headers", "Authorization, Content-Type, Accept, If-None-Match");
     MHD_add_response_header(r, "Access-Control-Max-Age", "600");
-    return mer_reply(req, 204, r, 0);
+    return merd_reply(req, 204, r, 0);
 }
 
-enum MHD_Result mer_route(mer_request *req, const char *web_root)
+enum MHD_Result merd_route(merd_request *req, const char *web_root)
 {
     if (strncmp(req->url, "/v1/", 4) != 0 && strcmp(req->url, "/v1") != 0) {
         req->route = "static";
         if (strcmp(req->method, "GET") != 0 && strcmp(req->method, "HEAD") != 0)
-            return mer_reply_method_not_allowed(req, "GET, HEAD");
-        return mer_static_serve(req, web_root);
+            return merd_reply_method_not_allowed(req, "GET, HEAD");
+        return merd_static_serve(req, web_root);
     }
     const char *label = route_label(req->url);
     req->route = label != NULL ? label : "unknown";
@@ -118,12 +118,12 @@ enum MHD_Result mer_route(mer_request *req, const char *web_root)
         if (strcmp(routes[i].method, req->method) == 0) {
             if (!routes[i].open && !token_ok(req)) {
                 size_t size = 0;
-                struct MHD_Response *r = mer_problem_response(
+                struct MHD_Response *r = merd_problem_response(
                     401, "unauthorized", "Unauthorized",
                     "this meristemd wants Authorization: Bearer TOKEN (its --token)", NULL, &size);
                 if (r != NULL)
                     MHD_add_response_header(r, MHD_HTTP_HEADER_WWW_AUTHENTICATE, "Bearer");
-                return mer_reply(req, 401, r, size);
+                return merd_reply(req, 401, r, size);
             }
             return routes[i].handler(req, id[0] ? id : NULL);
         }
@@ -131,10 +131,10 @@ enum MHD_Result mer_route(mer_request *req, const char *web_root)
         snprintf(allow + used, sizeof allow - used, "%s%s", used ? ", " : "", routes[i].method);
     }
     if (allow[0] != '\0')
-        return mer_reply_method_not_allowed(req, allow);
+        return merd_reply_method_not_allowed(req, allow);
 
     char detail[300];
     snprintf(detail, sizeof detail, "there is no API route %.200s; see proto/openapi.yaml",
              req->url);
-    return mer_reply_problem(req, 404, "not-found", "Not Found", detail);
+    return merd_reply_problem(req, 404, "not-found", "Not Found", detail);
 }

@@ -8,6 +8,6 @@
 
 /* Answers `req` once its body is complete: a /v1 route by the table, anything
  * else from the web root. Every refusal is application/problem+json. */
-enum MHD_Result mer_route(mer_request *req, const char *web_root);
+enum MHD_Result merd_route(merd_request *req, const char *web_root);
 
 #endif

@@ -1,435 +1,18 @@
-/* meristemd — live sessions (see session.h). */
+/* meristemd — live sessions: lifecycle, reference counts, applying and
+ * journaling batches (see session.h). */
 #include "config.h"
 
-#include <inttypes.h>
-#include <limits.h>
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
-#include "server/codec.h"
-#include "server/session.h"
+#include "server/clock.h"
+#include "server/session_private.h"
+#include "server/spec.h"
 
-struct mer_snapshot {
-    atomic_int refs;
-    uint8_t *bytes;
-    size_t size;
-};
-
-struct mer_session {
-    atomic_int refs;
-    char id[33];
-    char path[PATH_MAX];
-    const mer_session_config *cfg;
-    json_t *spec;            /* the create request, as journaled */
-
-    pthread_mutex_t work;    /* held while the scene changes or is meshed */
-    mer_scene *scene;
-    mer_journal *journal;
-
-    pthread_mutex_t state;   /* guards what follows */
-    uint64_t revision;
-    json_t *summary;         /* after the last accepted batch */
-    char *summary_text;      /* the same, full, serialized, without its closing brace */
-    char *short_text;        /* without params and schedule, likewise */
-    uint32_t internodes;
-    bool running;
-    uint32_t done, total;    /* progress of the running batch */
-    atomic_int cancel;
-    bool discarded;
-    mer_snapshot *snap;      /* the last snapshot */
-    char snap_key[64];
-};
-
-/* --------------------------------------------------------------- the spec */
-
-static const struct {
-    const char *name;
-    uint32_t kind;
-} volumes[] = {{"box", MER_VOLUME_BOX},           {"sphere", MER_VOLUME_SPHERE},
-               {"ellipsoid", MER_VOLUME_ELLIPSOID}, {"cylinder", MER_VOLUME_CYLINDER},
-               {"cone", MER_VOLUME_CONE}};
-
-static int vec3(const json_t *v, const char *field, float out[3], mer_refusal *why)
+static merd_session *session_new(const merd_session_config *cfg, const char *id)
 {
-    if (!json_is_array(v) || json_array_size(v) != 3)
-        return mer_refuse(why, 422, "invalid-field", field, "%s must be [x, y, z]", field);
-    for (size_t k = 0; k < 3; k++) {
-        const json_t *x = json_array_get(v, k);
-        if (!json_is_number(x) || !(json_number_value(x) >= -1e6 && json_number_value(x) <= 1e6))
-            return mer_refuse(why, 422, "out-of-range", field,
-                              "%s must hold 3 numbers from -1e6 to 1e6", field);
-        out[k] = (float)json_number_value(x);
-    }
-    return 0;
-}
-
-static int lib_refusal(mer_refusal *why, mer_result rc, const mer_error *err, const char *where)
-{
-    char f[96];
-    snprintf(f, sizeof f, "%.40s%s%.50s", where, err->field[0] ? "." : "", err->field);
-    unsigned status = rc == MER_ERR_NOMEM ? 503 : rc == MER_ERR_LIMIT ? 409 : 422;
-    return mer_refuse(why, status, rc == MER_ERR_LIMIT ? "limit" : "invalid-field", f, "%s",
-                      err->message);
-}
-
-/* Every key of `obj` must be allowed; `where` is its path ("" at the top). */
-static int only(const json_t *obj, const char *const *allowed, const char *where, mer_refusal *why)
-{
-    const char *key;
-    const json_t *v;
-    json_object_foreach((json_t *)obj, key, v) {
-        (void)v;
-        bool ok = false;
-        for (const char *const *a = allowed; *a && !ok; a++)
-            ok = strcmp(*a, key) == 0;
-        if (!ok) {
-            char f[96];
-            snprintf(f, sizeof f, "%.60s%s%.30s", where, where[0] ? "." : "", key);
-            return mer_refuse(why, 400, "unknown-field", f, "unknown field '%s' in %s", key,
-                              where[0] ? where : "the session request");
-        }
-    }
-    return 0;
-}
-
-/* The triangles of a base64 glTF/GLB in a request (caller frees *xyz with
- * mer_gltf_free). */
-static int gltf_triangles(const json_t *v, const char *f, float **xyz, size_t *triangles,
-                          mer_refusal *why)
-{
-    uint8_t *bytes = NULL;
-    size_t size = 0;
-    if (!json_is_string(v) || mer_base64_decode(json_string_value(v), &bytes, &size) != 0)
-        return mer_refuse(why, 422, "invalid-field", f,
-                          "%s must be a base64 string of a .glb, or of a .gltf with embedded buffers", f);
-    mer_error err = {0};
-    mer_result rc = mer_gltf_read_triangles(bytes, size, MER_MESH_TRIANGLES_MAX, xyz, triangles, &err);
-    free(bytes);
-    if (rc != MER_OK)
-        return mer_refuse(why, rc == MER_ERR_LIMIT ? 413 : 422, "invalid-gltf", f, "%s: %s", f,
-                          err.message);
-    return 0;
-}
-
-static int add_obstacle(mer_scene *scene, const json_t *o, const char *w, mer_refusal *why)
-{
-    static const char *const kinds[] = {"box", "sphere", "gltf", NULL};
-    static const char *const box_fields[] = {"min", "max", NULL};
-    static const char *const sphere_fields[] = {"center", "radius", NULL};
-    if (!json_is_object(o) || json_object_size(o) != 1)
-        return mer_refuse(why, 422, "invalid-field", w,
-                          "%s must be {\"box\": {...}} or {\"sphere\": {...}}", w);
-    if (only(o, kinds, w, why))
-        return -1;
-    mer_error err = {0};
-    mer_result rc;
-    char f[80], g[96];
-    const json_t *mesh = json_object_get(o, "gltf");
-    if (mesh != NULL) {
-        float *xyz = NULL;
-        size_t triangles = 0;
-        snprintf(f, sizeof f, "%s.gltf", w);
-        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
-            return -1;
-        rc = mer_scene_add_mesh(scene, xyz, triangles, &err);
-        mer_gltf_free(xyz);
-        return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
-    }
-    const json_t *b = json_object_get(o, "box");
-    if (b != NULL) {
-        float lo[3], hi[3];
-        snprintf(f, sizeof f, "%s.box", w);
-        if (!json_is_object(b))
-            return mer_refuse(why, 422, "invalid-field", f, "%s must be {\"min\", \"max\"}", f);
-        if (only(b, box_fields, f, why))
-            return -1;
-        snprintf(g, sizeof g, "%s.min", f);
-        if (vec3(json_object_get(b, "min"), g, lo, why))
-            return -1;
-        snprintf(g, sizeof g, "%s.max", f);
-        if (vec3(json_object_get(b, "max"), g, hi, why))
-            return -1;
-        rc = mer_scene_add_box(scene, lo, hi, &err);
-    } else {
-        const json_t *sp = json_object_get(o, "sphere");
-        float c[3];
-        snprintf(f, sizeof f, "%s.sphere", w);
-        if (!json_is_object(sp))
-            return mer_refuse(why, 422, "invalid-field", f, "%s must be {\"center\", \"radius\"}", f);
-        if (only(sp, sphere_fields, f, why))
-            return -1;
-        snprintf(g, sizeof g, "%s.center", f);
-        if (vec3(json_object_get(sp, "center"), g, c, why))
-            return -1;
-        const json_t *r = json_object_get(sp, "radius");
-        snprintf(g, sizeof g, "%s.radius", f);
-        if (!json_is_number(r))
-            return mer_refuse(why, 422, "invalid-field", g, "%s must be a number", g);
-        // As vec3's bound: a double past float's range has no float to become.
-        if (!(json_number_value(r) > 0.0 && json_number_value(r) <= 1e6))
-            return mer_refuse(why, 422, "out-of-range", g, "%s must be a number in (0, 1e6]", g);
-        rc = mer_scene_add_sphere(scene, c, (float)json_number_value(r), &err);
-    }
-    return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
-}
-
-/* A marker volume: a shape ({"volume", "center", "size", "count"}) or the
- * inside of a triangle mesh ({"gltf", "count"}). */
-static int fill_volume(mer_scene *scene, const json_t *m, const char *w, mer_refusal *why)
-{
-    static const char *const allowed[] = {"volume", "center", "size", "count", NULL};
-    static const char *const mesh_fields[] = {"gltf", "count", NULL};
-    if (!json_is_object(m))
-        return mer_refuse(why, 422, "invalid-field", w, "%s must be an object", w);
-    const json_t *mesh = json_object_get(m, "gltf");
-    if (only(m, mesh != NULL ? mesh_fields : allowed, w, why))
-        return -1;
-    const json_t *count = json_object_get(m, "count");
-    char cf[80];
-    snprintf(cf, sizeof cf, "%s.count", w);
-    if (!json_is_integer(count) || json_integer_value(count) < 1 || json_integer_value(count) > 2000000)
-        return mer_refuse(why, 422, "out-of-range", cf, "%s must be an integer from 1 to 2000000", cf);
-    if (mesh != NULL) {
-        float *xyz = NULL;
-        size_t triangles = 0;
-        char f[80];
-        snprintf(f, sizeof f, "%s.gltf", w);
-        if (gltf_triangles(mesh, f, &xyz, &triangles, why) != 0)
-            return -1;
-        mer_error err = {0};
-        mer_result rc = mer_scene_fill_mesh_markers(scene, xyz, triangles,
-                                                    (uint32_t)json_integer_value(count), &err);
-        mer_gltf_free(xyz);
-        return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, f);
-    }
-    const json_t *v = json_object_get(m, "volume");
-    uint32_t kind = 0;
-    for (size_t i = 0; json_is_string(v) && i < sizeof volumes / sizeof volumes[0]; i++)
-        if (strcmp(volumes[i].name, json_string_value(v)) == 0)
-            kind = volumes[i].kind;
-    char f[80];
-    snprintf(f, sizeof f, "%s.volume", w);
-    if (kind == 0)
-        return mer_refuse(why, 422, "invalid-field", f,
-                          "%s must be box, sphere, ellipsoid, cylinder or cone", f);
-    float center[3], size[3];
-    snprintf(f, sizeof f, "%s.center", w);
-    if (vec3(json_object_get(m, "center"), f, center, why))
-        return -1;
-    snprintf(f, sizeof f, "%s.size", w);
-    if (vec3(json_object_get(m, "size"), f, size, why))
-        return -1;
-    mer_error err = {0};
-    mer_result rc = mer_scene_fill_markers(scene, kind, center, size,
-                                           (uint32_t)json_integer_value(count), &err);
-    return rc == MER_OK ? 0 : lib_refusal(why, rc, &err, w);
-}
-
-/* Builds the scene a create request describes. Deterministic: the journal's
- * first record rebuilds the same scene. */
-static mer_scene *scene_from_spec(const json_t *spec, const mer_edit_limits *limits,
-                                  mer_refusal *why)
-{
-    static const char *const allowed[] = {"preset", "seed", "params", "scene", NULL};
-    static const char *const scene_fields[] = {"plants", "markers", "obstacles", NULL};
-    if (!json_is_object(spec)) {
-        mer_refuse(why, 422, "invalid-field", "body", "the body must be a JSON object ({} for defaults)");
-        return NULL;
-    }
-    if (only(spec, allowed, "", why))
-        return NULL;
-    const json_t *preset = json_object_get(spec, "preset");
-    if (preset != NULL && !json_is_string(preset)) {
-        mer_refuse(why, 422, "invalid-field", "preset", "preset must be a string (GET /v1/presets)");
-        return NULL;
-    }
-    mer_params p;
-    mer_error err = {0};
-    if (mer_preset_params(preset ? json_string_value(preset) : "default", &p, &err) != MER_OK) {
-        mer_refuse(why, 422, "invalid-field", "preset", "%s; GET /v1/presets lists them", err.message);
-        return NULL;
-    }
-    const json_t *seed = json_object_get(spec, "seed");
-    if (seed != NULL && (!json_is_integer(seed) || json_integer_value(seed) < 0 ||
-                         json_integer_value(seed) > (json_int_t)((1ULL << 53) - 1))) {
-        mer_refuse(why, 422, "out-of-range", "seed", "seed must be an integer from 0 to 2^53 - 1");
-        return NULL;
-    }
-    const json_t *params = json_object_get(spec, "params");
-    if (params != NULL && mer_params_from_json(params, &p, "params", why) != 0)
-        return NULL;
-    const json_t *sc = json_object_get(spec, "scene");
-    if (sc != NULL && (!json_is_object(sc) || only(sc, scene_fields, "scene", why))) {
-        if (!why->status)
-            mer_refuse(why, 422, "invalid-field", "scene", "scene must be an object");
-        return NULL;
-    }
-    const json_t *plants = sc ? json_object_get(sc, "plants") : NULL;
-    if (plants != NULL) {
-        if (!json_is_array(plants) || json_array_size(plants) > MER_PLANTS_MAX) {
-            mer_refuse(why, 422, "invalid-field", "scene.plants",
-                       "scene.plants must be an array of at most %u [x, y, z] bases", MER_PLANTS_MAX);
-            return NULL;
-        }
-        p.seedlings = 0;  // the given plants replace the preset's seedlings
-    }
-    if (mer_params_validate(&p, &err) != MER_OK) {
-        lib_refusal(why, MER_ERR_RANGE, &err, "params");
-        return NULL;
-    }
-    uint64_t marker_total = p.environment == MER_ENV_MARKERS ? p.marker_count : 0;
-    const json_t *vols = sc ? json_object_get(sc, "markers") : NULL;
-    size_t vi;
-    const json_t *vol;
-    json_array_foreach(vols, vi, vol) {
-        const json_t *c = json_object_get(vol, "count");
-        if (json_is_integer(c) && json_integer_value(c) > 0)
-            marker_total += (uint64_t)json_integer_value(c);
-    }
-    if (marker_total > limits->max_markers) {
-        mer_refuse(why, 422, "out-of-range", vols ? "scene.markers" : "params.marker_count",
-                   "a session may start with at most %u markers (meristemd --max-markers); this one "
-                   "asks for %llu", limits->max_markers, (unsigned long long)marker_total);
-        return NULL;
-    }
-    mer_scene *scene = NULL;
-    mer_result rc = mer_scene_new(&p, seed ? (uint64_t)json_integer_value(seed) : 0, &scene, &err);
-    if (rc != MER_OK) {
-        lib_refusal(why, rc, &err, "params");
-        return NULL;
-    }
-    size_t i;
-    const json_t *item;
-    char w[48];
-    // Obstacles first: plants are checked against them, and they clear the
-    // markers filled after them.
-    const json_t *obstacles = sc ? json_object_get(sc, "obstacles") : NULL;
-    const json_t *markers = sc ? json_object_get(sc, "markers") : NULL;
-    if ((obstacles != NULL && !json_is_array(obstacles)) || (markers != NULL && !json_is_array(markers))) {
-        const char *f = obstacles != NULL && !json_is_array(obstacles) ? "scene.obstacles" : "scene.markers";
-        mer_refuse(why, 422, "invalid-field", f, "%s must be an array", f);
-        goto fail;
-    }
-    json_array_foreach(obstacles, i, item) {
-        snprintf(w, sizeof w, "scene.obstacles[%zu]", i);
-        if (add_obstacle(scene, item, w, why) != 0)
-            goto fail;
-    }
-    json_array_foreach(plants, i, item) {
-        float base[3];
-        snprintf(w, sizeof w, "scene.plants[%zu]", i);
-        if (vec3(item, w, base, why) != 0)
-            goto fail;
-        if ((rc = mer_scene_add_plant(scene, base, NULL, &err)) != MER_OK) {
-            mer_refuse(why, rc == MER_ERR_LIMIT ? 409 : 422, rc == MER_ERR_LIMIT ? "limit" : "out-of-range",
-                       w, "%s: %s", w, err.message);
-            goto fail;
-        }
-    }
-    json_array_foreach(markers, i, item) {
-        snprintf(w, sizeof w, "scene.markers[%zu]", i);
-        if (fill_volume(scene, item, w, why) != 0)
-            goto fail;
-    }
-    return scene;
-fail:
-    mer_scene_free(scene);
-    return NULL;
-}
-
-/* ---------------------------------------------------------------- summary */
-
-/* The summary of the scene as it is (caller holds `work`). */
-static json_t *build_summary(mer_session *s, uint64_t revision)
-{
-    json_t *j = mer_json_summary(s->scene);
-    const json_t *preset = json_object_get(s->spec, "preset");
-    const json_t *seed = json_object_get(s->spec, "seed");
-    json_object_set_new(j, "id", json_string(s->id));
-    json_object_set_new(j, "revision", json_integer((json_int_t)revision));
-    json_object_set_new(j, "preset", json_string(preset ? json_string_value(preset) : "default"));
-    json_object_set_new(j, "seed", json_integer(seed ? json_integer_value(seed) : 0));
-    const mer_params *p = mer_scene_params(s->scene);
-    uint32_t node, slot;
-    json_object_set_new(j, "constraint", mer_scene_constraint(s->scene, &node, &slot)
-                                             ? json_pack("{s:i, s:i}", "node", (json_int_t)node,
-                                                         "bud", (json_int_t)slot)
-                                             : json_null());
-    json_object_set_new(j, "params", mer_json_params(p));
-    json_object_set_new(j, "schedule", mer_json_schedule(&p->schedule));
-    return j;
-}
-
-/* Serializes `j` without its closing brace, so "running" can be appended. */
-static char *open_text(const json_t *j)
-{
-    char *text = json_dumps(j, MER_JSON_DUMP_FLAGS);
-    if (text != NULL)
-        text[strlen(text) - 1] = '\0';
-    return text;
-}
-
-static void publish(mer_session *s, uint64_t revision)
-{
-    json_t *summary = build_summary(s, revision);
-    char *full = open_text(summary);
-    json_t *brief = json_copy(summary);
-    json_object_del(brief, "params");
-    json_object_del(brief, "schedule");
-    char *short_text = open_text(brief);
-    json_decref(brief);
-    mer_summary sum;
-    mer_scene_summary(s->scene, &sum);
-    pthread_mutex_lock(&s->state);
-    json_decref(s->summary);
-    free(s->summary_text);
-    free(s->short_text);
-    s->summary = summary;
-    s->summary_text = full;
-    s->short_text = short_text;
-    s->revision = revision;
-    s->internodes = sum.internodes;
-    pthread_mutex_unlock(&s->state);
-}
-
-char *mer_session_summary_text(mer_session *s, bool full, uint64_t *revision)
-{
-    pthread_mutex_lock(&s->state);
-    const char *base = full ? s->summary_text : s->short_text;
-    char *text = NULL;
-    if (base != NULL &&
-        asprintf(&text, "%s,\"running\":{\"active\":%s,\"done\":%u,\"total\":%u}}", base,
-                 s->running ? "true" : "false", s->done, s->total) < 0)
-        text = NULL;
-    *revision = s->revision;
-    pthread_mutex_unlock(&s->state);
-    return text;
-}
-
-json_t *mer_session_summary(mer_session *s, bool full)
-{
-    pthread_mutex_lock(&s->state);
-    json_t *j = json_deep_copy(s->summary);
-    json_t *running = json_pack("{s:b, s:i, s:i}", "active", s->running, "done",
-                                (json_int_t)s->done, "total", (json_int_t)s->total);
-    pthread_mutex_unlock(&s->state);
-    json_object_set_new(j, "running", running);
-    if (!full) {
-        json_object_del(j, "params");
-        json_object_del(j, "schedule");
-    }
-    return j;
-}
-
-/* ---------------------------------------------------------------- lifecycle */
-
-static mer_session *session_new(const mer_session_config *cfg, const char *id)
-{
-    mer_session *s = calloc(1, sizeof *s);
+    merd_session *s = calloc(1, sizeof *s);
     if (s == NULL)
         return NULL;
     atomic_init(&s->refs, 1);
@@ -442,30 +25,29 @@ static mer_session *session_new(const mer_session_config *cfg, const char *id)
     return s;
 }
 
-static void session_free(mer_session *s, bool remove)
+static void session_free(merd_session *s, bool remove)
 {
-    mer_journal_close(s->journal, remove);
+    merd_journal_close(s->journal, remove);
     mer_scene_free(s->scene);
     json_decref(s->spec);
     json_decref(s->summary);
     free(s->summary_text);
     free(s->short_text);
-    if (s->snap != NULL)
-        mer_snapshot_release(s->snap);
+    merd_snapshot_cache_clear(&s->snaps);
     pthread_mutex_destroy(&s->work);
     pthread_mutex_destroy(&s->state);
     free(s);
 }
 
-mer_session *mer_session_create(const mer_session_config *cfg, const char *id, const json_t *spec,
-                                mer_refusal *why)
+merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
+                                  merd_refusal *why)
 {
-    mer_session *s = session_new(cfg, id);
+    merd_session *s = session_new(cfg, id);
     if (s == NULL) {
-        mer_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
+        merd_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
         return NULL;
     }
-    s->scene = scene_from_spec(spec, &cfg->limits, why);
+    s->scene = merd_scene_from_spec(spec, &cfg->limits, why);
     if (s->scene == NULL) {
         session_free(s, false);
         return NULL;
@@ -474,20 +56,20 @@ mer_session *mer_session_create(const mer_session_config *cfg, const char *id, c
     json_t *record = json_pack("{s:i, s:s, s:O}", "version", 1, "id", id, "create", s->spec);
     char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);
     json_decref(record);
-    char error[MER_JOURNAL_ERROR_MAX] = "";
-    s->journal = text ? mer_journal_create(s->path, text, strlen(text), cfg->fsync, error) : NULL;
+    char error[MERD_JOURNAL_ERROR_MAX] = "";
+    s->journal = text ? merd_journal_create(s->path, text, strlen(text), cfg->fsync, error) : NULL;
     free(text);
     if (s->journal == NULL) {
-        mer_refuse(why, 500, "journal", "", "the session could not be journaled: %s", error);
+        merd_refuse(why, 500, "journal", "", "the session could not be journaled: %s", error);
         session_free(s, false);
         return NULL;
     }
-    publish(s, 0);
+    merd_session_publish(s, 0);
     return s;
 }
 
 typedef struct replay_ctx {
-    mer_session *s;
+    merd_session *s;
     uint64_t revision;
     char *error;
 } replay_ctx;
@@ -497,7 +79,7 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
     replay_ctx *r = ctx;
     json_error_t jerr;
     json_t *doc = json_loadb(payload, size, JSON_REJECT_DUPLICATES, &jerr);
-    mer_refusal why = {0};
+    merd_refusal why = {0};
     int rc = -1;
     if (doc == NULL)
         goto done;
@@ -507,8 +89,8 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         if (create == NULL || !json_is_string(id) || strcmp(json_string_value(id), r->s->id) != 0)
             goto done;
         // Replay builds what was accepted once, whatever today's limits say.
-        const mer_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
-        r->s->scene = scene_from_spec(create, &unlimited, &why);
+        const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
+        r->s->scene = merd_scene_from_spec(create, &unlimited, &why);
         r->s->spec = json_deep_copy(create);
         rc = r->s->scene != NULL ? 0 : -1;
     } else {
@@ -516,68 +98,68 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         const json_t *edits = json_object_get(doc, "edits");
         if (r->s->scene == NULL || !json_is_integer(rev) || !json_is_array(edits))
             goto done;
-        rc = mer_batch_replay(edits, r->s->scene, &why);
+        rc = merd_batch_replay(edits, r->s->scene, &why);
         r->revision = (uint64_t)json_integer_value(rev);
     }
 done:
     if (rc != 0)
-        snprintf(r->error, MER_JOURNAL_ERROR_MAX, "record %zu: %.200s", index,
+        snprintf(r->error, MERD_JOURNAL_ERROR_MAX, "record %zu: %.200s", index,
                  why.detail[0] ? why.detail : "not a meristem journal record");
     json_decref(doc);
     return rc;
 }
 
 /* Builds the session's scene afresh from its journal (caller holds `work`). */
-static int rebuild(mer_session *s, char *error)
+static int rebuild(merd_session *s, char *error)
 {
-    mer_journal_close(s->journal, false);
+    merd_journal_close(s->journal, false);
     s->journal = NULL;
     mer_scene_free(s->scene);
     s->scene = NULL;
     json_decref(s->spec);
     s->spec = NULL;
     replay_ctx r = {s, 0, error};
-    s->journal = mer_journal_open(s->path, s->cfg->fsync, replay_record, &r, NULL, error);
+    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, &r, NULL, error);
     return s->journal != NULL && s->scene != NULL ? 0 : -1;
 }
 
-mer_session *mer_session_restore(const mer_session_config *cfg, const char *path, size_t *dropped,
-                                 char *error)
+merd_session *merd_session_restore(const merd_session_config *cfg, const char *path, size_t *dropped,
+                                   char *error)
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     char id[33];
     if (strlen(base) != 32 + 8 || strcmp(base + 32, ".journal") != 0) {
-        snprintf(error, MER_JOURNAL_ERROR_MAX, "%.200s is not a session journal", path);
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s is not a session journal", path);
         return NULL;
     }
     memcpy(id, base, 32);
     id[32] = '\0';
-    mer_session *s = session_new(cfg, id);
+    merd_session *s = session_new(cfg, id);
     if (s == NULL)
         return NULL;
     replay_ctx r = {s, 0, error};
-    s->journal = mer_journal_open(s->path, cfg->fsync, replay_record, &r, dropped, error);
+    s->journal = merd_journal_open(s->path, cfg->fsync, replay_record, &r, dropped, error);
     if (s->journal == NULL || s->scene == NULL) {
         session_free(s, false);
         return NULL;
     }
-    publish(s, r.revision);
+    merd_session_publish(s, r.revision);
     return s;
 }
 
-void mer_session_ref(mer_session *s)
+void merd_session_ref(merd_session *s)
 {
     atomic_fetch_add(&s->refs, 1);
 }
 
-void mer_session_unref(mer_session *s)
+void merd_session_unref(merd_session *s)
 {
     if (s != NULL && atomic_fetch_sub(&s->refs, 1) == 1)
         session_free(s, s->discarded);
 }
 
-void mer_session_discard(mer_session *s)
+void merd_session_discard(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     s->discarded = true;
@@ -585,12 +167,12 @@ void mer_session_discard(mer_session *s)
     atomic_store(&s->cancel, 1);
 }
 
-const char *mer_session_id(const mer_session *s)
+const char *merd_session_id(const merd_session *s)
 {
     return s->id;
 }
 
-uint64_t mer_session_revision(mer_session *s)
+uint64_t merd_session_revision(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     uint64_t r = s->revision;
@@ -598,7 +180,7 @@ uint64_t mer_session_revision(mer_session *s)
     return r;
 }
 
-uint32_t mer_session_internodes(mer_session *s)
+uint32_t merd_session_internodes(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     uint32_t n = s->internodes;
@@ -606,55 +188,42 @@ uint32_t mer_session_internodes(mer_session *s)
     return n;
 }
 
-/* ---------------------------------------------------------------- edits */
+/* ---------------------------------------------------------------- applying */
 
 typedef struct stop_ctx {
-    mer_session *s;
-    struct timespec started;
-    const char *why;
+    merd_session *s;
+    double started;   /* merd_now() */
 } stop_ctx;
 
-static double seconds_since(const struct timespec *t)
-{
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (double)(now.tv_sec - t->tv_sec) + 1e-9 * (double)(now.tv_nsec - t->tv_nsec);
-}
-
-static int should_stop(void *ctx, uint32_t done, uint32_t total)
+/* Why the running batch should stop at this whole step, or NULL. */
+static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
 {
     stop_ctx *c = ctx;
-    mer_session *s = c->s;
+    merd_session *s = c->s;
     pthread_mutex_lock(&s->state);
     s->done = done;
     s->total = total;
     pthread_mutex_unlock(&s->state);
-    if (atomic_load(&s->cancel)) {
-        c->why = "cancelled";
-        return 1;
-    }
-    if (c->s->cfg->max_seconds > 0 && seconds_since(&c->started) > s->cfg->max_seconds) {
-        c->why = "time limit";
-        return 1;
-    }
+    if (atomic_load(&s->cancel))
+        return "cancelled";
+    if (c->s->cfg->max_seconds > 0 && merd_now() - c->started > s->cfg->max_seconds)
+        return "time limit";
     mer_summary sum;
     mer_scene_summary(s->scene, &sum);
-    if (sum.internodes >= s->cfg->max_internodes) {
-        c->why = "internode limit";
-        return 1;
-    }
-    return 0;
+    if (sum.internodes >= s->cfg->max_internodes)
+        return "internode limit";
+    return NULL;
 }
 
-int mer_session_apply(mer_session *s, const mer_batch *batch, mer_batch_outcome *outcome,
-                      mer_refusal *why)
+int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
+                       merd_refusal *why)
 {
     pthread_mutex_lock(&s->work);
     int rc = -1;
-    if (mer_session_internodes(s) >= s->cfg->max_internodes) {
-        mer_refuse(why, 409, "limit", "", "the tree has reached %u internodes, the most a session "
-                   "may grow (meristemd --max-internodes); prune it or start another session",
-                   s->cfg->max_internodes);
+    if (merd_session_internodes(s) >= s->cfg->max_internodes) {
+        merd_refuse(why, 409, "limit", "", "the tree has reached %u internodes, the most a session "
+                    "may grow (meristemd --max-internodes); prune it or start another session",
+                    s->cfg->max_internodes);
         goto out;
     }
     pthread_mutex_lock(&s->state);
@@ -663,26 +232,23 @@ int mer_session_apply(mer_session *s, const mer_batch *batch, mer_batch_outcome 
     pthread_mutex_unlock(&s->state);
     atomic_store(&s->cancel, 0);
 
-    stop_ctx sc = {s, {0, 0}, NULL};
-    clock_gettime(CLOCK_MONOTONIC, &sc.started);
+    stop_ctx sc = {s, merd_now()};
     json_t *applied = NULL;
-    char error[MER_JOURNAL_ERROR_MAX] = "";
-    if (mer_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
+    char error[MERD_JOURNAL_ERROR_MAX] = "";
+    if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
         // Refused halfway: undo what was applied by rebuilding from the journal.
         if (rebuild(s, error) != 0)
             fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
         goto done;
     }
-    if (outcome->interrupted != NULL)
-        outcome->interrupted = sc.why;
-    uint64_t revision = mer_session_revision(s);
+    uint64_t revision = merd_session_revision(s);
     if (json_array_size(applied) > 0) {
         json_t *record = json_pack("{s:i, s:O}", "revision", (json_int_t)(revision + 1), "edits", applied);
         char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);
         json_decref(record);
-        if (text == NULL || mer_journal_append(s->journal, text, strlen(text), error) != 0) {
-            mer_refuse(why, 503, "journal", "", "the edits could not be journaled, so they were "
-                       "undone: %s", text ? error : "out of memory");
+        if (text == NULL || merd_journal_append(s->journal, text, strlen(text), error) != 0) {
+            merd_refuse(why, 503, "journal", "", "the edits could not be journaled, so they were "
+                        "undone: %s", text ? error : "out of memory");
             free(text);
             json_decref(applied);
             if (rebuild(s, error) != 0)
@@ -690,7 +256,7 @@ int mer_session_apply(mer_session *s, const mer_batch *batch, mer_batch_outcome 
             goto done;
         }
         free(text);
-        publish(s, revision + 1);
+        merd_session_publish(s, revision + 1);
     }
     json_decref(applied);
     rc = 0;
@@ -703,15 +269,15 @@ out:
     return rc;
 }
 
-void mer_session_sync(mer_session *s)
+void merd_session_sync(merd_session *s)
 {
     if (pthread_mutex_trylock(&s->work) == 0) {
-        mer_journal_sync(s->journal);
+        merd_journal_sync(s->journal);
         pthread_mutex_unlock(&s->work);
     }
 }
 
-bool mer_session_cancel(mer_session *s)
+bool merd_session_cancel(merd_session *s)
 {
     pthread_mutex_lock(&s->state);
     bool running = s->running;
@@ -719,85 +285,4 @@ bool mer_session_cancel(mer_session *s)
     if (running)
         atomic_store(&s->cancel, 1);
     return running;
-}
-
-/* ---------------------------------------------------------------- snapshots */
-
-static void options_key(const mer_snapshot_options *o, char *out, size_t n)
-{
-    // Twig lines add "w1", so the keys of snapshots without them stay as they were.
-    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s", o->mesh.detail ? o->mesh.detail : 3,
-             o->mesh.leaves, o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1,
-             o->mesh.no_uvs ? 0 : 1, o->compression, o->mesh.twig_lines ? "w1" : "");
-}
-
-void mer_session_etag(mer_session *s, const mer_snapshot_options *options, char *etag)
-{
-    char key[48];
-    options_key(options, key, sizeof key);
-    snprintf(etag, 64, "\"r%" PRIu64 "-%s\"", mer_session_revision(s), key);
-}
-
-int mer_session_snapshot(mer_session *s, const mer_snapshot_options *options, mer_snapshot **out,
-                         char *etag, mer_refusal *why)
-{
-    pthread_mutex_lock(&s->work);
-    mer_session_etag(s, options, etag);
-    if (s->snap != NULL && strcmp(s->snap_key, etag) == 0) {
-        atomic_fetch_add(&s->snap->refs, 1);
-        *out = s->snap;
-        pthread_mutex_unlock(&s->work);
-        return 0;
-    }
-    mer_mesh *mesh = NULL;
-    mer_error err = {0};
-    mer_result rc = mer_mesh_build(s->scene, &options->mesh, &mesh, &err);
-    mer_snapshot *snap = calloc(1, sizeof *snap);
-    if (rc == MER_OK && snap != NULL) {
-        const json_t *preset = json_object_get(s->spec, "preset");
-        const json_t *seed = json_object_get(s->spec, "seed");
-        mer_gltf_meta meta = {.session = s->id,
-                              .revision = mer_session_revision(s),
-                              .step = mer_scene_step_index(s->scene),
-                              .preset = preset ? json_string_value(preset) : "default",
-                              .seed = seed ? (uint64_t)json_integer_value(seed) : 0,
-                              .detail = options->mesh.detail ? options->mesh.detail : 3,
-                              .leaves = options->mesh.leaves,
-                              .markers = options->mesh.markers,
-                              .color = options->mesh.color};
-        mer_gltf_options gopt = {.format = MER_GLTF_BINARY,
-                                 .unquantized = options->unquantized,
-                                 .compression = options->compression};
-        rc = mer_gltf_write_tree(mesh, &meta, &gopt, &snap->bytes, &snap->size, &err);
-    }
-    mer_mesh_free(mesh);
-    if (rc != MER_OK || snap == NULL) {
-        free(snap);
-        pthread_mutex_unlock(&s->work);
-        return rc == MER_ERR_RANGE ? mer_refuse(why, 422, "out-of-range", err.field, "%s", err.message)
-                                   : mer_refuse(why, 503, "snapshot", "", "the snapshot failed: %s",
-                                                err.message);
-    }
-    atomic_init(&snap->refs, 2);  // the cache's and the caller's
-    if (s->snap != NULL)
-        mer_snapshot_release(s->snap);
-    s->snap = snap;
-    snprintf(s->snap_key, sizeof s->snap_key, "%s", etag);
-    *out = snap;
-    pthread_mutex_unlock(&s->work);
-    return 0;
-}
-
-const uint8_t *mer_snapshot_bytes(const mer_snapshot *snap, size_t *size)
-{
-    *size = snap->size;
-    return snap->bytes;
-}
-
-void mer_snapshot_release(mer_snapshot *snap)
-{
-    if (snap != NULL && atomic_fetch_sub(&snap->refs, 1) == 1) {
-        mer_gltf_free(snap->bytes);
-        free(snap);
-    }
 }

@@ -23,13 +23,13 @@ typedef struct opt_spec {
     opt_type type;
     long min, max;          /* for OPT_LONG */
     const char *fallback;   /* default, as it would be typed */
-    size_t offset;          /* into mer_settings */
+    size_t offset;          /* into merd_settings */
     size_t size;            /* of a string field */
     const char *help;
 } opt_spec;
 
-#define STR(field) offsetof(mer_settings, field), sizeof(((mer_settings *)0)->field)
-#define NUM(field) offsetof(mer_settings, field), 0
+#define STR(field) offsetof(merd_settings, field), sizeof(((merd_settings *)0)->field)
+#define NUM(field) offsetof(merd_settings, field), 0
 
 static const opt_spec specs[] = {
     {"bind", OPT_STRING, 0, 0, "127.0.0.1", STR(bind),
@@ -72,7 +72,7 @@ static const opt_spec specs[] = {
 };
 #define N_SPECS (sizeof specs / sizeof specs[0])
 
-static int set_option(mer_settings *config, const opt_spec *spec, const char *text, FILE *err)
+static int set_option(merd_settings *config, const opt_spec *spec, const char *text, FILE *err)
 {
     char *base = (char *)config + spec->offset;
     switch (spec->type) {
@@ -106,7 +106,7 @@ static int set_option(mer_settings *config, const opt_spec *spec, const char *te
 }
 
 /* The token file's first line, without its newline. */
-static int read_token(mer_settings *config, FILE *err)
+static int read_token(merd_settings *config, FILE *err)
 {
     FILE *f = fopen(config->token_file, "r");
     if (f == NULL) {
@@ -147,13 +147,13 @@ static void print_help(FILE *out)
             "show the version and exit");
 }
 
-mer_settings_outcome mer_settings_parse(mer_settings *config, int argc, char **argv, FILE *out,
+merd_settings_outcome merd_settings_parse(merd_settings *config, int argc, char **argv, FILE *out,
                                     FILE *err)
 {
     memset(config, 0, sizeof *config);
     for (size_t i = 0; i < N_SPECS; i++)
         if (specs[i].fallback != NULL && set_option(config, &specs[i], specs[i].fallback, err) != 0)
-            return MER_SETTINGS_ERROR;
+            return MERD_SETTINGS_ERROR;
 
     enum { OPT_HELP = 1000, OPT_VERSION };
     struct option longopts[N_SPECS + 3];
@@ -171,29 +171,29 @@ mer_settings_outcome mer_settings_parse(mer_settings *config, int argc, char **a
     while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
         if (c == OPT_HELP) {
             print_help(out);
-            return MER_SETTINGS_EXIT;
+            return MERD_SETTINGS_EXIT;
         }
         if (c == OPT_VERSION) {
             fprintf(out, "meristemd %s\n", mer_version());
-            return MER_SETTINGS_EXIT;
+            return MERD_SETTINGS_EXIT;
         }
         if (c < 0 || (size_t)c >= N_SPECS) {
             fprintf(err, "meristemd: unknown or incomplete option '%s'; see --help\n",
                     argv[optind - 1]);
-            return MER_SETTINGS_ERROR;
+            return MERD_SETTINGS_ERROR;
         }
         if (set_option(config, &specs[c], optarg, err) != 0)
-            return MER_SETTINGS_ERROR;
+            return MERD_SETTINGS_ERROR;
     }
     if (optind < argc) {
         fprintf(err, "meristemd: unexpected argument '%s'; see --help\n", argv[optind]);
-        return MER_SETTINGS_ERROR;
+        return MERD_SETTINGS_ERROR;
     }
     if (strcmp(config->fsync, "always") != 0 && strcmp(config->fsync, "interval") != 0) {
         fprintf(err, "meristemd: --fsync wants always or interval, got '%s'\n", config->fsync);
-        return MER_SETTINGS_ERROR;
+        return MERD_SETTINGS_ERROR;
     }
     if (config->token_file[0] != '\0' && read_token(config, err) != 0)
-        return MER_SETTINGS_ERROR;
-    return MER_SETTINGS_RUN;
+        return MERD_SETTINGS_ERROR;
+    return MERD_SETTINGS_RUN;
 }

@@ -6,7 +6,7 @@
 #include <stdbool.h>
 #include <stdio.h>
 
-typedef struct mer_settings {
+typedef struct merd_settings {
     char bind[64];          /* --bind: listen address, IPv4 or IPv6 literal */
     long port;              /* --port: TCP port, 0 picks a free one */
     char web_root[4096];    /* --web-root: folder of the brush client */
@@ -29,17 +29,17 @@ typedef struct mer_settings {
     char token[256];        /* --token: required as Authorization: Bearer on /v1 but health */
     char token_file[4096];  /* --token-file: read the token from a file */
     char cors_origin[256];  /* --cors-origin: the one origin allowed to call the API */
-} mer_settings;
+} merd_settings;
 
-typedef enum mer_settings_outcome {
-    MER_SETTINGS_RUN,   /* settings parsed: start the daemon */
-    MER_SETTINGS_EXIT,  /* --help or --version printed: exit 0 */
-    MER_SETTINGS_ERROR  /* a bad option was reported on `err`: exit 2 */
-} mer_settings_outcome;
+typedef enum merd_settings_outcome {
+    MERD_SETTINGS_RUN,   /* settings parsed: start the daemon */
+    MERD_SETTINGS_EXIT,  /* --help or --version printed: exit 0 */
+    MERD_SETTINGS_ERROR  /* a bad option was reported on `err`: exit 2 */
+} merd_settings_outcome;
 
 /* Fills `config` with the defaults, then applies argv. Messages go to `out`
  * (help, version) and `err` (mistakes, naming the option and its range). */
-mer_settings_outcome mer_settings_parse(mer_settings *config, int argc, char **argv,
+merd_settings_outcome merd_settings_parse(merd_settings *config, int argc, char **argv,
                                     FILE *out, FILE *err);
 
 #endif

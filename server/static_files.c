@@ -39,7 +39,7 @@ static const struct {
     {".yaml", "application/yaml"},
 };
 
-const char *mer_static_mime_type(const char *path)
+const char *merd_static_mime_type(const char *path)
 {
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(slash != NULL ? slash : path, '.');
@@ -78,14 +78,14 @@ static bool inside(const char *path, const char *root)
     return strncmp(path, root, n) == 0 && (path[n] == '\0' || path[n] == '/' || n == 1);
 }
 
-static enum MHD_Result not_found(mer_request *req)
+static enum MHD_Result not_found(merd_request *req)
 {
     char detail[300];
     snprintf(detail, sizeof detail, "there is no file at %.200s", req->url);
-    return mer_reply_problem(req, 404, "not-found", "Not Found", detail);
+    return merd_reply_problem(req, 404, "not-found", "Not Found", detail);
 }
 
-static enum MHD_Result send_file(mer_request *req, const char *path, const char *root)
+static enum MHD_Result send_file(merd_request *req, const char *path, const char *root)
 {
     char real[PATH_MAX];
     if (realpath(path, real) == NULL || !inside(real, root))
@@ -103,12 +103,12 @@ static enum MHD_Result send_file(mer_request *req, const char *path, const char 
         close(fd);
         return MHD_NO;
     }
-    MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, mer_static_mime_type(real));
+    MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, merd_static_mime_type(real));
     MHD_add_response_header(response, MHD_HTTP_HEADER_CACHE_CONTROL, "no-cache");
-    return mer_reply(req, 200, response, (uint64_t)st.st_size);
+    return merd_reply(req, 200, response, (uint64_t)st.st_size);
 }
 
-enum MHD_Result mer_static_serve(mer_request *req, const char *root)
+enum MHD_Result merd_static_serve(merd_request *req, const char *root)
 {
     if (!url_is_plain(req->url))
         return not_found(req);
@@ -128,7 +128,7 @@ enum MHD_Result mer_static_serve(mer_request *req, const char *root)
             if (response == NULL)
                 return MHD_NO;
             MHD_add_response_header(response, MHD_HTTP_HEADER_LOCATION, location);
-            return mer_reply(req, 301, response, 0);
+            return merd_reply(req, 301, response, 0);
         }
         n = snprintf(path, sizeof path, "%s%sindex.html", root, req->url);
         if (n < 0 || (size_t)n >= sizeof path)

@@ -11,9 +11,9 @@
  * encoded "%2e%2e" (libmicrohttpd decodes it before we see it), a symlink that
  * leads outside, or anything else, gets a 404 problem; a folder gets its
  * index.html, or a 301 to the same path with a trailing slash. */
-enum MHD_Result mer_static_serve(mer_request *req, const char *root);
+enum MHD_Result merd_static_serve(merd_request *req, const char *root);
 
 /* The Content-Type for a file name, by its extension; never NULL. */
-const char *mer_static_mime_type(const char *path);
+const char *merd_static_mime_type(const char *path);
 
 #endif

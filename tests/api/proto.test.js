@@ -175,7 +175,7 @@ test('every example validates against its request schema and is named in openapi
   for (const x of external) assert.ok(fs.existsSync(path.join(PROTO, x)), `${x} does not exist`);
 });
 
-test('the schemas refuse what server/edits.c and server/session.c refuse', () => {
+test('the schemas refuse what server/edit_ops.c and server/spec.c refuse', () => {
   const refused = {
     'edit.json': [
       {}, { op: 'grow' }, { op: 'step', count: 0 }, { op: 'step', count: 1.5 }, { op: 'step', n: 2 },

@@ -296,6 +296,33 @@ test('snapshots: GLB, ETag by revision and options, 304, options as query', asyn
   assert.equal((await fetch(url, { headers: { 'If-None-Match': etag } })).status, 200);
 });
 
+test('the page\'s compact snapshot and a download do not evict each other', async () => {
+  const { body: { id } } = await create({ seed: 9 });
+  await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 6 });
+  const url = `${d.url}/v1/sessions/${id}/snapshot.glb`;
+  const counts = async () => {
+    const text = await (await fetch(`${d.url}/v1/metrics`)).text();
+    const n = (result) => Number(text.match(new RegExp(`meristem_snapshot_cache_total\\{result="${result}"\\} (\\d+)`))[1]);
+    return { hit: n('hit'), miss: n('miss') };
+  };
+  const first = await counts();
+  const bytes = {};
+  for (const [name, query] of [['download', ''], ['page', '?texcoords=0&compress=meshopt&twig_lines=1'],
+    ['download', ''], ['page', '?texcoords=0&compress=meshopt&twig_lines=1']]) {
+    const r = await fetch(url + query);
+    assert.equal(r.status, 200);
+    const b = Buffer.from(await r.arrayBuffer());
+    if (bytes[name]) assert.ok(bytes[name].equals(b), `${name}: the cached bytes are the ones meshed`);
+    bytes[name] = b;
+  }
+  const then = await counts();
+  assert.deepEqual({ hit: then.hit - first.hit, miss: then.miss - first.miss }, { hit: 2, miss: 2 });
+  // A new revision makes every variant stale.
+  await J('POST', `/v1/sessions/${id}/edits`, { op: 'step' });
+  assert.equal((await fetch(url)).status, 200);
+  assert.equal((await counts()).miss - then.miss, 1);
+});
+
 test('edits answer with the GLB when asked', async () => {
   const { body: { id } } = await create({ seed: 6 });
   const r = await fetch(`${d.url}/v1/sessions/${id}/edits`, {

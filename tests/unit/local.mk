@@ -62,4 +62,18 @@ tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c ser
 tests_unit_test_journal_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
 tests_unit_test_journal_LDADD = $(CMOCKA_LIBS) $(ZLIB_LIBS)
 
+check_PROGRAMS += tests/unit/test_refusal
+tests_unit_test_refusal_SOURCES = tests/unit/test_refusal.c server/refusal.c server/refusal.h \
+	server/decode.c server/decode.h
+tests_unit_test_refusal_CPPFLAGS = $(UNIT_CPPFLAGS) $(JANSSON_CFLAGS)
+tests_unit_test_refusal_LDADD = $(UNIT_LDADD) $(JANSSON_LIBS)
+
+check_PROGRAMS += tests/unit/test_snapshot_cache
+tests_unit_test_snapshot_cache_SOURCES = tests/unit/test_snapshot_cache.c server/snapshot.c \
+	server/snapshot.h
+# Snapshot bytes are freed by the glTF writer's (C++) free: link with the C++ driver.
+nodist_EXTRA_tests_unit_test_snapshot_cache_SOURCES = lib/link-as-cxx.cc
+tests_unit_test_snapshot_cache_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_snapshot_cache_LDADD = $(UNIT_LDADD)
+
 TESTS += $(check_PROGRAMS)

@@ -60,37 +60,37 @@ static off_t file_size(void)
     return st.st_size;
 }
 
-static mer_journal *write_three(void)
+static merd_journal *write_three(void)
 {
-    char error[MER_JOURNAL_ERROR_MAX];
-    mer_journal *j = mer_journal_create(path, "{\"create\":1}", 12, MER_FSYNC_ALWAYS, error);
+    char error[MERD_JOURNAL_ERROR_MAX];
+    merd_journal *j = merd_journal_create(path, "{\"create\":1}", 12, MERD_FSYNC_ALWAYS, error);
     assert_non_null(j);
-    assert_int_equal(mer_journal_append(j, "{\"rev\":1}", 9, error), 0);
-    assert_int_equal(mer_journal_append(j, "{\"rev\":2}", 9, error), 0);
-    assert_int_equal(mer_journal_records(j), 3);
+    assert_int_equal(merd_journal_append(j, "{\"rev\":1}", 9, error), 0);
+    assert_int_equal(merd_journal_append(j, "{\"rev\":2}", 9, error), 0);
+    assert_int_equal(merd_journal_records(j), 3);
     return j;
 }
 
 static void test_records_survive_reopening(void **state)
 {
     (void)state;
-    mer_journal_close(write_three(), false);
+    merd_journal_close(write_three(), false);
     assert_int_equal(file_size(), 3 * 8 + 12 + 9 + 9);
     seen s = {0};
     size_t dropped = 99;
-    char error[MER_JOURNAL_ERROR_MAX];
-    mer_journal *j = mer_journal_open(path, MER_FSYNC_ALWAYS, collect, &s, &dropped, error);
+    char error[MERD_JOURNAL_ERROR_MAX];
+    merd_journal *j = merd_journal_open(path, MERD_FSYNC_ALWAYS, collect, &s, &dropped, error);
     assert_non_null(j);
     assert_int_equal(s.count, 3);
     assert_int_equal(dropped, 0);
     assert_string_equal(s.text[0], "{\"create\":1}");
     assert_string_equal(s.text[2], "{\"rev\":2}");
-    assert_int_equal(mer_journal_append(j, "{\"rev\":3}", 9, error), 0);
-    mer_journal_close(j, false);
+    assert_int_equal(merd_journal_append(j, "{\"rev\":3}", 9, error), 0);
+    merd_journal_close(j, false);
     memset(&s, 0, sizeof s);
-    j = mer_journal_open(path, MER_FSYNC_ALWAYS, collect, &s, NULL, error);
+    j = merd_journal_open(path, MERD_FSYNC_ALWAYS, collect, &s, NULL, error);
     assert_int_equal(s.count, 4);
-    mer_journal_close(j, true);
+    merd_journal_close(j, true);
     assert_int_equal(access(path, F_OK), -1);  // removed
 }
 
@@ -98,22 +98,22 @@ static void test_records_survive_reopening(void **state)
 static void test_torn_tail_is_dropped_whole(void **state)
 {
     (void)state;
-    mer_journal_close(write_three(), false);
+    merd_journal_close(write_three(), false);
     off_t whole = file_size();
     for (off_t cut = 1; cut < 8 + 9; cut++) {
-        mer_journal_close(NULL, false);
+        merd_journal_close(NULL, false);
         assert_int_equal(truncate(path, whole - cut), 0);
         seen s = {0};
         size_t dropped = 0;
-        char error[MER_JOURNAL_ERROR_MAX];
-        mer_journal *j = mer_journal_open(path, MER_FSYNC_ALWAYS, collect, &s, &dropped, error);
+        char error[MERD_JOURNAL_ERROR_MAX];
+        merd_journal *j = merd_journal_open(path, MERD_FSYNC_ALWAYS, collect, &s, &dropped, error);
         assert_non_null(j);
         assert_int_equal(s.count, 2);  // the torn third record is not replayed
         assert_int_equal(dropped, (size_t)(8 + 9 - cut));
         assert_int_equal(file_size(), whole - 8 - 9);  // cut back to a boundary
         // Appending again restores a third, whole record.
-        assert_int_equal(mer_journal_append(j, "{\"rev\":2}", 9, error), 0);
-        mer_journal_close(j, false);
+        assert_int_equal(merd_journal_append(j, "{\"rev\":2}", 9, error), 0);
+        merd_journal_close(j, false);
         assert_int_equal(file_size(), whole);
     }
 }
@@ -121,7 +121,7 @@ static void test_torn_tail_is_dropped_whole(void **state)
 static void test_corrupt_record_ends_the_journal(void **state)
 {
     (void)state;
-    mer_journal_close(write_three(), false);
+    merd_journal_close(write_three(), false);
     int fd = open(path, O_WRONLY);
     assert_true(fd >= 0);
     // Flip a byte inside the second record's payload.
@@ -129,12 +129,12 @@ static void test_corrupt_record_ends_the_journal(void **state)
     close(fd);
     seen s = {0};
     size_t dropped = 0;
-    char error[MER_JOURNAL_ERROR_MAX];
-    mer_journal *j = mer_journal_open(path, MER_FSYNC_ALWAYS, collect, &s, &dropped, error);
+    char error[MERD_JOURNAL_ERROR_MAX];
+    merd_journal *j = merd_journal_open(path, MERD_FSYNC_ALWAYS, collect, &s, &dropped, error);
     assert_non_null(j);
     assert_int_equal(s.count, 1);
     assert_int_equal(dropped, 8 + 9 + 8 + 9);
-    mer_journal_close(j, true);
+    merd_journal_close(j, true);
 }
 
 static int refuse_second(void *ctx, size_t index, const char *payload, size_t size)
@@ -148,32 +148,32 @@ static int refuse_second(void *ctx, size_t index, const char *payload, size_t si
 static void test_errors(void **state)
 {
     (void)state;
-    char error[MER_JOURNAL_ERROR_MAX];
-    mer_journal_close(write_three(), false);
+    char error[MERD_JOURNAL_ERROR_MAX];
+    merd_journal_close(write_three(), false);
     // Creating over an existing journal is refused.
-    assert_null(mer_journal_create(path, "x", 1, MER_FSYNC_ALWAYS, error));
+    assert_null(merd_journal_create(path, "x", 1, MERD_FSYNC_ALWAYS, error));
     assert_non_null(strstr(error, "cannot create"));
     // A replay callback can stop the open.
-    assert_null(mer_journal_open(path, MER_FSYNC_ALWAYS, refuse_second, NULL, NULL, error));
+    assert_null(merd_journal_open(path, MERD_FSYNC_ALWAYS, refuse_second, NULL, NULL, error));
     assert_non_null(strstr(error, "record 1"));
     // An empty file holds no whole record.
     assert_int_equal(truncate(path, 0), 0);
-    assert_null(mer_journal_open(path, MER_FSYNC_ALWAYS, NULL, NULL, NULL, error));
+    assert_null(merd_journal_open(path, MERD_FSYNC_ALWAYS, NULL, NULL, NULL, error));
     assert_non_null(strstr(error, "no whole record"));
     unlink(path);
-    assert_null(mer_journal_open(path, MER_FSYNC_ALWAYS, NULL, NULL, NULL, error));
+    assert_null(merd_journal_open(path, MERD_FSYNC_ALWAYS, NULL, NULL, NULL, error));
 }
 
 static void test_interval_mode_syncs_on_demand(void **state)
 {
     (void)state;
-    char error[MER_JOURNAL_ERROR_MAX];
-    mer_journal *j = mer_journal_create(path, "{}", 2, MER_FSYNC_INTERVAL, error);
+    char error[MERD_JOURNAL_ERROR_MAX];
+    merd_journal *j = merd_journal_create(path, "{}", 2, MERD_FSYNC_INTERVAL, error);
     assert_non_null(j);
-    assert_int_equal(mer_journal_append(j, "{\"rev\":1}", 9, error), 0);
-    assert_int_equal(mer_journal_sync(j), 0);
+    assert_int_equal(merd_journal_append(j, "{\"rev\":1}", 9, error), 0);
+    assert_int_equal(merd_journal_sync(j), 0);
     assert_int_equal(file_size(), 8 + 2 + 8 + 9);  // written at once, synced later
-    mer_journal_close(j, true);
+    merd_journal_close(j, true);
 }
 
 int main(void)

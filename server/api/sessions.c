@@ -1,0 +1,107 @@
+/* meristemd — the session routes: create, list, get, delete, cancel. */
+#include "config.h"
+
+#include <stdio.h>
+
+#include "server/api/private.h"
+
+merd_session *merd_api_find_session(merd_request *req, const char *id, merd_refusal *why)
+{
+    merd_session *s = merd_registry_get(req->app->registry, id);
+    if (s == NULL)
+        merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET /v1/sessions "
+                    "lists them)", id);
+    return s;
+}
+
+enum MHD_Result merd_api_list(merd_request *req, const char *id)
+{
+    (void)id;
+    json_t *body = merd_registry_list(req->app->registry);
+    enum MHD_Result ok = merd_reply_json(req, 200, body);
+    json_decref(body);
+    return ok;
+}
+
+enum MHD_Result merd_api_get(merd_request *req, const char *id)
+{
+    merd_refusal why = {0};
+    merd_session *s = merd_api_find_session(req, id, &why);
+    if (s == NULL)
+        return merd_reply_refusal(req, &why);
+    uint64_t revision = 0;
+    char *text = merd_session_summary_text(s, true, &revision);
+    merd_session_unref(s);
+    req->revision = (long long)revision;
+    return merd_reply_text(req, 200, text, "application/json");
+}
+
+enum MHD_Result merd_api_delete(merd_request *req, const char *id)
+{
+    merd_session *s = merd_registry_get(req->app->registry, id);
+    if (s != NULL) {
+        req->revision = (long long)merd_session_revision(s);
+        merd_session_unref(s);
+    }
+    if (merd_registry_delete(req->app->registry, id) != 0) {
+        merd_refusal why = {0};
+        merd_refuse(&why, 404, "unknown-session", "", "there is no session %.64s", id);
+        return merd_reply_refusal(req, &why);
+    }
+    struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
+    return merd_reply(req, 204, r, 0);
+}
+
+enum MHD_Result merd_api_cancel(merd_request *req, const char *id)
+{
+    merd_refusal why = {0};
+    merd_session *s = merd_api_find_session(req, id, &why);
+    if (s == NULL)
+        return merd_reply_refusal(req, &why);
+    bool running = merd_session_cancel(s);
+    req->revision = (long long)merd_session_revision(s);
+    merd_session_unref(s);
+    json_t *body = json_pack("{s:b}", "cancelling", running);
+    enum MHD_Result ok = merd_reply_json(req, 202, body);
+    json_decref(body);
+    return ok;
+}
+
+static void run_create(void *arg)
+{
+    merd_api_job *j = arg;
+    merd_refusal why = {0};
+    merd_session *s = NULL;
+    if (merd_registry_create(j->app->registry, j->spec, &s, &why) != 0) {
+        merd_api_job_refuse(j, &why);
+        return;
+    }
+    json_t *body = merd_session_summary(s, true);
+    size_t size = 0;
+    struct MHD_Response *r = merd_json_response(body, &size);
+    json_decref(body);
+    if (r != NULL) {
+        char location[64];
+        snprintf(location, sizeof location, "/v1/sessions/%s", merd_session_id(s));
+        MHD_add_response_header(r, MHD_HTTP_HEADER_LOCATION, location);
+    }
+    j->req->revision = 0;
+    merd_session_unref(s);
+    merd_api_job_finish(j, 201, r, size);
+}
+
+enum MHD_Result merd_api_create(merd_request *req, const char *id)
+{
+    (void)id;
+    merd_refusal why = {0};
+    json_t *spec = merd_request_json(req, &why);
+    if (spec == NULL)
+        return merd_reply_refusal(req, &why);
+    merd_api_job *j = merd_api_job_new(req, NULL);
+    if (j == NULL) {
+        json_decref(spec);
+        return MHD_NO;
+    }
+    j->spec = spec;
+    return merd_api_job_submit(j, run_create);
+}

@@ -1,0 +1,144 @@
+/* meristemd — GET /v1/sessions/{id}/snapshot.glb: options from the query,
+ * 304 for a client that has this revision, otherwise meshed by a worker (or
+ * taken from the session's cache of variants). */
+#include "config.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "server/api/private.h"
+#include "server/codec.h"
+
+static const char *query(merd_request *req, const char *key)
+{
+    return MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, key);
+}
+
+static int query_uint(merd_request *req, const char *key, uint32_t lo, uint32_t hi, uint32_t *out,
+                      merd_refusal *why)
+{
+    const char *v = query(req, key);
+    if (v == NULL)
+        return 0;
+    char *end = NULL;
+    unsigned long x = strtoul(v, &end, 10);
+    if (end == v || *end != '\0' || x < lo || x > hi)
+        return merd_refuse(why, 422, "out-of-range", key, "%s must be an integer from %u to %u, got '%.40s'",
+                           key, lo, hi, v);
+    *out = (uint32_t)x;
+    return 0;
+}
+
+int merd_api_snapshot_options(merd_request *req, merd_snapshot_options *o, merd_refusal *why)
+{
+    memset(o, 0, sizeof *o);
+    o->mesh.detail = MER_MESH_DETAIL_DEFAULT;
+    uint32_t quantize = 1, texcoords = 1;
+    if (query_uint(req, "detail", 1, MER_MESH_DETAIL_MAX, &o->mesh.detail, why) ||
+        query_uint(req, "leaves", 0, 1, &o->mesh.leaves, why) ||
+        query_uint(req, "markers", 0, 1, &o->mesh.markers, why) ||
+        query_uint(req, "quantize", 0, 1, &quantize, why) ||
+        query_uint(req, "texcoords", 0, 1, &texcoords, why) ||
+        query_uint(req, "twig_lines", 0, 1, &o->mesh.twig_lines, why))
+        return -1;
+    o->unquantized = !quantize;
+    o->mesh.no_uvs = !texcoords;
+    const char *compress = query(req, "compress");
+    if (compress != NULL) {
+        int mode = merd_compression_parse(compress);
+        if (mode < 0)
+            return merd_refuse(why, 422, "out-of-range", "compress",
+                               "compress must be none or meshopt, got '%.40s'", compress);
+        o->compression = (uint32_t)mode;
+    }
+    const char *color = query(req, "color");
+    if (color != NULL) {
+        int mode = merd_color_mode_parse(color);
+        if (mode < 0)
+            return merd_refuse(why, 422, "out-of-range", "color",
+                               "color must be none, order, light or age, got '%.40s'", color);
+        o->mesh.color = (uint32_t)mode;
+    }
+    return 0;
+}
+
+struct MHD_Response *merd_api_glb_response(merd_snapshot *snap, const char *etag, size_t *size)
+{
+    const uint8_t *bytes = merd_snapshot_bytes(snap, size);
+    // The snapshot is shared with the cache: libmicrohttpd sends it in place and
+    // releases our reference when the response is gone.
+    struct MHD_Response *r = MHD_create_response_from_buffer_with_free_callback_cls(
+        *size, (void *)bytes, (MHD_ContentReaderFreeCallback)merd_snapshot_release, snap);
+    if (r == NULL) {
+        merd_snapshot_release(snap);
+        return NULL;
+    }
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "model/gltf-binary");
+    MHD_add_response_header(r, MHD_HTTP_HEADER_ETAG, etag);
+    MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-cache");
+    return r;
+}
+
+bool merd_api_wants_glb(merd_request *req)
+{
+    const char *accept = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
+                                                     MHD_HTTP_HEADER_ACCEPT);
+    return accept != NULL && strstr(accept, "model/gltf-binary") != NULL;
+}
+
+int merd_api_job_snapshot(merd_api_job *j, struct MHD_Response **r, size_t *size,
+                          merd_refusal *why)
+{
+    merd_snapshot *snap = NULL;
+    bool cached = false;
+    if (merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &cached, why) != 0)
+        return -1;
+    merd_metrics_snapshot(j->app->metrics, cached);
+    *r = merd_api_glb_response(snap, j->etag, size);
+    return 0;
+}
+
+static void run_snapshot(void *arg)
+{
+    merd_api_job *j = arg;
+    merd_refusal why = {0};
+    struct MHD_Response *r = NULL;
+    size_t size = 0;
+    j->req->revision = (long long)merd_session_revision(j->session);
+    if (merd_api_job_snapshot(j, &r, &size, &why) != 0)
+        merd_api_job_refuse(j, &why);
+    else
+        merd_api_job_finish(j, 200, r, size);
+}
+
+enum MHD_Result merd_api_snapshot(merd_request *req, const char *id)
+{
+    merd_refusal why = {0};
+    merd_session *s = merd_api_find_session(req, id, &why);
+    if (s == NULL)
+        return merd_reply_refusal(req, &why);
+    merd_snapshot_options snap;
+    req->revision = (long long)merd_session_revision(s);
+    if (merd_api_snapshot_options(req, &snap, &why) != 0) {
+        merd_session_unref(s);
+        return merd_reply_refusal(req, &why);
+    }
+    // A client that has this revision with these options gets 304 without meshing.
+    char etag[MERD_ETAG_MAX];
+    merd_session_etag(s, &snap, etag);
+    const char *match = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
+                                                    MHD_HTTP_HEADER_IF_NONE_MATCH);
+    if (match != NULL && (strstr(match, etag) != NULL || strcmp(match, "*") == 0)) {
+        req->revision = (long long)merd_session_revision(s);
+        merd_session_unref(s);
+        struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
+        if (r != NULL)
+            MHD_add_response_header(r, MHD_HTTP_HEADER_ETAG, etag);
+        return merd_reply(req, 304, r, 0);
+    }
+    merd_api_job *j = merd_api_job_new(req, s);
+    if (j == NULL)
+        return MHD_NO;
+    j->snap = snap;
+    return merd_api_job_submit(j, run_snapshot);
+}

@@ -1,0 +1,29 @@
+/* meristem — a scene as a glTF file, the one way meristemd's snapshots and the
+ * offline command write one: mesh it, describe where it came from, encode. */
+#ifndef MERISTEM_EXPORT_H
+#define MERISTEM_EXPORT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <meristem/gltf.h>
+#include <meristem/mesh.h>
+#include <meristem/scene.h>
+
+/* Where a tree came from, for the file's asset.extras. */
+typedef struct merd_origin {
+    const char *session; /* NULL outside a session */
+    uint64_t revision;
+    const char *preset;
+    uint64_t seed;
+} merd_origin;
+
+/* Meshes `scene` with `mesh` options and encodes it with `gltf` options into
+ * *bytes (*size; caller frees with mer_gltf_free). `*triangles` (may be NULL)
+ * gets the mesh's triangle count, also on an encoding failure. MER_OK, or the
+ * library's failure with `err` filled. Costs a full mesh build. */
+mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh,
+                            const mer_gltf_options *gltf, const merd_origin *origin,
+                            uint8_t **bytes, size_t *size, size_t *triangles, mer_error *err);
+
+#endif

@@ -1,0 +1,66 @@
+/* meristemd — a session's snapshots: meshed and encoded under its `work`
+ * lock, kept in its cache of variants (see session.h). */
+#include "config.h"
+
+#include <inttypes.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "server/export.h"
+#include "server/session_private.h"
+
+static void options_key(const merd_snapshot_options *o, char *out, size_t n)
+{
+    // Twig lines add "w1", so the keys of snapshots without them stay as they were.
+    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s",
+             o->mesh.detail ? o->mesh.detail : MER_MESH_DETAIL_DEFAULT, o->mesh.leaves,
+             o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1, o->mesh.no_uvs ? 0 : 1,
+             o->compression, o->mesh.twig_lines ? "w1" : "");
+}
+
+void merd_session_etag(merd_session *s, const merd_snapshot_options *options, char *etag)
+{
+    char key[48];
+    options_key(options, key, sizeof key);
+    snprintf(etag, MERD_ETAG_MAX, "\"r%" PRIu64 "-%s\"", merd_session_revision(s), key);
+}
+
+/* Meshes and encodes the tree as it is (caller holds `work`). */
+static int build(merd_session *s, const merd_snapshot_options *options, merd_snapshot **out,
+                 merd_refusal *why)
+{
+    const json_t *preset = json_object_get(s->spec, "preset");
+    const json_t *seed = json_object_get(s->spec, "seed");
+    merd_origin origin = {.session = s->id,
+                          .revision = merd_session_revision(s),
+                          .preset = preset ? json_string_value(preset) : "default",
+                          .seed = seed ? (uint64_t)json_integer_value(seed) : 0};
+    mer_gltf_options gopt = {.format = MER_GLTF_BINARY,
+                             .unquantized = options->unquantized,
+                             .compression = options->compression};
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    mer_error err = {0};
+    mer_result rc = merd_export_tree(s->scene, &options->mesh, &gopt, &origin, &bytes, &size,
+                                     NULL, &err);
+    if (rc != MER_OK)
+        return merd_refuse_lib(why, rc, &err, "");
+    *out = merd_snapshot_new(bytes, size);
+    if (*out == NULL)
+        return merd_refuse(why, 503, "out-of-memory", "", "out of memory for a snapshot");
+    return 0;
+}
+
+int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
+                          merd_snapshot **out, char *etag, bool *cached, merd_refusal *why)
+{
+    pthread_mutex_lock(&s->work);
+    merd_session_etag(s, options, etag);
+    *out = merd_snapshot_cache_get(&s->snaps, etag);
+    *cached = *out != NULL;
+    int rc = 0;
+    if (*out == NULL && (rc = build(s, options, out, why)) == 0)
+        merd_snapshot_cache_put(&s->snaps, merd_session_revision(s), etag, *out);
+    pthread_mutex_unlock(&s->work);
+    return rc;
+}
