@@ -14,7 +14,12 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/grow.c \
 	lib/edit.c \
 	lib/presets.c \
-	lib/mesh.c \
+	lib/mesh/mesh_private.h \
+	lib/mesh/build.c \
+	lib/mesh/axes.c \
+	lib/mesh/tube.c \
+	lib/mesh/leaves.c \
+	lib/mesh/color.c \
 	lib/scene_private.h \
 	lib/vec_private.h \
 	lib/tinygltf_private.h \
