@@ -22,9 +22,15 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/color.c \
 	lib/scene_private.h \
 	lib/vec_private.h \
-	lib/tinygltf_private.h \
 	lib/version.c \
-	lib/gltf.cc
+	lib/gltf/gltf_private.h \
+	lib/gltf/tinygltf_private.h \
+	lib/gltf/tinygltf.cc \
+	lib/gltf/writer.cc \
+	lib/gltf/tree.cc \
+	lib/gltf/meshopt.cc \
+	lib/gltf/write.cc \
+	lib/gltf/read.cc
 lib_libmeristem_core_la_LIBADD = -lm
 
 lib_LTLIBRARIES += lib/libmeristem.la

@@ -1,8 +1,17 @@
 /* meristem — glTF 2.0 encoding behind a plain C API.
  *
- * lib/gltf.cc wraps tinygltf (Debian's libtinygltf-dev, header-only here, with
- * image loading compiled out). Nothing C++ crosses this header: every entry point
- * catches all exceptions and maps them to a mer_result.
+ * lib/gltf/ wraps tinygltf (Debian's libtinygltf-dev, header-only here, with
+ * image loading compiled out) and meshoptimizer. Nothing C++ crosses this
+ * header: every entry point catches all exceptions and maps them to a mer_result.
+ *
+ * Threads and process state. meristem/scene.h says the library has no global
+ * mutable state; mer_gltf_write_tree with MER_GLTF_MESHOPT is the exception,
+ * in two ways: it encodes on one extra thread that it starts and joins within
+ * the call (all on the caller's thread when none can be started), and the
+ * first such call sets meshoptimizer's encoder versions process-wide (index
+ * codec 1, vertex codec 0, as EXT_meshopt_compression requires), once and
+ * thread-safely. A program that also calls meshoptimizer's encoders itself
+ * shares those settings.
  */
 #ifndef MERISTEM_GLTF_H
 #define MERISTEM_GLTF_H

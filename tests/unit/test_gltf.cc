@@ -17,7 +17,7 @@ extern "C" {
 #include <cmocka.h>
 }
 
-#include "tinygltf_private.h"
+#include "gltf/tinygltf_private.h"
 
 #include <meristem/gltf.h>
 

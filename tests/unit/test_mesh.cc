@@ -26,7 +26,7 @@ extern "C" {
 #include <cmocka.h>
 }
 
-#include "tinygltf_private.h"
+#include "gltf/tinygltf_private.h"
 
 
 #include <meristem.h>
