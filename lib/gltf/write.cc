@@ -72,7 +72,7 @@ mer_result check_values(const mer_mesh_part &p, const char *positions, const cha
     return MER_OK;
 }
 
-// `prefix` names the part in error fields ("bark." gives "bark.indices").
+// `prefix` names the part in error fields ("mesh.bark." gives "mesh.bark.indices").
 mer_result check_part(const mer_mesh_part &p, const std::string &prefix, mer_error *err)
 {
     const std::string indices = prefix + "indices", positions = prefix + "positions",
@@ -151,10 +151,10 @@ mer_result write_embedded(Writer &w, uint8_t **out, size_t *out_size, mer_error 
     return to_bytes(stream.str(), out, out_size, err);
 }
 
-// Checks and encodes; `prefix` as for check_part.
+// Checks and encodes.
 mer_result write_checked(const mer_mesh &mesh, const mer_gltf_meta *meta,
-                         const mer_gltf_options &options, const std::string &prefix, uint8_t **out,
-                         size_t *out_size, mer_error *err)
+                         const mer_gltf_options &options, uint8_t **out, size_t *out_size,
+                         mer_error *err)
 {
     *out = nullptr;
     *out_size = 0;
@@ -162,11 +162,11 @@ mer_result write_checked(const mer_mesh &mesh, const mer_gltf_meta *meta,
     if (rc != MER_OK)
         return rc;
     return guarded(err, [&]() {
-        mer_result checked = check_part(mesh.bark, prefix.empty() ? prefix : prefix + "bark.", err);
+        mer_result checked = check_part(mesh.bark, "mesh.bark.", err);
         if (checked == MER_OK)
-            checked = check_part(mesh.leaves, prefix.empty() ? prefix : prefix + "leaves.", err);
+            checked = check_part(mesh.leaves, "mesh.leaves.", err);
         if (checked == MER_OK && mesh.leaves.line_index_count != 0)
-            checked = mer_error_set(err, MER_ERR_INVALID, (prefix + "leaves.line_indices").c_str(),
+            checked = mer_error_set(err, MER_ERR_INVALID, "mesh.leaves.line_indices",
                                     "only bark has twig lines");
         if (checked != MER_OK)
             return checked;
@@ -237,41 +237,7 @@ extern "C" mer_result mer_gltf_write_tree(const mer_mesh *mesh, const mer_gltf_m
     if (out == nullptr || out_size == nullptr || mesh == nullptr)
         return mer_error_set(err, MER_ERR_INVALID, nullptr, "no mesh or output pointers given");
     const mer_gltf_options defaults{};
-    return write_checked(*mesh, meta, options != nullptr ? *options : defaults, "mesh.", out,
-                         out_size, err);
-}
-
-extern "C" mer_result mer_gltf_write_glb(const mer_gltf_mesh *in, uint8_t **out_glb,
-                                         size_t *out_size, mer_error *err)
-{
-    if (out_glb == nullptr || out_size == nullptr)
-        return mer_error_set(err, MER_ERR_INVALID, nullptr, "no output pointers given");
-    *out_glb = nullptr;
-    *out_size = 0;
-    if (in == nullptr)
-        return mer_error_set(err, MER_ERR_INVALID, "mesh", "no mesh given");
-    if (in->positions == nullptr || in->vertex_count == 0)
-        return mer_error_set(err, MER_ERR_INVALID, "positions",
-                             "a mesh needs at least one vertex position");
-    if (in->vertex_count > UINT32_MAX || in->index_count > UINT32_MAX)
-        return mer_error_set(err, MER_ERR_RANGE, "vertex_count",
-                             "%zu vertices exceed the 2^32 - 1 that indices can address",
-                             in->vertex_count);
-    if (in->index_count == 0)
-        return mer_error_set(err, MER_ERR_INVALID, "indices", "a mesh needs triangles");
-    mer_mesh mesh{};
-    mesh.bark.vertex_count = static_cast<uint32_t>(in->vertex_count);
-    mesh.bark.index_count = static_cast<uint32_t>(in->index_count);
-    mesh.bark.positions = const_cast<float *>(in->positions);
-    mesh.bark.normals = const_cast<float *>(in->normals);
-    mesh.bark.node_ids = const_cast<uint32_t *>(in->node_ids);
-    mesh.bark.indices = const_cast<uint32_t *>(in->indices);
-    mer_mesh_chunk whole{0, mesh.bark.vertex_count, 0, mesh.bark.index_count, 0, 0, 0};
-    mesh.bark.chunks = &whole;
-    mesh.bark.chunk_count = 1;
-    mer_gltf_options raw{};
-    raw.unquantized = 1;
-    return write_checked(mesh, nullptr, raw, "", out_glb, out_size, err);
+    return write_checked(*mesh, meta, options != nullptr ? *options : defaults, out, out_size, err);
 }
 
 extern "C" void mer_gltf_free(void *bytes)

@@ -31,29 +31,6 @@ extern "C" {
  * every integer below 2^24 exactly; larger ids are refused. */
 #define MER_GLTF_NODE_ID_LIMIT (1u << 24)
 
-/* An indexed triangle mesh, borrowed for the duration of one call. */
-typedef struct mer_gltf_mesh {
-    const float *positions;    /* 3 × vertex_count, required */
-    const float *normals;      /* 3 × vertex_count unit vectors, or NULL */
-    const uint32_t *node_ids;  /* vertex_count ids < MER_GLTF_NODE_ID_LIMIT, or NULL;
-                                  written as the application-specific `_NODE_ID` */
-    size_t vertex_count;       /* >= 1 */
-    const uint32_t *indices;   /* index_count entries, each < vertex_count, required */
-    size_t index_count;        /* a positive multiple of 3 */
-} mer_gltf_mesh;
-
-/* Encodes `mesh` as one binary glTF (GLB) holding a single scene, node, mesh and
- * TRIANGLES primitive with POSITION (with min/max), NORMAL, `_NODE_ID` and
- * UNSIGNED_INT indices (UNSIGNED_SHORT when vertex_count <= 65535), all
- * unquantized.
- *
- * On MER_OK, *out_glb holds *out_size bytes that the caller frees with
- * mer_gltf_free(). On failure *out_glb is NULL and `err` (may be NULL) says why.
- * Cost: O(vertex_count + index_count) time, about twice the buffer size in
- * transient memory. */
-mer_result mer_gltf_write_glb(const mer_gltf_mesh *mesh, uint8_t **out_glb,
-                              size_t *out_size, mer_error *err);
-
 typedef enum mer_gltf_format {
     MER_GLTF_BINARY = 0,   /* .glb: JSON chunk + BIN chunk */
     MER_GLTF_EMBEDDED = 1  /* .gltf: JSON with the buffer as a base64 data URI, for debugging */
