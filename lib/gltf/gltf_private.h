@@ -7,6 +7,7 @@
 #include "gltf/tinygltf_private.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <new>

@@ -57,6 +57,7 @@ Plan plan_for(const Writer &w)
     for (size_t i = 0; i < n; i++) {
         const Blob &b = w.blobs[i];
         const bool indices = is_index_view(w, i);
+        assert(b.count > 0);  // check_part refuses empty parts and chunks
         p.stride[i] = indices ? b.size / b.count : w.model.bufferViews[i].byteStride;
         p.count[i] = indices ? b.count : b.size / p.stride[i];
         p.bound[i] = 3 + (!indices      ? meshopt_encodeVertexBufferBound(p.count[i], p.stride[i])
@@ -160,6 +161,7 @@ size_t pack(const Writer &w, const Plan &p, uint8_t *packed, nlohmann::json &doc
 // not depend on each other.
 mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *err)
 {
+    assert(w.blobs.size() == w.model.bufferViews.size());
     meshopt_versions();
     nlohmann::json doc = json_of(w);
     Plan p = plan_for(w);

@@ -44,6 +44,19 @@ PartViews part_views(Writer &w, const mer_mesh_part &p)
     return v;
 }
 
+// A chunk's accessor into a NORMAL or COLOR_0 view: FLOAT, or when quantized a
+// normalized `quantized` component, one 4-byte element per vertex (writer.cc).
+int attribute(Writer &w, int view, size_t first, size_t count, int type, int quantized)
+{
+    const size_t components =
+        static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(type)));
+    if (!w.quantized)
+        return w.accessor(view, first * 4 * components, TINYGLTF_COMPONENT_TYPE_FLOAT, type, count);
+    int a = w.accessor(view, first * 4, quantized, type, count);
+    w.model.accessors.back().normalized = true;
+    return a;
+}
+
 // The TRIANGLES primitive of one chunk: its accessors into the part's views.
 tinygltf::Primitive chunk_triangles(Writer &w, const mer_mesh_part &p, const PartViews &v,
                                     const mer_mesh_chunk &ch, int material)
@@ -56,24 +69,15 @@ tinygltf::Primitive chunk_triangles(Writer &w, const mer_mesh_part &p, const Par
     if (ch.twig)
         prim.extras = tinygltf::Value(tinygltf::Value::Object{{"twig", tinygltf::Value(true)}});
     prim.attributes["POSITION"] = w.positions(v.pos, p.positions, first, count, q);
-    if (v.nrm >= 0) {
-        prim.attributes["NORMAL"] =
-            q ? w.accessor(v.nrm, first * 4, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3, count)
-              : w.accessor(v.nrm, first * 12, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, count);
-        if (q)
-            w.model.accessors.back().normalized = true;
-    }
+    if (v.nrm >= 0)
+        prim.attributes["NORMAL"] = attribute(w, v.nrm, first, count, TINYGLTF_TYPE_VEC3,
+                                              TINYGLTF_COMPONENT_TYPE_BYTE);
     if (v.uv >= 0)
         prim.attributes["TEXCOORD_0"] = w.accessor(v.uv, first * 8, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                                    TINYGLTF_TYPE_VEC2, count);
-    if (v.col >= 0) {
-        prim.attributes["COLOR_0"] =
-            q ? w.accessor(v.col, first * 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
-                           count)
-              : w.accessor(v.col, first * 16, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, count);
-        if (q)
-            w.model.accessors.back().normalized = true;
-    }
+    if (v.col >= 0)
+        prim.attributes["COLOR_0"] = attribute(w, v.col, first, count, TINYGLTF_TYPE_VEC4,
+                                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE);
     // Node ids as FLOAT: UNSIGNED_INT is for indices only.
     if (v.ids >= 0)
         prim.attributes["_NODE_ID"] = w.accessor(v.ids, first * 4, TINYGLTF_COMPONENT_TYPE_FLOAT,

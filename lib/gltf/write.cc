@@ -200,6 +200,7 @@ nlohmann::json json_of(Writer &w)
 mer_result assemble_glb(const nlohmann::json &doc, size_t bin_size, uint8_t **out,
                         size_t *out_size, uint8_t **bin, mer_error *err)
 {
+    assert(out != nullptr && out_size != nullptr && bin != nullptr);
     std::string text = doc.dump();
     text.append((4 - text.size() % 4) % 4, ' ');  // the JSON chunk pads with spaces
     const size_t total = 12 + 8 + text.size() + (bin_size ? 8 + bin_size : 0);
