@@ -1,6 +1,7 @@
 /* meristem — the axes of a tree: each a trunk, or a branch grown from a lateral
  * bud, followed along its main continuations (meristem/mesh.h, Bark), with the
- * sides its tube gets (Level of detail) and what it costs. */
+ * sides its tube gets (Level of detail), and one axis's chain of nodes and ring
+ * radii for tube.c. What an axis costs is in mesh_private.h. */
 #include "config.h"
 
 #include <math.h>
@@ -21,11 +22,6 @@ static uint32_t sides_for(const merp_builder *b, float diameter)
     uint32_t max = max_sides_by_detail[b->opt.detail];
     float f = b->max_diameter > 0.0f ? merp_clampf(diameter / b->max_diameter, 0.0f, 1.0f) : 1.0f;
     return 3u + (uint32_t)lrintf((float)(max - 3u) * f);
-}
-
-bool merp_mesh_is_twig(const merp_builder *b, const merp_axis *a)
-{
-    return b->opt.twig_lines && a->sides == 3 && b->nodes[a->first].diameter <= b->twig_limit;
 }
 
 static mer_result grow_axes(merp_builder *b, uint32_t *cap, mer_error *err)
@@ -95,18 +91,4 @@ mer_result merp_mesh_chain(merp_builder *b, const merp_axis *a, mer_error *err)
     for (uint32_t i = 0; i <= a->count; i++)
         b->radii[i] = 0.5f * b->nodes[b->chain[i < a->count ? i : a->count - 1]].diameter;
     return MER_OK;
-}
-
-uint64_t merp_axis_vertices(const merp_axis *a, bool seam)
-{
-    const uint64_t ring = seam ? a->sides + 1 : a->sides, cap = a->sides + 1;  // cap: centre + rim
-    const uint64_t v = a->end == MERP_END_TIP ? a->count * ring + 1 : (a->count + 1) * ring + cap;
-    return a->base_cap ? v + cap : v;
-}
-
-uint64_t merp_axis_indices(const merp_axis *a)
-{
-    uint64_t quads = a->end == MERP_END_TIP ? a->count - 1 : a->count;
-    uint64_t i = quads * a->sides * 6 + (uint64_t)a->sides * 3;
-    return a->base_cap ? i + (uint64_t)a->sides * 3 : i;
 }

@@ -62,25 +62,6 @@ mer_result merp_mesh_begin_group(merp_cursor *c, uint32_t vertices, mer_error *e
     return MER_OK;
 }
 
-/* Takes living internode `n` into the bounds [lo, hi] (set to its own when
- * `first`) and into the builder's maxima. */
-static void take_node(merp_builder *b, const mer_node *n, bool first, float lo[3], float hi[3])
-{
-    float e[3];
-    merp_tip_of(n, e);
-    for (int k = 0; k < 3; k++) {
-        float low = fminf(n->base[k], e[k]), high = fmaxf(n->base[k], e[k]);
-        lo[k] = first || low < lo[k] ? low : lo[k];
-        hi[k] = first || high > hi[k] ? high : hi[k];
-    }
-    if (n->diameter > b->max_diameter)
-        b->max_diameter = n->diameter;
-    if (n->q > b->max_q)
-        b->max_q = n->q;
-    if (n->born > b->newest)
-        b->newest = n->born;
-}
-
 static mer_result load_nodes(merp_builder *b, mer_error *err)
 {
     b->node_count = mer_scene_node_bound(b->scene);
@@ -93,10 +74,23 @@ static mer_result load_nodes(merp_builder *b, mer_error *err)
         mer_result rc = mer_scene_node(b->scene, id, &b->nodes[id], err);
         if (rc != MER_OK)
             return rc;
-        if (b->nodes[id].alive) {
-            take_node(b, &b->nodes[id], none_yet, lo, hi);
-            none_yet = false;
+        const mer_node *n = &b->nodes[id];
+        if (!n->alive)
+            continue;
+        float e[3];
+        merp_tip_of(n, e);
+        for (int k = 0; k < 3; k++) {
+            float low = fminf(n->base[k], e[k]), high = fmaxf(n->base[k], e[k]);
+            lo[k] = none_yet || low < lo[k] ? low : lo[k];
+            hi[k] = none_yet || high > hi[k] ? high : hi[k];
         }
+        none_yet = false;
+        if (n->diameter > b->max_diameter)
+            b->max_diameter = n->diameter;
+        if (n->q > b->max_q)
+            b->max_q = n->q;
+        if (n->born > b->newest)
+            b->newest = n->born;
     }
     float extent = TWIG_EXTENT_MIN;
     for (int k = 0; k < 3; k++)

@@ -3,7 +3,7 @@
 
 #include "mesh_private.h"
 
-void merp_mesh_color(const merp_builder *b, const mer_node *n, float out[4])
+static void color_of(const merp_builder *b, const mer_node *n, float out[4])
 {
     static const float palette[6][3] = {{0.45f, 0.25f, 0.10f}, {0.80f, 0.35f, 0.10f},
                                         {0.90f, 0.75f, 0.15f}, {0.35f, 0.70f, 0.20f},
@@ -34,4 +34,14 @@ void merp_mesh_color(const merp_builder *b, const mer_node *n, float out[4])
         out[0] = out[1] = out[2] = 1.0f;
         return;
     }
+}
+
+void merp_mesh_color_run(const merp_builder *b, mer_mesh_part *part, uint32_t first,
+                         uint32_t count, const mer_node *n)
+{
+    assert(first + count <= part->vertex_count);
+    float rgba[4];
+    color_of(b, n, rgba);
+    for (uint32_t k = first; k < first + count; k++)
+        memcpy(part->colors + 4 * k, rgba, sizeof rgba);
 }

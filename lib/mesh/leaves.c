@@ -54,10 +54,11 @@ static mer_result mesh_leaf(merp_builder *b, const mer_node *n, const float dir_
     mer_result rc = merp_mesh_begin_group(c, 4, err);
     if (rc != MER_OK)
         return rc;
-    uint32_t v0 = merp_put_vertex(b, c, base, face, 0.5f, 0.0f, n);
-    merp_put_vertex(b, c, right, face, 1.0f, 0.5f, n);
-    merp_put_vertex(b, c, tip, face, 0.5f, 1.0f, n);
-    merp_put_vertex(b, c, left, face, 0.0f, 0.5f, n);
+    uint32_t v0 = merp_put_vertex(c, base, face, 0.5f, 0.0f, n);
+    merp_put_vertex(c, right, face, 1.0f, 0.5f, n);
+    merp_put_vertex(c, tip, face, 0.5f, 1.0f, n);
+    merp_put_vertex(c, left, face, 0.0f, 0.5f, n);
+    merp_mesh_color(b, c->part, v0, 4, n);
     // (d, w, face) is right-handed, so base → right → tip turns about +face.
     merp_put_triangle(c, v0, v0 + 1, v0 + 2);
     merp_put_triangle(c, v0, v0 + 2, v0 + 3);

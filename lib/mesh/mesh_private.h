@@ -71,13 +71,32 @@ static inline void merp_tip_of(const mer_node *n, float out[3])
 
 /* Finds every axis into b->axes (ascending ids of their first internode). */
 mer_result merp_mesh_collect_axes(merp_builder *b, mer_error *err);
-/* A twig (mesh.h, Twig lines): a 3-sided axis no thicker than twig_limit. */
-bool merp_mesh_is_twig(const merp_builder *b, const merp_axis *a);
 /* Fills b->chain with a's node ids and b->radii with its count + 1 ring radii. */
 mer_result merp_mesh_chain(merp_builder *b, const merp_axis *a, mer_error *err);
-/* Exactly the vertices and indices merp_mesh_axis writes for `a`. */
-uint64_t merp_axis_vertices(const merp_axis *a, bool seam);
-uint64_t merp_axis_indices(const merp_axis *a);
+
+/* A twig (mesh.h, Twig lines): a 3-sided axis no thicker than twig_limit. */
+static inline bool merp_mesh_is_twig(const merp_builder *b, const merp_axis *a)
+{
+    return b->opt.twig_lines && a->sides == 3 && b->nodes[a->first].diameter <= b->twig_limit;
+}
+
+/* Exactly the vertices tube.c writes for `a`: its rings (with the seam vertex
+ * when `seam`), then the apex of a tip or the disk of a cut, and a trunk's base disk. */
+static inline uint64_t merp_axis_vertices(const merp_axis *a, bool seam)
+{
+    const uint64_t ring = seam ? a->sides + 1 : a->sides, cap = a->sides + 1;  // cap: centre + rim
+    const uint64_t v = a->end == MERP_END_TIP ? a->count * ring + 1 : (a->count + 1) * ring + cap;
+    return a->base_cap ? v + cap : v;
+}
+
+/* Exactly the indices tube.c writes for `a`: two triangles per side between
+ * rings, one per side in the cone or disk at the end and in a base disk. */
+static inline uint64_t merp_axis_indices(const merp_axis *a)
+{
+    uint64_t quads = a->end == MERP_END_TIP ? a->count - 1 : a->count;
+    uint64_t i = quads * a->sides * 6 + (uint64_t)a->sides * 3;
+    return a->base_cap ? i + (uint64_t)a->sides * 3 : i;
+}
 
 /* ---------------------------------------------------------------- tube.c */
 
@@ -93,8 +112,17 @@ mer_result merp_mesh_leaves(merp_builder *b, mer_error *err);
 
 /* --------------------------------------------------------------- color.c */
 
-/* The COLOR_0 of a vertex of node `n` in the builder's colour mode. */
-void merp_mesh_color(const merp_builder *b, const mer_node *n, float out[4]);
+/* With a colour mode: the COLOR_0 of the `count` vertices from `first` of
+ * `part`, all of node `n`. Without one (part->colors NULL), nothing. Kept out of
+ * merp_put_vertex so that the vertex loops make no call. */
+void merp_mesh_color_run(const merp_builder *b, mer_mesh_part *part, uint32_t first,
+                         uint32_t count, const mer_node *n);
+static inline void merp_mesh_color(const merp_builder *b, mer_mesh_part *part, uint32_t first,
+                                   uint32_t count, const mer_node *n)
+{
+    if (part->colors != NULL)
+        merp_mesh_color_run(b, part, first, count, n);
+}
 
 /* --------------------------------------------------------------- build.c */
 
@@ -103,23 +131,38 @@ void merp_mesh_color(const merp_builder *b, const mer_node *n, float out[4]);
  * another `twig` flag than the cursor's, a new chunk starts here. */
 mer_result merp_mesh_begin_group(merp_cursor *c, uint32_t vertices, mer_error *err);
 
-/* The writers: one vertex, one triangle, one twig line segment, into the
- * current chunk. The part was sized beforehand (build.c, mesh_bound). */
-static inline uint32_t merp_put_vertex(const merp_builder *b, merp_cursor *c, const float p[3],
-                                       const float nrm[3], float u, float v, const mer_node *node)
+/* The writers: vertices (their colours come from merp_mesh_color), a
+ * triangle, a twig line segment, into the current chunk. The part was sized
+ * beforehand (build.c, mesh_bound). */
+
+/* Takes the next `n` vertices into the current chunk and returns the first,
+ * for a loop that then writes them with merp_set_vertex. */
+static inline uint32_t merp_take_vertices(merp_cursor *c, uint32_t n)
 {
-    mer_mesh_part *part = c->part;
-    uint32_t k = c->v++;
+    uint32_t k = c->v;
+    c->v += n;
+    c->part->chunks[c->part->chunk_count - 1].vertex_count += n;
+    return k;
+}
+
+/* Vertex k's position, normal, UV (when the part has UVs) and node id. */
+static inline void merp_set_vertex(mer_mesh_part *part, uint32_t k, const float p[3],
+                                   const float nrm[3], float u, float v, uint32_t node_id)
+{
     memcpy(part->positions + 3 * k, p, 3 * sizeof(float));
     memcpy(part->normals + 3 * k, nrm, 3 * sizeof(float));
     if (part->uvs != NULL) {
         part->uvs[2 * k] = u;
         part->uvs[2 * k + 1] = v;
     }
-    part->node_ids[k] = node->id;
-    if (part->colors != NULL)
-        merp_mesh_color(b, node, part->colors + 4 * k);
-    part->chunks[part->chunk_count - 1].vertex_count++;
+    part->node_ids[k] = node_id;
+}
+
+static inline uint32_t merp_put_vertex(merp_cursor *c, const float p[3], const float nrm[3], float u,
+                                       float v, const mer_node *node)
+{
+    uint32_t k = merp_take_vertices(c, 1);
+    merp_set_vertex(c->part, k, p, nrm, u, v, node->id);
     return k;
 }
 

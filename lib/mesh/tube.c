@@ -100,6 +100,9 @@ static void ring(merp_builder *b, tube *tb, uint32_t i)
     // radial ⊥ t and both are unit, so |radial + slope·t| is the same all round.
     const float inv = 1.0f / sqrtf(1.0f + slope * slope);
 
+    const uint32_t first = merp_take_vertices(c, stride);
+    const float v = tb->v;
+    mer_mesh_part *part = c->part;
     for (uint32_t j = 0; j < stride; j++) {
         uint32_t jj = j == sides ? 0 : j;
         float radial[3], p[3], nrm[3];
@@ -108,8 +111,9 @@ static void ring(merp_builder *b, tube *tb, uint32_t i)
             p[k] = center[k] + r[i] * radial[k];
             nrm[k] = (radial[k] + slope * t[k]) * inv;
         }
-        merp_put_vertex(b, c, p, nrm, (float)j / (float)sides, tb->v, owner);
+        merp_set_vertex(part, first + j, p, nrm, (float)j / (float)sides, v, owner->id);
     }
+    merp_mesh_color(b, part, first, stride, owner);
     if (i > 0) {
         uint32_t below_ring = tb->ring0 + (i - 1) * stride, this_ring = tb->ring0 + i * stride;
         for (uint32_t j = 0; j < sides; j++) {
@@ -129,14 +133,15 @@ static void disk(merp_builder *b, const tube *tb, uint32_t ring_at, const float 
 {
     merp_cursor *c = &b->bark;
     const uint32_t sides = tb->sides;
-    uint32_t center_id = merp_put_vertex(b, c, at, nrm, 0.5f, 0.5f, owner);
+    uint32_t center_id = merp_put_vertex(c, at, nrm, 0.5f, 0.5f, owner);
     uint32_t rim = c->v;
     for (uint32_t j = 0; j < sides; j++) {
         float p[3];
         memcpy(p, c->part->positions + 3 * (ring_at + j), sizeof p);
-        merp_put_vertex(b, c, p, nrm, 0.5f + 0.5f * tb->cos_t[j], 0.5f + v_sign * 0.5f * tb->sin_t[j],
+        merp_put_vertex(c, p, nrm, 0.5f + 0.5f * tb->cos_t[j], 0.5f + v_sign * 0.5f * tb->sin_t[j],
                         owner);
     }
+    merp_mesh_color(b, c->part, center_id, sides + 1, owner);
     for (uint32_t j = 0; j < sides; j++) {
         if (reverse)
             merp_put_triangle(c, center_id, rim + (j + 1) % sides, rim + j);
@@ -160,7 +165,8 @@ static void tip(merp_builder *b, tube *tb)
     }
     float circumference = MERP_TWO_PI * 0.5f * b->radii[a->count - 1];
     tb->v += circumference > 0.0f ? last->length / circumference : 0.0f;
-    uint32_t apex = merp_put_vertex(b, c, end, last->dir, 0.5f, tb->v, last);
+    uint32_t apex = merp_put_vertex(c, end, last->dir, 0.5f, tb->v, last);
+    merp_mesh_color(b, c->part, apex, 1, last);
     for (uint32_t j = 0; j < tb->sides; j++)
         merp_put_triangle(c, top_ring + j, top_ring + next_on_ring(j, tb->stride), apex);
     if (c->twig)
