@@ -44,13 +44,14 @@ PartViews part_views(Writer &w, const mer_mesh_part &p)
     return v;
 }
 
-// A chunk's accessor into a NORMAL or COLOR_0 view: FLOAT, or when quantized a
-// normalized `quantized` component, one 4-byte element per vertex (writer.cc).
+// A chunk's accessor into one of its part's attribute views: FLOAT, or when
+// quantized a normalized `quantized` component, one 4-byte element per vertex
+// (writer.cc); a `quantized` of FLOAT means the attribute is never quantized.
 int attribute(Writer &w, int view, size_t first, size_t count, int type, int quantized)
 {
     const size_t components =
         static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(type)));
-    if (!w.quantized)
+    if (!w.quantized || quantized == TINYGLTF_COMPONENT_TYPE_FLOAT)
         return w.accessor(view, first * 4 * components, TINYGLTF_COMPONENT_TYPE_FLOAT, type, count);
     int a = w.accessor(view, first * 4, quantized, type, count);
     w.model.accessors.back().normalized = true;
@@ -69,19 +70,19 @@ tinygltf::Primitive chunk_triangles(Writer &w, const mer_mesh_part &p, const Par
     if (ch.twig)
         prim.extras = tinygltf::Value(tinygltf::Value::Object{{"twig", tinygltf::Value(true)}});
     prim.attributes["POSITION"] = w.positions(v.pos, p.positions, first, count, q);
-    if (v.nrm >= 0)
-        prim.attributes["NORMAL"] = attribute(w, v.nrm, first, count, TINYGLTF_TYPE_VEC3,
-                                              TINYGLTF_COMPONENT_TYPE_BYTE);
-    if (v.uv >= 0)
-        prim.attributes["TEXCOORD_0"] = w.accessor(v.uv, first * 8, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                   TINYGLTF_TYPE_VEC2, count);
-    if (v.col >= 0)
-        prim.attributes["COLOR_0"] = attribute(w, v.col, first, count, TINYGLTF_TYPE_VEC4,
-                                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE);
     // Node ids as FLOAT: UNSIGNED_INT is for indices only.
-    if (v.ids >= 0)
-        prim.attributes["_NODE_ID"] = w.accessor(v.ids, first * 4, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                 TINYGLTF_TYPE_SCALAR, count);
+    const struct {
+        const char *name;
+        int view, type, quantized;
+    } attributes[] = {
+        {"NORMAL", v.nrm, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_BYTE},
+        {"TEXCOORD_0", v.uv, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT},
+        {"COLOR_0", v.col, TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE},
+        {"_NODE_ID", v.ids, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT},
+    };
+    for (const auto &a : attributes)
+        if (a.view >= 0)
+            prim.attributes[a.name] = attribute(w, a.view, first, count, a.type, a.quantized);
     prim.indices = w.indices(p.indices + ch.first_index, ch.index_count, count, true);
     return prim;
 }
