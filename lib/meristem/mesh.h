@@ -145,7 +145,8 @@ typedef struct mer_mesh {
  * result depends only on the scene and options (same input, same bytes).
  * Errors: MER_ERR_RANGE naming the option for a bad option, MER_ERR_LIMIT when a
  * part would pass 2^32 vertices, MER_ERR_NOMEM. Cost: O(internodes × sides)
- * time; memory about 40 bytes per bark vertex. */
+ * time; memory about 40 bytes per bark vertex, every array sized exactly from
+ * the axes before meshing and allocated once. */
 mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *options,
                           mer_mesh **out, mer_error *err);
 

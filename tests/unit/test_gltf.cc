@@ -1,4 +1,4 @@
-// Unit tests for lib/gltf.cc: write a mesh, read it back with tinygltf, compare.
+// Unit tests for lib/gltf/: write a mesh, read it back with tinygltf, compare.
 // The GLB is also left in $MER_ARTIFACTS for the glTF conformance test.
 #include "config.h"
 
