@@ -14,12 +14,23 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/grow.c \
 	lib/edit.c \
 	lib/presets.c \
-	lib/mesh.c \
+	lib/mesh/mesh_private.h \
+	lib/mesh/build.c \
+	lib/mesh/axes.c \
+	lib/mesh/tube.c \
+	lib/mesh/leaves.c \
+	lib/mesh/color.c \
 	lib/scene_private.h \
 	lib/vec_private.h \
-	lib/tinygltf_private.h \
 	lib/version.c \
-	lib/gltf.cc
+	lib/gltf/gltf_private.h \
+	lib/gltf/tinygltf_private.h \
+	lib/gltf/tinygltf.cc \
+	lib/gltf/writer.cc \
+	lib/gltf/tree.cc \
+	lib/gltf/meshopt.cc \
+	lib/gltf/write.cc \
+	lib/gltf/read.cc
 lib_libmeristem_core_la_LIBADD = -lm
 
 lib_LTLIBRARIES += lib/libmeristem.la

@@ -51,10 +51,13 @@
  * ring, the last ring to the apex). A viewer looking at the tree from far
  * enough that a twig is under a pixel or so wide draws those lines instead of
  * the twig chunks: the same pixels for a third of the work, no new vertices,
- * and picking still hits the prisms. 1/400 of the extent is ~1.4 px where the
- * whole tree fills a 750-px view. `twig_diameter_max` is the thickest twig's
- * base diameter, for deciding when. Without the option, axes are meshed in id
- * order and nothing is flagged.
+ * and picking still hits the prisms. The fraction fixes how far that is: a
+ * viewer that shows the whole tree across W pixels draws a twig at most
+ * W / 400 pixels wide, so with the whole tree in view a twig is about a pixel
+ * or less on any view up to about 400 px, and under two up to 800.
+ * `twig_diameter_max` is the thickest twig's base diameter, for a viewer that
+ * decides from its own projection instead. Without the option, axes are meshed
+ * in id order and nothing is flagged.
  *
  * Colours. Optionally a COLOR_0 per vertex: by branch order (a fixed palette),
  * by light Q (the subtree's light at the last step, dark blue → yellow, scaled
@@ -142,7 +145,8 @@ typedef struct mer_mesh {
  * result depends only on the scene and options (same input, same bytes).
  * Errors: MER_ERR_RANGE naming the option for a bad option, MER_ERR_LIMIT when a
  * part would pass 2^32 vertices, MER_ERR_NOMEM. Cost: O(internodes × sides)
- * time; memory about 40 bytes per bark vertex. */
+ * time; memory about 40 bytes per bark vertex, every array sized exactly from
+ * the axes before meshing and allocated once. */
 mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *options,
                           mer_mesh **out, mer_error *err);
 

@@ -38,7 +38,7 @@ static void stop_at(void *ctx, uint32_t done, uint32_t total)
 int main(int argc, char **argv)
 {
     uint32_t target = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000;
-    uint32_t detail = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 3;
+    uint32_t detail = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : MER_MESH_DETAIL_DEFAULT;
     const int compact = argc > 3 && strcmp(argv[3], "compact") == 0;
     // As meristemd does: keep freed memory for the next snapshot instead of
     // handing it back to the kernel and faulting it in again.

@@ -8,7 +8,7 @@ tests_unit_test_result_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_result_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_gltf
-tests_unit_test_gltf_SOURCES = tests/unit/test_gltf.cc
+tests_unit_test_gltf_SOURCES = tests/unit/test_gltf.cc tests/unit/plain_glb.h
 tests_unit_test_gltf_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_gltf_LDADD = $(UNIT_LDADD)
 

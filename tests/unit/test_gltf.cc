@@ -1,4 +1,4 @@
-// Unit tests for lib/gltf.cc: write a mesh, read it back with tinygltf, compare.
+// Unit tests for lib/gltf/: write a mesh, read it back with tinygltf, compare.
 // The GLB is also left in $MER_ARTIFACTS for the glTF conformance test.
 #include "config.h"
 
@@ -17,9 +17,11 @@ extern "C" {
 #include <cmocka.h>
 }
 
-#include "tinygltf_private.h"
+#include "gltf/tinygltf_private.h"
 
 #include <meristem/gltf.h>
+
+#include "plain_glb.h"
 
 namespace {
 
@@ -60,9 +62,9 @@ cube make_cube()
     return c;
 }
 
-mer_gltf_mesh view_of(const cube &c)
+plain_mesh view_of(const cube &c)
 {
-    mer_gltf_mesh m{};
+    plain_mesh m{};
     m.positions = c.positions.data();
     m.normals = c.normals.data();
     m.node_ids = c.node_ids.data();
@@ -101,11 +103,11 @@ std::vector<T> read_accessor(const tinygltf::Model &model, int index)
 void test_round_trip(void **)
 {
     cube c = make_cube();
-    mer_gltf_mesh m = view_of(c);
+    plain_mesh m = view_of(c);
     uint8_t *glb = nullptr;
     size_t size = 0;
     mer_error err{};
-    assert_int_equal(mer_gltf_write_glb(&m, &glb, &size, &err), MER_OK);
+    assert_int_equal(write_plain_glb(&m, &glb, &size, &err), MER_OK);
     assert_non_null(glb);
     assert_true(size > 20);
     assert_memory_equal(glb, "glTF", 4);
@@ -160,14 +162,14 @@ void test_wide_indices(void **)
         positions[3 * i + 2] = 0.0f;
     }
     std::vector<uint32_t> indices = {0, 1, 100, 69998, 69999, 69899};
-    mer_gltf_mesh m{};
+    plain_mesh m{};
     m.positions = positions.data();
     m.vertex_count = n;
     m.indices = indices.data();
     m.index_count = indices.size();
     uint8_t *glb = nullptr;
     size_t size = 0;
-    assert_int_equal(mer_gltf_write_glb(&m, &glb, &size, nullptr), MER_OK);
+    assert_int_equal(write_plain_glb(&m, &glb, &size, nullptr), MER_OK);
     save_artifact("unit-wide-indices.glb", glb, size);
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
@@ -185,11 +187,11 @@ void test_wide_indices(void **)
 void test_same_mesh_same_bytes(void **)
 {
     cube c = make_cube();
-    mer_gltf_mesh m = view_of(c);
+    plain_mesh m = view_of(c);
     uint8_t *a = nullptr, *b = nullptr;
     size_t na = 0, nb = 0;
-    assert_int_equal(mer_gltf_write_glb(&m, &a, &na, nullptr), MER_OK);
-    assert_int_equal(mer_gltf_write_glb(&m, &b, &nb, nullptr), MER_OK);
+    assert_int_equal(write_plain_glb(&m, &a, &na, nullptr), MER_OK);
+    assert_int_equal(write_plain_glb(&m, &b, &nb, nullptr), MER_OK);
     assert_int_equal(na, nb);
     assert_memory_equal(a, b, na);
     mer_gltf_free(a);
@@ -203,32 +205,32 @@ void test_refuses_bad_meshes(void **)
     size_t size = 7;
     mer_error err{};
 
-    mer_gltf_mesh m = view_of(c);
+    plain_mesh m = view_of(c);
     m.index_count = 7;  // not a multiple of 3
-    assert_int_equal(mer_gltf_write_glb(&m, &glb, &size, &err), MER_ERR_INVALID);
+    assert_int_equal(write_plain_glb(&m, &glb, &size, &err), MER_ERR_INVALID);
     assert_null(glb);
     assert_int_equal(size, 0);
-    assert_string_equal(err.field, "indices");
+    assert_string_equal(err.field, "mesh.bark.indices");
 
     c.indices[5] = 24;  // one past the last vertex
     m = view_of(c);
-    assert_int_equal(mer_gltf_write_glb(&m, &glb, &size, &err), MER_ERR_RANGE);
+    assert_int_equal(write_plain_glb(&m, &glb, &size, &err), MER_ERR_RANGE);
     assert_non_null(std::strstr(err.message, "past the last vertex"));
 
     c = make_cube();
     c.node_ids[3] = MER_GLTF_NODE_ID_LIMIT;
     m = view_of(c);
-    assert_int_equal(mer_gltf_write_glb(&m, &glb, &size, &err), MER_ERR_RANGE);
-    assert_string_equal(err.field, "node_ids");
+    assert_int_equal(write_plain_glb(&m, &glb, &size, &err), MER_ERR_RANGE);
+    assert_string_equal(err.field, "mesh.bark.node_ids");
 
     c = make_cube();
     c.positions[4] = NAN;
     m = view_of(c);
-    assert_int_equal(mer_gltf_write_glb(&m, &glb, &size, &err), MER_ERR_RANGE);
-    assert_string_equal(err.field, "positions");
+    assert_int_equal(write_plain_glb(&m, &glb, &size, &err), MER_ERR_RANGE);
+    assert_string_equal(err.field, "mesh.bark.positions");
 
-    assert_int_equal(mer_gltf_write_glb(nullptr, &glb, &size, &err), MER_ERR_INVALID);
-    assert_int_equal(mer_gltf_write_glb(&m, nullptr, &size, &err), MER_ERR_INVALID);
+    assert_int_equal(mer_gltf_write_tree(nullptr, nullptr, nullptr, &glb, &size, &err), MER_ERR_INVALID);
+    assert_int_equal(write_plain_glb(&m, nullptr, &size, &err), MER_ERR_INVALID);
 }
 
 }  // namespace

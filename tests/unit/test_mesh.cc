@@ -1,4 +1,4 @@
-// Unit tests for lib/mesh.c and the tree path of lib/gltf.cc: geometry
+// Unit tests for lib/mesh/ and the tree path of lib/gltf/: geometry
 // properties that can fail, and a round trip through tinygltf. The GLBs are
 // left in $MER_ARTIFACTS for the glTF conformance test.
 #include "config.h"
@@ -26,7 +26,7 @@ extern "C" {
 #include <cmocka.h>
 }
 
-#include "tinygltf_private.h"
+#include "gltf/tinygltf_private.h"
 
 
 #include <meristem.h>

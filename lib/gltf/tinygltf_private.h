@@ -1,7 +1,8 @@
 /* meristem — tinygltf as libmeristem builds it: image loading compiled out
  * (meristem writes geometry, never textures) and its warnings silenced (it is
- * not our code). lib/gltf.cc defines TINYGLTF_IMPLEMENTATION before including
- * this; the C++ unit tests include it to read our output back. Not installed. */
+ * not our code). lib/gltf/tinygltf.cc defines TINYGLTF_IMPLEMENTATION before
+ * including this; the C++ unit tests include it to read our output back. Not
+ * installed. */
 #ifndef MERISTEM_TINYGLTF_PRIVATE_H
 #define MERISTEM_TINYGLTF_PRIVATE_H
 

@@ -1,0 +1,177 @@
+// meristem — the Writer: bufferViews and accessors over the mesh's own arrays,
+// and the BIN bytes they become, converted or quantized on the way.
+#include "config.h"
+
+#include "gltf/gltf_private.h"
+
+#include <cfloat>
+#include <cstring>
+
+#include <meristem/version.h>
+
+namespace merp_gltf {
+
+namespace {
+
+// Output bytes per element: Copy keeps the source width; a quantized position
+// is 3 SHORTs padded to 8 bytes, a quantized normal 3 BYTEs padded to 4, a
+// quantized colour 4 UNSIGNED_BYTEs.
+size_t out_elem(Fill fill, size_t elem)
+{
+    switch (fill) {
+    case Fill::Copy: return elem;
+    case Fill::U32ToF32: return 4;
+    case Fill::U32ToU16: return 2;
+    case Fill::QuantizePosition: return 8;
+    case Fill::QuantizeNormal: return 4;
+    case Fill::QuantizeColor: return 4;
+    }
+    return elem;
+}
+
+}  // namespace
+
+Writer::Writer()
+{
+    model.asset.version = "2.0";
+    model.asset.generator = std::string("meristem ") + mer_version();
+    model.buffers.resize(1);
+}
+
+int Writer::view(const void *src, size_t count, size_t elem, Fill fill, int target, int stride,
+                 bool triangles)
+{
+    Blob b{src, count, elem, fill, bin_size, count * out_elem(fill, elem), triangles};
+    bin_size += padded4(b.size);
+    blobs.push_back(b);
+
+    tinygltf::BufferView v;
+    v.buffer = 0;
+    v.byteOffset = b.offset;
+    v.byteLength = b.size;
+    v.byteStride = static_cast<size_t>(stride);
+    v.target = target;
+    model.bufferViews.push_back(v);
+    return static_cast<int>(model.bufferViews.size() - 1);
+}
+
+int Writer::accessor(int view_index, size_t byte_offset, int component, int type, size_t count)
+{
+    tinygltf::Accessor a;
+    a.bufferView = view_index;
+    a.byteOffset = byte_offset;
+    a.componentType = component;
+    a.type = type;
+    a.count = count;
+    model.accessors.push_back(a);
+    return static_cast<int>(model.accessors.size() - 1);
+}
+
+int Writer::vertex_view(const void *src, size_t vertices, int components, Fill fill)
+{
+    if (fill == Fill::QuantizePosition || fill == Fill::QuantizeNormal ||
+        fill == Fill::QuantizeColor) {
+        size_t stride = out_elem(fill, 0);
+        return view(src, vertices, 0, fill, TINYGLTF_TARGET_ARRAY_BUFFER, static_cast<int>(stride));
+    }
+    return view(src, vertices * static_cast<size_t>(components), 4, fill,
+                TINYGLTF_TARGET_ARRAY_BUFFER, 4 * components);
+}
+
+// POSITION needs min and max (glTF 2.0 §3.7.2.1), in the stored values: grid
+// integers when quantized.
+int Writer::positions(int view_index, const float *p, size_t first, size_t count, bool quantize)
+{
+    int a = quantize ? accessor(view_index, first * 8, TINYGLTF_COMPONENT_TYPE_SHORT,
+                                TINYGLTF_TYPE_VEC3, count)
+                     : accessor(view_index, first * 12, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                TINYGLTF_TYPE_VEC3, count);
+    float lo_f[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi_f[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (size_t i = first; i < first + count; i++)
+        for (size_t k = 0; k < 3; k++) {
+            lo_f[k] = std::min(lo_f[k], p[3 * i + k]);
+            hi_f[k] = std::max(hi_f[k], p[3 * i + k]);
+        }
+    // Quantization is monotonic, so the bounds of the stored integers are the
+    // quantized float bounds.
+    std::vector<double> lo(3), hi(3);
+    for (int k = 0; k < 3; k++) {
+        size_t kk = static_cast<size_t>(k);
+        lo[kk] = quantize ? quantize_position(lo_f[kk], grid, k) : static_cast<double>(lo_f[kk]);
+        hi[kk] = quantize ? quantize_position(hi_f[kk], grid, k) : static_cast<double>(hi_f[kk]);
+    }
+    model.accessors[static_cast<size_t>(a)].minValues = lo;
+    model.accessors[static_cast<size_t>(a)].maxValues = hi;
+    return a;
+}
+
+int Writer::indices(const uint32_t *idx, size_t count, size_t vertex_count, bool triangles)
+{
+    bool narrow = vertex_count <= 0xFFFF;
+    int v = view(idx, count, 4, narrow ? Fill::U32ToU16 : Fill::Copy,
+                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0, triangles);
+    return accessor(v, 0, narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                 : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                    TINYGLTF_TYPE_SCALAR, count);
+}
+
+void Writer::fill(uint8_t *bin) const
+{
+    for (const Blob &b : blobs)
+        fill(b, bin);
+}
+
+// One blob's bytes (and the padding after them) at its offset in `bin`.
+void Writer::fill(const Blob &b, uint8_t *bin) const
+{
+    uint8_t *dst = bin + b.offset;
+    switch (b.fill) {
+    case Fill::Copy:
+        std::memcpy(dst, b.src, b.size);
+        break;
+    case Fill::U32ToF32: {
+        const uint32_t *src = static_cast<const uint32_t *>(b.src);
+        for (size_t i = 0; i < b.count; i++) {
+            float f = static_cast<float>(src[i]);
+            std::memcpy(dst + 4 * i, &f, 4);
+        }
+        break;
+    }
+    case Fill::QuantizePosition: {
+        const float *src = static_cast<const float *>(b.src);
+        for (size_t i = 0; i < b.count; i++) {
+            int16_t q[4] = {quantize_position(src[3 * i], grid, 0),
+                            quantize_position(src[3 * i + 1], grid, 1),
+                            quantize_position(src[3 * i + 2], grid, 2), 0};
+            std::memcpy(dst + 8 * i, q, 8);
+        }
+        break;
+    }
+    case Fill::QuantizeNormal: {
+        const float *src = static_cast<const float *>(b.src);
+        for (size_t i = 0; i < b.count; i++) {
+            int8_t q[4] = {quantize_normal(src[3 * i]), quantize_normal(src[3 * i + 1]),
+                           quantize_normal(src[3 * i + 2]), 0};
+            std::memcpy(dst + 4 * i, q, 4);
+        }
+        break;
+    }
+    case Fill::QuantizeColor: {
+        const float *src = static_cast<const float *>(b.src);
+        for (size_t i = 0; i < 4 * b.count; i++)
+            dst[i] = quantize_unit(src[i]);
+        break;
+    }
+    case Fill::U32ToU16: {
+        const uint32_t *src = static_cast<const uint32_t *>(b.src);
+        for (size_t i = 0; i < b.count; i++) {
+            uint16_t h = static_cast<uint16_t>(src[i]);
+            std::memcpy(dst + 2 * i, &h, 2);
+        }
+        break;
+    }
+    }
+    std::memset(dst + b.size, 0, padded4(b.size) - b.size);
+}
+
+}  // namespace merp_gltf

@@ -1,0 +1,192 @@
+/* meristem — what the geometry files of lib/mesh/ share: the builder that
+ * mer_mesh_build fills, the axes it finds, and the cursors that write a part's
+ * vertices, triangles and twig lines. See meristem/mesh.h for the choices.
+ * Not installed. */
+#ifndef MERISTEM_MESH_PRIVATE_H
+#define MERISTEM_MESH_PRIVATE_H
+
+#include <assert.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <meristem/mesh.h>
+#include <meristem/scene.h>
+
+#define MERP_TWO_PI 6.28318530717958647692f
+#define MERP_MAX_SIDES 16 /* the sides of the thickest axis at MER_MESH_DETAIL_MAX */
+
+enum merp_axis_end { MERP_END_TIP, MERP_END_CUT };
+
+/* One generalized cylinder: an axis followed along its main continuations. */
+typedef struct merp_axis {
+    uint32_t first;   /* id of its first internode */
+    uint32_t count;   /* internodes along it, >= 1 */
+    uint32_t sides;   /* 3 .. MERP_MAX_SIDES */
+    uint8_t end;      /* enum merp_axis_end */
+    uint8_t base_cap; /* 1 for a plant's trunk */
+} merp_axis;
+
+/* Where the next vertex and index of a part go, and the chunk being filled. */
+typedef struct merp_cursor {
+    mer_mesh_part *part;
+    uint32_t v, i;
+    uint32_t chunk_cap;
+    uint32_t twig;     /* the `twig` flag of the chunks being made */
+    uint32_t line_i;   /* next twig line index (bark only) */
+} merp_cursor;
+
+typedef struct merp_builder {
+    const mer_scene *scene;
+    mer_node *nodes;        /* by id */
+    uint32_t node_count;
+    mer_mesh_options opt;   /* resolved: no zero left to mean a default */
+    uint32_t step;
+    uint32_t newest;        /* latest step in which a living internode was made */
+    float max_diameter;
+    float max_q;
+    float twig_limit;       /* with twig_lines: the largest base diameter of a twig */
+    merp_axis *axes;
+    uint32_t axis_count;
+    mer_mesh *mesh;
+    uint32_t *chain;        /* scratch: one axis's node ids */
+    float *radii;           /* scratch: its ring radii */
+    uint32_t chain_cap;
+    merp_cursor bark, leaves; /* write positions */
+} merp_builder;
+
+static inline float merp_clampf(float x, float lo, float hi)
+{
+    return x < lo ? lo : x > hi ? hi : x;
+}
+
+/* The end point of internode `n`. */
+static inline void merp_tip_of(const mer_node *n, float out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = n->base[k] + n->dir[k] * n->length;
+}
+
+/* ---------------------------------------------------------------- axes.c */
+
+/* Finds every axis into b->axes (ascending ids of their first internode). */
+mer_result merp_mesh_collect_axes(merp_builder *b, mer_error *err);
+/* Fills b->chain with a's node ids and b->radii with its count + 1 ring radii. */
+mer_result merp_mesh_chain(merp_builder *b, const merp_axis *a, mer_error *err);
+
+/* A twig (mesh.h, Twig lines): a 3-sided axis no thicker than twig_limit. */
+static inline bool merp_mesh_is_twig(const merp_builder *b, const merp_axis *a)
+{
+    return b->opt.twig_lines && a->sides == 3 && b->nodes[a->first].diameter <= b->twig_limit;
+}
+
+/* Exactly the vertices tube.c writes for `a`: its rings (with the seam vertex
+ * when `seam`), then the apex of a tip or the disk of a cut, and a trunk's base disk. */
+static inline uint64_t merp_axis_vertices(const merp_axis *a, bool seam)
+{
+    const uint64_t ring = seam ? a->sides + 1 : a->sides, cap = a->sides + 1;  // cap: centre + rim
+    const uint64_t v = a->end == MERP_END_TIP ? a->count * ring + 1 : (a->count + 1) * ring + cap;
+    return a->base_cap ? v + cap : v;
+}
+
+/* Exactly the indices tube.c writes for `a`: two triangles per side between
+ * rings, one per side in the cone or disk at the end and in a base disk. */
+static inline uint64_t merp_axis_indices(const merp_axis *a)
+{
+    uint64_t quads = a->end == MERP_END_TIP ? a->count - 1 : a->count;
+    uint64_t i = quads * a->sides * 6 + (uint64_t)a->sides * 3;
+    return a->base_cap ? i + (uint64_t)a->sides * 3 : i;
+}
+
+/* ---------------------------------------------------------------- tube.c */
+
+/* Meshes every axis into the bark part, allocated to merp_axis_vertices and
+ * merp_axis_indices (see build.c): with twig lines the thicker axes first. */
+mer_result merp_mesh_bark(merp_builder *b, mer_error *err);
+
+/* -------------------------------------------------------------- leaves.c */
+
+/* Exactly the leaf cards merp_mesh_leaves writes (4 vertices, 6 indices each). */
+uint64_t merp_mesh_leaf_count(const merp_builder *b);
+mer_result merp_mesh_leaves(merp_builder *b, mer_error *err);
+
+/* --------------------------------------------------------------- color.c */
+
+/* With a colour mode: the COLOR_0 of the `count` vertices from `first` of
+ * `part`, all of node `n`. Without one (part->colors NULL), nothing. Kept out of
+ * merp_put_vertex so that the vertex loops make no call. */
+void merp_mesh_color_run(const merp_builder *b, mer_mesh_part *part, uint32_t first,
+                         uint32_t count, const mer_node *n);
+static inline void merp_mesh_color(const merp_builder *b, mer_mesh_part *part, uint32_t first,
+                                   uint32_t count, const mer_node *n)
+{
+    if (part->colors != NULL)
+        merp_mesh_color_run(b, part, first, count, n);
+}
+
+/* --------------------------------------------------------------- build.c */
+
+/* Makes room for a group of `vertices` that triangles will join: when the
+ * current chunk cannot take them all under MER_MESH_CHUNK_VERTICES, or has
+ * another `twig` flag than the cursor's, a new chunk starts here. */
+mer_result merp_mesh_begin_group(merp_cursor *c, uint32_t vertices, mer_error *err);
+
+/* The writers: vertices (their colours come from merp_mesh_color), a
+ * triangle, a twig line segment, into the current chunk. The part was sized
+ * beforehand (build.c, mesh_bound). */
+
+/* Takes the next `n` vertices into the current chunk and returns the first,
+ * for a loop that then writes them with merp_set_vertex. */
+static inline uint32_t merp_take_vertices(merp_cursor *c, uint32_t n)
+{
+    uint32_t k = c->v;
+    c->v += n;
+    c->part->chunks[c->part->chunk_count - 1].vertex_count += n;
+    return k;
+}
+
+/* Vertex k's position, normal, UV (when the part has UVs) and node id. */
+static inline void merp_set_vertex(mer_mesh_part *part, uint32_t k, const float p[3],
+                                   const float nrm[3], float u, float v, uint32_t node_id)
+{
+    memcpy(part->positions + 3 * k, p, 3 * sizeof(float));
+    memcpy(part->normals + 3 * k, nrm, 3 * sizeof(float));
+    if (part->uvs != NULL) {
+        part->uvs[2 * k] = u;
+        part->uvs[2 * k + 1] = v;
+    }
+    part->node_ids[k] = node_id;
+}
+
+static inline uint32_t merp_put_vertex(merp_cursor *c, const float p[3], const float nrm[3], float u,
+                                       float v, const mer_node *node)
+{
+    uint32_t k = merp_take_vertices(c, 1);
+    merp_set_vertex(c->part, k, p, nrm, u, v, node->id);
+    return k;
+}
+
+/* A triangle of absolute vertex numbers, stored relative to its chunk. */
+static inline void merp_put_triangle(merp_cursor *c, uint32_t a, uint32_t a1, uint32_t a2)
+{
+    mer_mesh_part *part = c->part;
+    mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
+    uint32_t *t = part->indices + c->i;
+    t[0] = a - chunk->first_vertex;
+    t[1] = a1 - chunk->first_vertex;
+    t[2] = a2 - chunk->first_vertex;
+    c->i += 3;
+    chunk->index_count += 3;
+}
+
+/* A twig line segment of absolute vertex numbers, stored relative to its chunk. */
+static inline void merp_put_line(merp_cursor *c, uint32_t a, uint32_t a1)
+{
+    mer_mesh_part *part = c->part;
+    mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
+    part->line_indices[c->line_i++] = a - chunk->first_vertex;
+    part->line_indices[c->line_i++] = a1 - chunk->first_vertex;
+    chunk->line_index_count += 2;
+}
+
+#endif

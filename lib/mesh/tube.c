@@ -1,0 +1,241 @@
+/* meristem — bark: every axis as one generalized cylinder framed by parallel
+ * transport, with its tip cone or cut disk and a trunk's base disk
+ * (meristem/mesh.h, Bark, Caps, UVs). */
+#include "config.h"
+
+#include <math.h>
+
+#include "mesh_private.h"
+#include "vec_private.h"
+
+/* One axis being meshed: its ring layout and the frame carried along it. */
+typedef struct tube {
+    const merp_axis *a;
+    const float *cos_t, *sin_t; /* the ring's angles, a->sides of each */
+    uint32_t sides, stride;     /* stride: vertices per ring, with the seam vertex if any */
+    uint32_t rings;             /* rings written: a tip ends in a cone, a cut in a ring */
+    uint32_t ring0;             /* the first ring's first vertex */
+    float t_prev[3], normal[3]; /* the last ring's tangent and frame normal */
+    float v;                    /* arc length / circumference so far (UV v) */
+} tube;
+
+/* Carries the frame normal `normal` from tangent `from` to tangent `to` by the
+ * rotation between them: discrete parallel transport, hence no twist. Rodrigues
+ * with the rotation's cosine and sine taken straight from dot and cross. */
+static void transport(float normal[3], const float from[3], const float to[3])
+{
+    float k[3];
+    v3_cross(from, to, k);
+    float s = v3_len(k);
+    if (s > 1e-7f) {
+        float c = v3_dot(from, to);
+        k[0] /= s;
+        k[1] /= s;
+        k[2] /= s;
+        float kxn[3];
+        v3_cross(k, normal, kxn);
+        float d = v3_dot(k, normal) * (1.0f - c);
+        for (int i = 0; i < 3; i++)
+            normal[i] = normal[i] * c + kxn[i] * s + k[i] * d;
+    }
+    // Re-orthogonalize against rounding drift along long axes.
+    float d = v3_dot(normal, to);
+    for (int i = 0; i < 3; i++)
+        normal[i] -= d * to[i];
+    if (!v3_normalize(normal))
+        v3_any_perp(to, normal);
+}
+
+/* The vertex after j on a ring of `stride` vertices: with a seam vertex the ring
+ * never wraps (j + 1 ≤ sides < stride); without one, the last joins the first. */
+static inline uint32_t next_on_ring(uint32_t j, uint32_t stride)
+{
+    return j + 1 < stride ? j + 1 : 0;
+}
+
+/* Ring i's centre and tangent (the miter of the internodes it joins), and the
+ * UV v advanced over the internode below it. */
+static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center[3], float t[3])
+{
+    const uint32_t count = tb->a->count;
+    const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
+    if (i == 0) {
+        const mer_node *first = &b->nodes[b->chain[0]];
+        memcpy(center, first->base, 3 * sizeof(float));
+        memcpy(t, first->dir, 3 * sizeof(float));
+        return;
+    }
+    const mer_node *below = &b->nodes[b->chain[i - 1]];
+    merp_tip_of(below, center);
+    for (int k = 0; k < 3; k++)
+        t[k] = below->dir[k] + owner->dir[k];
+    if (!v3_normalize(t))
+        memcpy(t, owner->dir, 3 * sizeof(float));
+    const float *r = b->radii;
+    float circumference = MERP_TWO_PI * 0.5f * (r[i - 1] + r[i]);
+    tb->v += circumference > 0.0f ? below->length / circumference : 0.0f;
+}
+
+/* Ring i, and the quads joining it to ring i - 1. */
+static void ring(merp_builder *b, tube *tb, uint32_t i)
+{
+    merp_cursor *c = &b->bark;
+    const uint32_t count = tb->a->count, sides = tb->sides, stride = tb->stride;
+    const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
+    const float *r = b->radii;
+    float center[3], t[3];
+    ring_place(b, tb, i, center, t);
+    transport(tb->normal, tb->t_prev, t);
+    memcpy(tb->t_prev, t, sizeof tb->t_prev);
+    float bin[3];
+    v3_cross(t, tb->normal, bin);
+
+    // Tilt normals by the local taper (central difference of the radii), so a
+    // cone shades as a cone.
+    uint32_t lo = i > 0 ? i - 1 : 0, hi = i < count ? i + 1 : count;
+    float span = 0.0f;
+    for (uint32_t k = lo; k < hi; k++)
+        span += b->nodes[b->chain[k < count ? k : count - 1]].length;
+    float slope = span > 0.0f ? (r[lo] - r[hi]) / span : 0.0f;
+    // radial ⊥ t and both are unit, so |radial + slope·t| is the same all round.
+    const float inv = 1.0f / sqrtf(1.0f + slope * slope);
+
+    const uint32_t first = merp_take_vertices(c, stride);
+    const float v = tb->v;
+    mer_mesh_part *part = c->part;
+    for (uint32_t j = 0; j < stride; j++) {
+        uint32_t jj = j == sides ? 0 : j;
+        float radial[3], p[3], nrm[3];
+        for (int k = 0; k < 3; k++) {
+            radial[k] = tb->cos_t[jj] * tb->normal[k] + tb->sin_t[jj] * bin[k];
+            p[k] = center[k] + r[i] * radial[k];
+            nrm[k] = (radial[k] + slope * t[k]) * inv;
+        }
+        merp_set_vertex(part, first + j, p, nrm, (float)j / (float)sides, v, owner->id);
+    }
+    merp_mesh_color(b, part, first, stride, owner);
+    if (i > 0) {
+        uint32_t below_ring = tb->ring0 + (i - 1) * stride, this_ring = tb->ring0 + i * stride;
+        for (uint32_t j = 0; j < sides; j++) {
+            uint32_t k = next_on_ring(j, stride);
+            merp_put_triangle(c, below_ring + j, below_ring + k, this_ring + k);
+            merp_put_triangle(c, below_ring + j, this_ring + k, this_ring + j);
+        }
+    }
+}
+
+/* A flat disk over the ring at `ring_at`: a centre vertex at `at` and a rim of
+ * its own, all with normal `nrm` (the disk's own, so the edge stays sharp);
+ * `v_sign` -1 mirrors the UVs' v and `reverse` the winding, for a disk seen
+ * from below. */
+static void disk(merp_builder *b, const tube *tb, uint32_t ring_at, const float at[3],
+                 const float nrm[3], float v_sign, bool reverse, const mer_node *owner)
+{
+    merp_cursor *c = &b->bark;
+    const uint32_t sides = tb->sides;
+    uint32_t center_id = merp_put_vertex(c, at, nrm, 0.5f, 0.5f, owner);
+    uint32_t rim = c->v;
+    for (uint32_t j = 0; j < sides; j++) {
+        float p[3];
+        memcpy(p, c->part->positions + 3 * (ring_at + j), sizeof p);
+        merp_put_vertex(c, p, nrm, 0.5f + 0.5f * tb->cos_t[j], 0.5f + v_sign * 0.5f * tb->sin_t[j],
+                        owner);
+    }
+    merp_mesh_color(b, c->part, center_id, sides + 1, owner);
+    for (uint32_t j = 0; j < sides; j++) {
+        if (reverse)
+            merp_put_triangle(c, center_id, rim + (j + 1) % sides, rim + j);
+        else
+            merp_put_triangle(c, center_id, rim + j, rim + (j + 1) % sides);
+    }
+}
+
+/* A living tip's cone to its end point, or a cut's disk. */
+static void tip(merp_builder *b, tube *tb)
+{
+    merp_cursor *c = &b->bark;
+    const merp_axis *a = tb->a;
+    const mer_node *last = &b->nodes[b->chain[a->count - 1]];
+    const uint32_t top_ring = tb->ring0 + (tb->rings - 1) * tb->stride;
+    float end[3];
+    merp_tip_of(last, end);
+    if (a->end != MERP_END_TIP) {
+        disk(b, tb, top_ring, end, tb->t_prev, 1.0f, false, last);
+        return;
+    }
+    float circumference = MERP_TWO_PI * 0.5f * b->radii[a->count - 1];
+    tb->v += circumference > 0.0f ? last->length / circumference : 0.0f;
+    uint32_t apex = merp_put_vertex(c, end, last->dir, 0.5f, tb->v, last);
+    merp_mesh_color(b, c->part, apex, 1, last);
+    for (uint32_t j = 0; j < tb->sides; j++)
+        merp_put_triangle(c, top_ring + j, top_ring + next_on_ring(j, tb->stride), apex);
+    if (c->twig)
+        merp_put_line(c, top_ring, apex);
+}
+
+static mer_result mesh_axis(merp_builder *b, const merp_axis *a, const float *cos_t,
+                            const float *sin_t, mer_error *err)
+{
+    assert(a->count >= 1 && a->sides >= 3 && a->sides <= MERP_MAX_SIDES);
+    mer_result rc = merp_mesh_chain(b, a, err);
+    if (rc == MER_OK)
+        rc = merp_mesh_begin_group(&b->bark, (uint32_t)merp_axis_vertices(a, !b->opt.no_uvs), err);
+    if (rc != MER_OK)
+        return rc;
+    merp_cursor *c = &b->bark;
+    // A ring repeats its first vertex at u = 1 for the UV seam; without UVs it need not.
+    const bool seam = !b->opt.no_uvs;
+    tube tb = {.a = a, .cos_t = cos_t, .sin_t = sin_t, .sides = a->sides,
+               .stride = seam ? a->sides + 1 : a->sides,
+               .rings = a->end == MERP_END_TIP ? a->count : a->count + 1, .ring0 = c->v};
+    const mer_node *first = &b->nodes[b->chain[0]];
+    memcpy(tb.t_prev, first->dir, sizeof tb.t_prev);
+    // A deterministic start frame: horizontal where it can be.
+    const float up[3] = {0.0f, 1.0f, 0.0f};
+    v3_cross(up, tb.t_prev, tb.normal);
+    if (!v3_normalize(tb.normal))
+        v3_any_perp(tb.t_prev, tb.normal);
+
+    for (uint32_t i = 0; i < tb.rings; i++)
+        ring(b, &tb, i);
+    // A twig's line runs along its prism's first edge: at under a pixel wide, the
+    // edge and the centre line are the same pixels.
+    if (c->twig)
+        for (uint32_t i = 0; i + 1 < tb.rings; i++)
+            merp_put_line(c, tb.ring0 + i * tb.stride, tb.ring0 + (i + 1) * tb.stride);
+    tip(b, &tb);
+    if (a->base_cap) {
+        // Seen from below the ring runs clockwise: the disk reverses it to face outwards.
+        const float down[3] = {-first->dir[0], -first->dir[1], -first->dir[2]};
+        disk(b, &tb, tb.ring0, first->base, down, -1.0f, true, first);
+    }
+    return MER_OK;
+}
+
+mer_result merp_mesh_bark(merp_builder *b, mer_error *err)
+{
+    float cos_t[MERP_MAX_SIDES], sin_t[MERP_MAX_SIDES];
+    uint32_t table_sides = 0;
+    // With twig lines, thicker axes first, then the twigs in chunks of their own.
+    const uint32_t passes = b->opt.twig_lines ? 2 : 1;
+    for (uint32_t pass = 0; pass < passes; pass++) {
+        b->bark.twig = pass == 1;
+        for (uint32_t i = 0; i < b->axis_count; i++) {
+            const merp_axis *a = &b->axes[i];
+            if (passes == 2 && merp_mesh_is_twig(b, a) != (pass == 1))
+                continue;
+            if (a->sides != table_sides) {
+                for (uint32_t j = 0; j < a->sides; j++) {
+                    float angle = MERP_TWO_PI * (float)j / (float)a->sides;
+                    cos_t[j] = cosf(angle);
+                    sin_t[j] = sinf(angle);
+                }
+                table_sides = a->sides;
+            }
+            mer_result rc = mesh_axis(b, a, cos_t, sin_t, err);
+            if (rc != MER_OK)
+                return rc;
+        }
+    }
+    return MER_OK;
+}
