@@ -636,9 +636,9 @@ static void test_shadow_grid_stays_consistent(void **state)
         victim++;
     assert_int_equal(mer_scene_prune(s, victim, &err), MER_OK);
     step(s, 3);
-    uint64_t kept = mer_shadow_hash(s->shadow);
-    merp_shadow_rebuild(s);
-    assert_true(kept == mer_shadow_hash(s->shadow));
+    uint64_t kept = mer_shadow_hash(s->env.shadow);
+    merp_scene_rebuild_shadow(s);
+    assert_true(kept == mer_shadow_hash(s->env.shadow));
     mer_scene_free(s);
 }
 
