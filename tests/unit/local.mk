@@ -47,6 +47,13 @@ tests_unit_test_obstacles_SOURCES = tests/unit/test_obstacles.c tests/unit/scene
 tests_unit_test_obstacles_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_obstacles_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_model
+tests_unit_test_model_SOURCES = tests/unit/test_model.c
+# It writes GLB: link with the C++ driver, as libmeristem does (tinygltf needs libstdc++).
+nodist_EXTRA_tests_unit_test_model_SOURCES = tests/unit/link-as-cxx.cc
+tests_unit_test_model_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_model_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_presets
 tests_unit_test_presets_SOURCES = tests/unit/test_presets.c
 tests_unit_test_presets_CPPFLAGS = $(UNIT_CPPFLAGS)
