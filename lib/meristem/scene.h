@@ -157,7 +157,7 @@ mer_result mer_scene_add_sphere(mer_scene *s, const float center[3], float radiu
  * its own (up to 128 cells along its longest side, independent of the scene's
  * grids), so a point query is O(1) away from the surface and O(the triangles in a
  * few cells) near it. For a closed mesh the cache changes no answer; for an open
- * one, rays are judged from cell centres (lib/solid.c says how), a close
+ * one, rays are judged from cell centres (lib/env/solid.c says how), a close
  * approximation. Building costs O(triangles + cells + triangle-cell pairs), the
  * pairs bounded (the cache coarsens for huge triangles): about 0.4 s for a
  * million triangles. Memory: 36 bytes per triangle, a byte per cell, 4 bytes per
