@@ -42,6 +42,16 @@ tests_unit_test_scene_SOURCES = tests/unit/test_scene.c tests/unit/scene_helpers
 tests_unit_test_scene_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_scene_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_p09
+tests_unit_test_p09_SOURCES = tests/unit/test_p09.c tests/unit/scene_helpers.h
+tests_unit_test_p09_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_p09_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_edit
+tests_unit_test_edit_SOURCES = tests/unit/test_edit.c tests/unit/scene_helpers.h
+tests_unit_test_edit_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_edit_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_obstacles
 tests_unit_test_obstacles_SOURCES = tests/unit/test_obstacles.c tests/unit/scene_helpers.h
 tests_unit_test_obstacles_CPPFLAGS = $(UNIT_CPPFLAGS)
