@@ -7,6 +7,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The start value every hash of lib/ has used. It is FNV's offset basis
+ * 14695981039346656037 with its last digit lost; the rounds are FNV-1a's. Kept:
+ * the scene hashes the golden test and clients have recorded depend on it. */
 #define MERP_FNV_OFFSET UINT64_C(1469598103934665603)
 #define MERP_FNV_PRIME UINT64_C(1099511628211)
 

@@ -42,6 +42,11 @@ tests_unit_test_scene_SOURCES = tests/unit/test_scene.c tests/unit/scene_helpers
 tests_unit_test_scene_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_scene_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_skeleton
+tests_unit_test_skeleton_SOURCES = tests/unit/test_skeleton.c
+tests_unit_test_skeleton_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_skeleton_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_p09
 tests_unit_test_p09_SOURCES = tests/unit/test_p09.c tests/unit/scene_helpers.h
 tests_unit_test_p09_CPPFLAGS = $(UNIT_CPPFLAGS)
