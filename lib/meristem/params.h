@@ -169,8 +169,8 @@ mer_params mer_params_default(void);
 void mer_params_resolve(const mer_params *in, mer_params *out);
 
 /* Checks every field against its range and the cross-field rules (bounds_min <
- * bounds_max, w_min <= w_max, keyframes in step order, grids not larger than
- * MER_GRID_CELLS_MAX). `p` NULL or all-zero is valid. On failure fills `err` (may
+ * bounds_max, grids not larger than MER_GRID_CELLS_MAX, `model` naming a model,
+ * then the model's own: for P09 w_min <= w_max and keyframes in step order). `p` NULL or all-zero is valid. On failure fills `err` (may
  * be NULL) naming the field and the range. */
 mer_result mer_params_validate(const mer_params *p, mer_error *err);
 
