@@ -5,6 +5,7 @@
  * The checks across one model's fields are that model's (its ops' validate). */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <string.h>
 
@@ -148,6 +149,7 @@ static int is_all_zero(const mer_params *p)
 
 void mer_params_resolve(const mer_params *in, mer_params *out)
 {
+    assert(out != NULL);
     if (in == NULL || is_all_zero(in))
         *out = mer_params_default();
     else if (in != out)
@@ -215,6 +217,7 @@ static const field *find(const char *name)
 
 mer_result mer_params_set(mer_params *p, const char *name, double value, mer_error *err)
 {
+    assert(p != NULL);
     const field *f = find(name);
     if (f == NULL)
         return mer_error_set(err, MER_ERR_INVALID, name, "unknown parameter '%s'",
@@ -229,6 +232,7 @@ mer_result mer_params_set(mer_params *p, const char *name, double value, mer_err
 
 mer_result mer_params_get(const mer_params *in, const char *name, double *value, mer_error *err)
 {
+    assert(value != NULL);
     const field *f = find(name);
     if (f == NULL)
         return mer_error_set(err, MER_ERR_INVALID, name, "unknown parameter '%s'",
@@ -257,12 +261,14 @@ const char *mer_params_field_model(size_t i)
 
 void mer_params_field_range(size_t i, double *min, double *max)
 {
+    assert(min != NULL && max != NULL);
     *min = i < NFIELDS ? fields[i].min : 0.0;
     *max = i < NFIELDS ? fields[i].max : 0.0;
 }
 
 float mer_keyframes_eval(const mer_keyframe *keys, uint32_t n, float step, float fallback)
 {
+    assert(n == 0 || keys != NULL);
     if (n == 0)
         return fallback;
     if (step <= keys[0].step)

@@ -5,7 +5,10 @@
  * model's step the scene updates the pipe model's diameters and counts the step.
  *
  * Adding a model: a folder under lib/models/ with an ops table, a row in the
- * registry (models/registry.c) and an entry in mer_model_kind (params.h). */
+ * registry (models/registry.c), an entry in mer_model_kind (params.h), and its
+ * parameters as rows of params.c's table tagged with a new MERP_ROWS_ group. A
+ * test can run a model of its own without registering it: merp_scene_new_with
+ * (scene_private.h). */
 #ifndef MERISTEM_MODEL_H
 #define MERISTEM_MODEL_H
 
@@ -32,10 +35,13 @@ typedef struct merp_model merp_model;
 
 typedef struct merp_model_ops {
     const char *name; /* "p09": what mer_model_parse reads and mer_model_name gives */
-    /* Which rows of the parameter table (params.c) the model reads, and the checks
-     * across its fields the table cannot express; `p` is resolved. May be NULL. */
+    /* The groups of rows of the parameter table (params.c) it reads besides the
+     * world's: MERP_ROWS_* below; mer_params_field_model reports them. */
     uint32_t param_rows;
+    /* The checks across its fields that the table's ranges cannot express; `p` is
+     * resolved and in range. May be NULL (nothing more to check). */
     mer_result (*validate)(const mer_params *p, mer_error *err);
+    /* Its state for a new scene; the skeleton is still empty. */
     mer_result (*create)(const mer_params *p, merp_model **out, mer_error *err);
     /* New parameters, already valid; cannot fail once validated. */
     void (*set_params)(merp_model *m, const mer_params *p);
