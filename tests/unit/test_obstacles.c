@@ -1,5 +1,5 @@
-/* Unit tests for triangle-mesh obstacles and marker volumes (lib/solid.c, the mesh
- * parts of lib/scene.c) and the growth-constraint accessor (lib/edit.c).
+/* Unit tests for triangle-mesh obstacles and marker volumes (lib/env/solid.c,
+ * obstacles.c, volumes.c) and the growth-constraint accessor (lib/edit.c).
  *
  * The reference for a mesh cube is mer_scene_add_box with the same extent: where
  * no voxel centre and no marker lies on a face, the two must agree bit for bit
