@@ -2,17 +2,41 @@
 # tests link whole; the installed shared library exports only the mer_ prefix.
 noinst_LTLIBRARIES += lib/libmeristem-core.la
 lib_libmeristem_core_la_SOURCES = \
+	lib/core/array.h \
+	lib/core/hash.h \
+	lib/core/vec.h \
 	lib/result.c \
 	lib/rng.c \
 	lib/params.c \
-	lib/fate.c \
-	lib/markers.c \
-	lib/shadow.c \
-	lib/tree.c \
-	lib/solid.c \
+	lib/skeleton/skeleton.h \
+	lib/skeleton/skeleton.c \
+	lib/skeleton/pipe.c \
+	lib/env/env.h \
+	lib/env/env.c \
+	lib/env/markers.c \
+	lib/env/shadow.c \
+	lib/env/solid.c \
+	lib/env/obstacles.c \
+	lib/env/volumes.c \
+	lib/models/model.h \
+	lib/models/registry.c \
+	lib/models/p09/p09.h \
+	lib/models/p09/p09.c \
+	lib/models/p09/environment.c \
+	lib/models/p09/fate.c \
+	lib/models/p09/borchert_honda.c \
+	lib/models/p09/priority.c \
+	lib/models/p09/schedule.c \
+	lib/models/p09/shoot.c \
+	lib/models/p09/shedding.c \
+	lib/models/p09/params_p09.c \
 	lib/scene.c \
-	lib/grow.c \
+	lib/scene_env.c \
+	lib/scene_read.c \
 	lib/edit.c \
+	lib/brush.c \
+	lib/symmetry.c \
+	lib/symmetry.h \
 	lib/presets.c \
 	lib/mesh/mesh_private.h \
 	lib/mesh/build.c \

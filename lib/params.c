@@ -1,10 +1,17 @@
-/* meristem — the parameter table: names, paper symbols, defaults, ranges. */
+/* meristem — the parameter table: names, paper symbols, defaults, ranges, and
+ * which growth model reads each field. The listing order is a contract (the CLI's
+ * help, the HTTP API's params objects and /v1/presets list fields in it), so the
+ * rows of every model share one table, each tagged with its group (models/model.h).
+ * The checks across one model's fields are that model's (its ops' validate). */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <string.h>
 
 #include <meristem/params.h>
+
+#include "models/model.h"
 
 typedef enum { F_FLOAT, F_U32 } field_kind;
 
@@ -15,80 +22,88 @@ typedef struct field {
     field_kind kind;
     double def, min, max;
     int min_open; /* 1: the range excludes min */
+    uint32_t rows; /* MERP_ROWS_*: who reads it */
 } field;
 
-#define FF(name, sym, member, def, lo, hi, open) \
-    { name, sym, offsetof(mer_params, member), F_FLOAT, def, lo, hi, open }
-#define FU(name, sym, member, def, lo, hi) \
-    { name, sym, offsetof(mer_params, member), F_U32, def, lo, hi, 0 }
+/* W: read by every model (the world: skeleton, environment, initial scene);
+ * P: read by P09 alone. */
+#define W MERP_ROWS_WORLD
+#define P MERP_ROWS_P09
+#define FF(rows, name, sym, member, def, lo, hi, open) \
+    { name, sym, offsetof(mer_params, member), F_FLOAT, def, lo, hi, open, rows }
+#define FU(rows, name, sym, member, def, lo, hi) \
+    { name, sym, offsetof(mer_params, member), F_U32, def, lo, hi, 0, rows }
 #define NEVER_D 4294967295.0
 
 static const field fields[] = {
-    FU("environment", "", environment, MER_ENV_SHADOW, 0, 1),
-    FU("fate", "", fate, MER_FATE_BH, 0, 1),
-    FF("internode_length", "l0", internode_length, 1.0, 0.0, 100.0, 1),
-    FU("max_shoot", "", max_shoot, 16, 1, 1000),
-    FF("rho", "ρ", rho, 2.0, 0.0, 100.0, 1),
-    FF("theta", "θ", theta, 90.0, 0.0, 360.0, 1),
-    FF("r", "r", r, 4.0, 0.0, 100.0, 1),
-    FF("marker_cell", "", marker_cell, 4.0, 0.05, 1000.0, 0),
-    FF("shadow_a", "a", shadow_a, 0.1, 0.0, 1000.0, 1),
-    FF("shadow_b", "b", shadow_b, 2.0, 1.0, 1000.0, 1),
-    FF("shadow_c", "C", shadow_c, 1.0, 0.0, 1e6, 0),
-    FU("q_max", "q_max", q_max, 6, 0, 32),
-    FF("voxel", "", voxel, 1.0, 0.01, 1000.0, 0),
-    FU("shadow_dir", "", shadow_dir, MER_SHADOW_DIR_NEIGHBOUR, 0, 1),
-    FF("bounds_min.x", "", bounds_min[0], -50.0, -1e5, 1e5, 0),
-    FF("bounds_min.y", "", bounds_min[1], 0.0, -1e5, 1e5, 0),
-    FF("bounds_min.z", "", bounds_min[2], -50.0, -1e5, 1e5, 0),
-    FF("bounds_max.x", "", bounds_max[0], 50.0, -1e5, 1e5, 0),
-    FF("bounds_max.y", "", bounds_max[1], 100.0, -1e5, 1e5, 0),
-    FF("bounds_max.z", "", bounds_max[2], 50.0, -1e5, 1e5, 0),
-    FF("ground", "", ground, 0.0, -1e5, 1e5, 0),
-    FU("ground_enabled", "", ground_enabled, 1, 0, 1),
-    FF("alpha", "α", alpha, 2.0, 0.0, 1e6, 1),
-    FF("lambda", "λ", lambda, 0.5, 0.0, 1.0, 0),
-    FF("w_max", "w_max", w_max, 1.0, 0.0, 1e6, 1),
-    FF("w_min", "w_min", w_min, 0.006, 0.0, 1e6, 1),
-    FF("kappa", "κ", kappa, 0.5, 0.0, 1.0, 1),
-    FU("sylleptic", "", sylleptic, 0, 0, 1),
-    FU("sympodial", "", sympodial, 0, 0, 1),
-    FU("sympodial_abort", "", sympodial_abort, 0, 0, 1),
-    FF("divergence", "", divergence, 137.5, 0.0, 360.0, 0),
-    FU("buds_per_node", "", buds_per_node, 1, 1, 2),
-    FF("branch_angle", "", branch_angle, 45.0, 0.0, 180.0, 0),
-    FF("xi", "ξ", xi, 0.3, 0.0, 100.0, 0),
-    FF("eta", "η", eta, 0.05, -100.0, 100.0, 0),
-    FF("shed_threshold", "", shed_threshold, 0.0, 0.0, 1e6, 0),
-    FF("pipe_n", "n", pipe_n, 2.5, 1.0, 10.0, 0),
-    FF("leaf_diameter", "d_leaf", leaf_diameter, 0.05, 0.0, 100.0, 1),
-    FU("seedlings", "", seedlings, 1, 0, 1000),
-    FF("seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
-    FU("marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),
-    FU("marker_count", "|S|", marker_count, 20000, 0, 20000000),
-    FF("marker_center.x", "", marker_center[0], 0.0, -1e5, 1e5, 0),
-    FF("marker_center.y", "", marker_center[1], 12.0, -1e5, 1e5, 0),
-    FF("marker_center.z", "", marker_center[2], 0.0, -1e5, 1e5, 0),
-    FF("marker_size.x", "", marker_size[0], 10.0, 0.0, 1e5, 0),
-    FF("marker_size.y", "", marker_size[1], 10.0, 0.0, 1e5, 0),
-    FF("marker_size.z", "", marker_size[2], 10.0, 0.0, 1e5, 0),
-    FU("apical_off.0", "", schedule.apical_off[0], NEVER_D, 0, NEVER_D),
-    FU("apical_off.1", "", schedule.apical_off[1], NEVER_D, 0, NEVER_D),
-    FU("apical_off.2", "", schedule.apical_off[2], NEVER_D, 0, NEVER_D),
-    FU("apical_off.3", "", schedule.apical_off[3], NEVER_D, 0, NEVER_D),
-    FU("apical_off.4", "", schedule.apical_off[4], NEVER_D, 0, NEVER_D),
-    FU("apical_off.5", "", schedule.apical_off[5], NEVER_D, 0, NEVER_D),
-    FU("apical_off.6", "", schedule.apical_off[6], NEVER_D, 0, NEVER_D),
-    FU("apical_off.7", "", schedule.apical_off[7], NEVER_D, 0, NEVER_D),
-    FF("eta_order_scale.0", "", schedule.eta_order_scale[0], 1.0, -100.0, 100.0, 0),
-    FF("eta_order_scale.1", "", schedule.eta_order_scale[1], 1.0, -100.0, 100.0, 0),
-    FF("eta_order_scale.2", "", schedule.eta_order_scale[2], 1.0, -100.0, 100.0, 0),
-    FF("eta_order_scale.3", "", schedule.eta_order_scale[3], 1.0, -100.0, 100.0, 0),
-    FF("eta_order_scale.4", "", schedule.eta_order_scale[4], 1.0, -100.0, 100.0, 0),
-    FF("eta_order_scale.5", "", schedule.eta_order_scale[5], 1.0, -100.0, 100.0, 0),
-    FF("eta_order_scale.6", "", schedule.eta_order_scale[6], 1.0, -100.0, 100.0, 0),
-    FF("eta_order_scale.7", "", schedule.eta_order_scale[7], 1.0, -100.0, 100.0, 0),
+    FU(W, "environment", "", environment, MER_ENV_SHADOW, 0, 1),
+    FU(P, "fate", "", fate, MER_FATE_BH, 0, 1),
+    FF(W, "internode_length", "l0", internode_length, 1.0, 0.0, 100.0, 1),
+    FU(P, "max_shoot", "", max_shoot, 16, 1, 1000),
+    FF(W, "rho", "ρ", rho, 2.0, 0.0, 100.0, 1),
+    FF(W, "theta", "θ", theta, 90.0, 0.0, 360.0, 1),
+    FF(W, "r", "r", r, 4.0, 0.0, 100.0, 1),
+    FF(W, "marker_cell", "", marker_cell, 4.0, 0.05, 1000.0, 0),
+    FF(W, "shadow_a", "a", shadow_a, 0.1, 0.0, 1000.0, 1),
+    FF(W, "shadow_b", "b", shadow_b, 2.0, 1.0, 1000.0, 1),
+    FF(W, "shadow_c", "C", shadow_c, 1.0, 0.0, 1e6, 0),
+    FU(W, "q_max", "q_max", q_max, 6, 0, 32),
+    FF(W, "voxel", "", voxel, 1.0, 0.01, 1000.0, 0),
+    FU(W, "shadow_dir", "", shadow_dir, MER_SHADOW_DIR_NEIGHBOUR, 0, 1),
+    FF(W, "bounds_min.x", "", bounds_min[0], -50.0, -1e5, 1e5, 0),
+    FF(W, "bounds_min.y", "", bounds_min[1], 0.0, -1e5, 1e5, 0),
+    FF(W, "bounds_min.z", "", bounds_min[2], -50.0, -1e5, 1e5, 0),
+    FF(W, "bounds_max.x", "", bounds_max[0], 50.0, -1e5, 1e5, 0),
+    FF(W, "bounds_max.y", "", bounds_max[1], 100.0, -1e5, 1e5, 0),
+    FF(W, "bounds_max.z", "", bounds_max[2], 50.0, -1e5, 1e5, 0),
+    FF(W, "ground", "", ground, 0.0, -1e5, 1e5, 0),
+    FU(W, "ground_enabled", "", ground_enabled, 1, 0, 1),
+    FF(P, "alpha", "α", alpha, 2.0, 0.0, 1e6, 1),
+    FF(P, "lambda", "λ", lambda, 0.5, 0.0, 1.0, 0),
+    FF(P, "w_max", "w_max", w_max, 1.0, 0.0, 1e6, 1),
+    FF(P, "w_min", "w_min", w_min, 0.006, 0.0, 1e6, 1),
+    FF(P, "kappa", "κ", kappa, 0.5, 0.0, 1.0, 1),
+    FU(P, "sylleptic", "", sylleptic, 0, 0, 1),
+    FU(P, "sympodial", "", sympodial, 0, 0, 1),
+    FU(P, "sympodial_abort", "", sympodial_abort, 0, 0, 1),
+    FF(P, "divergence", "", divergence, 137.5, 0.0, 360.0, 0),
+    FU(W, "buds_per_node", "", buds_per_node, 1, 1, 2),
+    FF(W, "branch_angle", "", branch_angle, 45.0, 0.0, 180.0, 0),
+    FF(P, "xi", "ξ", xi, 0.3, 0.0, 100.0, 0),
+    FF(P, "eta", "η", eta, 0.05, -100.0, 100.0, 0),
+    FF(P, "shed_threshold", "", shed_threshold, 0.0, 0.0, 1e6, 0),
+    FF(W, "pipe_n", "n", pipe_n, 2.5, 1.0, 10.0, 0),
+    FF(W, "leaf_diameter", "d_leaf", leaf_diameter, 0.05, 0.0, 100.0, 1),
+    FU(W, "seedlings", "", seedlings, 1, 0, 1000),
+    FF(W, "seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
+    FU(W, "marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),
+    FU(W, "marker_count", "|S|", marker_count, 20000, 0, 20000000),
+    FF(W, "marker_center.x", "", marker_center[0], 0.0, -1e5, 1e5, 0),
+    FF(W, "marker_center.y", "", marker_center[1], 12.0, -1e5, 1e5, 0),
+    FF(W, "marker_center.z", "", marker_center[2], 0.0, -1e5, 1e5, 0),
+    FF(W, "marker_size.x", "", marker_size[0], 10.0, 0.0, 1e5, 0),
+    FF(W, "marker_size.y", "", marker_size[1], 10.0, 0.0, 1e5, 0),
+    FF(W, "marker_size.z", "", marker_size[2], 10.0, 0.0, 1e5, 0),
+    FU(P, "apical_off.0", "", schedule.apical_off[0], NEVER_D, 0, NEVER_D),
+    FU(P, "apical_off.1", "", schedule.apical_off[1], NEVER_D, 0, NEVER_D),
+    FU(P, "apical_off.2", "", schedule.apical_off[2], NEVER_D, 0, NEVER_D),
+    FU(P, "apical_off.3", "", schedule.apical_off[3], NEVER_D, 0, NEVER_D),
+    FU(P, "apical_off.4", "", schedule.apical_off[4], NEVER_D, 0, NEVER_D),
+    FU(P, "apical_off.5", "", schedule.apical_off[5], NEVER_D, 0, NEVER_D),
+    FU(P, "apical_off.6", "", schedule.apical_off[6], NEVER_D, 0, NEVER_D),
+    FU(P, "apical_off.7", "", schedule.apical_off[7], NEVER_D, 0, NEVER_D),
+    FF(P, "eta_order_scale.0", "", schedule.eta_order_scale[0], 1.0, -100.0, 100.0, 0),
+    FF(P, "eta_order_scale.1", "", schedule.eta_order_scale[1], 1.0, -100.0, 100.0, 0),
+    FF(P, "eta_order_scale.2", "", schedule.eta_order_scale[2], 1.0, -100.0, 100.0, 0),
+    FF(P, "eta_order_scale.3", "", schedule.eta_order_scale[3], 1.0, -100.0, 100.0, 0),
+    FF(P, "eta_order_scale.4", "", schedule.eta_order_scale[4], 1.0, -100.0, 100.0, 0),
+    FF(P, "eta_order_scale.5", "", schedule.eta_order_scale[5], 1.0, -100.0, 100.0, 0),
+    FF(P, "eta_order_scale.6", "", schedule.eta_order_scale[6], 1.0, -100.0, 100.0, 0),
+    FF(P, "eta_order_scale.7", "", schedule.eta_order_scale[7], 1.0, -100.0, 100.0, 0),
 };
+
+#undef W
+#undef P
 
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
@@ -134,6 +149,7 @@ static int is_all_zero(const mer_params *p)
 
 void mer_params_resolve(const mer_params *in, mer_params *out)
 {
+    assert(out != NULL);
     if (in == NULL || is_all_zero(in))
         *out = mer_params_default();
     else if (in != out)
@@ -153,24 +169,6 @@ static mer_result check_field(const field *f, double v, mer_error *err)
                              f->name, f->min, f->max, v);
     return mer_error_set(err, MER_ERR_RANGE, f->name, "%s must be in %s%g, %g], got %g",
                          f->name, f->min_open ? "(" : "[", f->min, f->max, v);
-}
-
-static mer_result check_keys(const mer_keyframe *k, uint32_t n, const char *name,
-                             double lo, double hi, mer_error *err)
-{
-    if (n > MER_KEYS_MAX)
-        return mer_error_set(err, MER_ERR_RANGE, name, "%s count must be from 0 to %d, got %u",
-                             name, MER_KEYS_MAX, (unsigned)n);
-    for (uint32_t i = 0; i < n; i++) {
-        if (!(k[i].step >= 0.0f) || (i > 0 && !(k[i].step > k[i - 1].step)))
-            return mer_error_set(err, MER_ERR_RANGE, name,
-                                 "%s keyframe steps must be >= 0 and strictly increasing", name);
-        if (!((double)k[i].value >= lo && (double)k[i].value <= hi))
-            return mer_error_set(err, MER_ERR_RANGE, name,
-                                 "%s keyframe values must be in [%g, %g], got %g", name, lo, hi,
-                                 (double)k[i].value);
-    }
-    return MER_OK;
 }
 
 mer_result mer_params_validate(const mer_params *in, mer_error *err)
@@ -200,15 +198,11 @@ mer_result mer_params_validate(const mer_params *in, mer_error *err)
         return mer_error_set(err, MER_ERR_LIMIT, "marker_cell",
                              "the marker grid would have %.0f cells, more than %u; raise marker_cell",
                              cells_m, (unsigned)MER_GRID_CELLS_MAX);
-    if (p.w_min > p.w_max)
-        return mer_error_set(err, MER_ERR_RANGE, "w_min", "w_min must be at most w_max (%g), got %g",
-                             (double)p.w_max, (double)p.w_min);
-    mer_result rc = check_keys(p.schedule.lambda_keys, p.schedule.lambda_key_count,
-                               "schedule.lambda_keys", 0.0, 1.0, err);
-    if (rc == MER_OK)
-        rc = check_keys(p.schedule.eta_keys, p.schedule.eta_key_count, "schedule.eta_keys",
-                        -100.0, 100.0, err);
-    return rc;
+    const merp_model_ops *ops = merp_model_ops_of(p.model);
+    if (ops == NULL)
+        return mer_error_set(err, MER_ERR_RANGE, "model", "there is no model %u",
+                             (unsigned)p.model);
+    return ops->validate != NULL ? ops->validate(&p, err) : MER_OK;
 }
 
 static const field *find(const char *name)
@@ -223,6 +217,7 @@ static const field *find(const char *name)
 
 mer_result mer_params_set(mer_params *p, const char *name, double value, mer_error *err)
 {
+    assert(p != NULL);
     const field *f = find(name);
     if (f == NULL)
         return mer_error_set(err, MER_ERR_INVALID, name, "unknown parameter '%s'",
@@ -237,6 +232,7 @@ mer_result mer_params_set(mer_params *p, const char *name, double value, mer_err
 
 mer_result mer_params_get(const mer_params *in, const char *name, double *value, mer_error *err)
 {
+    assert(value != NULL);
     const field *f = find(name);
     if (f == NULL)
         return mer_error_set(err, MER_ERR_INVALID, name, "unknown parameter '%s'",
@@ -253,14 +249,26 @@ const char *mer_params_field_name(size_t i) { return i < NFIELDS ? fields[i].nam
 
 const char *mer_params_field_symbol(size_t i) { return i < NFIELDS ? fields[i].symbol : NULL; }
 
+const char *mer_params_field_model(size_t i)
+{
+    if (i >= NFIELDS)
+        return NULL;
+    for (uint32_t k = 0; merp_model_ops_of(k) != NULL; k++)
+        if (merp_model_ops_of(k)->param_rows & fields[i].rows)
+            return merp_model_ops_of(k)->name;
+    return "";
+}
+
 void mer_params_field_range(size_t i, double *min, double *max)
 {
+    assert(min != NULL && max != NULL);
     *min = i < NFIELDS ? fields[i].min : 0.0;
     *max = i < NFIELDS ? fields[i].max : 0.0;
 }
 
 float mer_keyframes_eval(const mer_keyframe *keys, uint32_t n, float step, float fallback)
 {
+    assert(n == 0 || keys != NULL);
     if (n == 0)
         return fallback;
     if (step <= keys[0].step)
@@ -272,23 +280,4 @@ float mer_keyframes_eval(const mer_keyframe *keys, uint32_t n, float step, float
         }
     }
     return keys[n - 1].value;
-}
-
-float mer_params_lambda_at(const mer_params *p, uint32_t step)
-{
-    return mer_keyframes_eval(p->schedule.lambda_keys, p->schedule.lambda_key_count,
-                              (float)step, p->lambda);
-}
-
-float mer_params_eta_at(const mer_params *p, uint32_t step, uint32_t order)
-{
-    uint32_t k = order < MER_ORDERS_MAX ? order : MER_ORDERS_MAX - 1;
-    return mer_keyframes_eval(p->schedule.eta_keys, p->schedule.eta_key_count, (float)step,
-                              p->eta) * p->schedule.eta_order_scale[k];
-}
-
-int mer_params_apical_at(const mer_params *p, uint32_t step, uint32_t order)
-{
-    uint32_t k = order < MER_ORDERS_MAX ? order : MER_ORDERS_MAX - 1;
-    return step < p->schedule.apical_off[k];
 }

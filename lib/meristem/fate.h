@@ -1,6 +1,6 @@
 /* meristem — bud fate: the resource-allocation kernels of P09 §4.2.
  *
- * These are the pure formulas; lib/grow.c applies them to a whole tree. They are
+ * These are the pure formulas; lib/models/p09/ applies them to a whole tree. They are
  * public so the server, tests and other tools can show a worked allocation.
  *
  * Extended Borchert-Honda (BH): at a branching point the resource v is split

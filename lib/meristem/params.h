@@ -47,6 +47,12 @@ extern "C" {
 #define MER_KEYS_MAX 8         /* keyframes per scheduled quantity */
 #define MER_ORDERS_MAX 8       /* branch orders with their own schedule entry */
 
+/* The growth model a scene runs. 0 is P09, so all-zero parameters, and every
+ * request or journal written before models could be chosen, mean P09. */
+typedef enum mer_model_kind {
+    MER_MODEL_P09 = 0     /* self-organizing trees, Palubicki et al. 2009 (default) */
+} mer_model_kind;
+
 typedef enum mer_env_kind {
     MER_ENV_SHADOW = 0,   /* shadow propagation, P09 §4.1 (default) */
     MER_ENV_MARKERS = 1   /* space colonization with markers, P09 §4.1 */
@@ -90,6 +96,7 @@ typedef struct mer_schedule {
 
 typedef struct mer_params {
     /* models */
+    uint32_t model;           /* mer_model_kind; default MER_MODEL_P09; set by name with mer_model_parse */
     uint32_t environment;     /* mer_env_kind; default MER_ENV_SHADOW */
     uint32_t fate;            /* mer_fate_kind; default MER_FATE_BH */
 
@@ -162,8 +169,8 @@ mer_params mer_params_default(void);
 void mer_params_resolve(const mer_params *in, mer_params *out);
 
 /* Checks every field against its range and the cross-field rules (bounds_min <
- * bounds_max, w_min <= w_max, keyframes in step order, grids not larger than
- * MER_GRID_CELLS_MAX). `p` NULL or all-zero is valid. On failure fills `err` (may
+ * bounds_max, grids not larger than MER_GRID_CELLS_MAX, `model` naming a model,
+ * then the model's own: for P09 w_min <= w_max and keyframes in step order). `p` NULL or all-zero is valid. On failure fills `err` (may
  * be NULL) naming the field and the range. */
 mer_result mer_params_validate(const mer_params *p, mer_error *err);
 
@@ -184,6 +191,15 @@ size_t mer_params_field_count(void);
 const char *mer_params_field_name(size_t i);
 const char *mer_params_field_symbol(size_t i);
 void mer_params_field_range(size_t i, double *min, double *max);
+/* The name of the growth model that reads the i-th field ("p09"), or "" when every
+ * model does (bounds, grids, ground, pipe model, initial scene). NULL out of range. */
+const char *mer_params_field_model(size_t i);
+
+/* The model called `name` ("p09") into `*model` (mer_model_kind). MER_ERR_INVALID
+ * naming the models there are when `name` is NULL or unknown. O(models). */
+mer_result mer_model_parse(const char *name, uint32_t *model, mer_error *err);
+/* The name of model `model`, a static string; NULL when there is no such model. */
+const char *mer_model_name(uint32_t model);
 
 /* Schedule evaluation at a (possibly fractional) step. `p` resolved (not NULL). */
 float mer_params_lambda_at(const mer_params *p, uint32_t step);

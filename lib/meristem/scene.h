@@ -90,7 +90,8 @@ typedef enum mer_bud_state {
 #define MER_MESH_FILL_TRIES 64u          /* draws allowed per marker, on average... */
 #define MER_MESH_FILL_TRIES_MIN 4096u    /* ...plus these, per call */
 
-/* Creates a scene from `params` (NULL or all-zero: defaults) and `seed`: validates
+/* Creates a scene from `params` (NULL or all-zero: defaults) and `seed`, running
+ * the growth model params->model names (P09 by default): validates
  * the parameters, builds the grids, places params->seedlings seedlings along x
  * (centred on the origin, on the ground) and, under space colonization, fills the
  * initial marker volume. `*out` is owned by the caller (mer_scene_free). Cost
@@ -106,7 +107,9 @@ const mer_params *mer_scene_params(const mer_scene *s);
 
 /* Replaces the parameters (and with them the schedule) between steps. Grids are
  * rebuilt when their geometry changes; the tree is kept. A ground raised (or
- * turned on) removes the markers now below it. On error nothing changes.
+ * turned on) removes the markers now below it. A scene keeps its growth model:
+ * parameters naming another are refused (MER_ERR_INVALID, "model"). On error
+ * nothing changes.
  * Cost O(voxels + buds·q_max² + markers) when grids are rebuilt, else O(1). */
 mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_error *err);
 
@@ -157,7 +160,7 @@ mer_result mer_scene_add_sphere(mer_scene *s, const float center[3], float radiu
  * its own (up to 128 cells along its longest side, independent of the scene's
  * grids), so a point query is O(1) away from the surface and O(the triangles in a
  * few cells) near it. For a closed mesh the cache changes no answer; for an open
- * one, rays are judged from cell centres (lib/solid.c says how), a close
+ * one, rays are judged from cell centres (lib/env/solid.c says how), a close
  * approximation. Building costs O(triangles + cells + triangle-cell pairs), the
  * pairs bounded (the cache coarsens for huge triangles): about 0.4 s for a
  * million triangles. Memory: 36 bytes per triangle, a byte per cell, 4 bytes per

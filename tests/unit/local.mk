@@ -42,10 +42,32 @@ tests_unit_test_scene_SOURCES = tests/unit/test_scene.c tests/unit/scene_helpers
 tests_unit_test_scene_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_scene_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_skeleton
+tests_unit_test_skeleton_SOURCES = tests/unit/test_skeleton.c
+tests_unit_test_skeleton_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_skeleton_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_p09
+tests_unit_test_p09_SOURCES = tests/unit/test_p09.c tests/unit/scene_helpers.h
+tests_unit_test_p09_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_p09_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_edit
+tests_unit_test_edit_SOURCES = tests/unit/test_edit.c tests/unit/scene_helpers.h
+tests_unit_test_edit_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_edit_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_obstacles
 tests_unit_test_obstacles_SOURCES = tests/unit/test_obstacles.c tests/unit/scene_helpers.h
 tests_unit_test_obstacles_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_obstacles_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_model
+tests_unit_test_model_SOURCES = tests/unit/test_model.c
+# It writes GLB: link with the C++ driver, as libmeristem does (tinygltf needs libstdc++).
+nodist_EXTRA_tests_unit_test_model_SOURCES = tests/unit/link-as-cxx.cc
+tests_unit_test_model_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_model_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_presets
 tests_unit_test_presets_SOURCES = tests/unit/test_presets.c

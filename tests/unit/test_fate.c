@@ -1,4 +1,4 @@
-/* Unit tests for lib/fate.c: BH split, ⌊v⌋ and l, Fig. 8c weights, priority lists. */
+/* Unit tests for lib/models/p09/fate.c: BH split, ⌊v⌋ and l, Fig. 8c weights, priority lists. */
 #include "config.h"
 
 #include <math.h>

@@ -1,4 +1,4 @@
-/* Unit tests for lib/markers.c: occupancy, cone membership, competition, Q and V. */
+/* Unit tests for lib/env/markers.c: occupancy, cone membership, competition, Q and V. */
 #include "config.h"
 
 #include <math.h>

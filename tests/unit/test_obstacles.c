@@ -1,5 +1,5 @@
-/* Unit tests for triangle-mesh obstacles and marker volumes (lib/solid.c, the mesh
- * parts of lib/scene.c) and the growth-constraint accessor (lib/edit.c).
+/* Unit tests for triangle-mesh obstacles and marker volumes (lib/env/solid.c,
+ * obstacles.c, volumes.c) and the growth-constraint accessor (lib/edit.c).
  *
  * The reference for a mesh cube is mer_scene_add_box with the same extent: where
  * no voxel centre and no marker lies on a face, the two must agree bit for bit
@@ -23,7 +23,7 @@
 #include <meristem/scene.h>
 
 #include "scene_helpers.h"
-#include "scene_private.h" /* s->shadow, s->rng and the merp_solid inside test */
+#include "scene_private.h" /* s->env.shadow, s->rng and the merp_solid inside test */
 
 /* ---- meshes built by hand ---- */
 
@@ -336,15 +336,15 @@ static void test_cube_acts_like_box_shadow(void **state)
     assert_int_equal(mer_scene_add_mesh(b, tri, 12, &err), MER_OK);
     assert_true(mer_scene_marker_count(a) < before - 100);
     same_markers(a, b);
-    assert_true(mer_shadow_hash(a->shadow) == mer_shadow_hash(b->shadow));
+    assert_true(mer_shadow_hash(a->env.shadow) == mer_shadow_hash(b->env.shadow));
     int ijk[3] = {50, 7, 50}; /* inside: fully shaded */
-    assert_true(mer_shadow_value(a->shadow, ijk) > p.shadow_c);
-    assert_true(mer_shadow_value(a->shadow, ijk) == mer_shadow_value(b->shadow, ijk));
+    assert_true(mer_shadow_value(a->env.shadow, ijk) > p.shadow_c);
+    assert_true(mer_shadow_value(a->env.shadow, ijk) == mer_shadow_value(b->env.shadow, ijk));
     for (int i = 0; i < 12; i++) {
         step(a, 1);
         step(b, 1);
         same_trees(a, b);
-        assert_true(mer_shadow_hash(a->shadow) == mer_shadow_hash(b->shadow));
+        assert_true(mer_shadow_hash(a->env.shadow) == mer_shadow_hash(b->env.shadow));
     }
     /* The tree met the obstacle: no internode ends inside it. */
     for (uint32_t i = 0; i < mer_scene_node_bound(b); i++) {
@@ -353,13 +353,13 @@ static void test_cube_acts_like_box_shadow(void **state)
         float e[3];
         for (int k = 0; k < 3; k++)
             e[k] = n.base[k] + n.dir[k] * n.length;
-        assert_false(n.alive && merp_solid_inside(b->obs[0].solid, e));
+        assert_false(n.alive && merp_solid_inside(b->env.obs[0].solid, e));
     }
     /* Changing the shadow grid rebuilds it, mesh obstacles included. */
     p.voxel = 0.5f;
     assert_int_equal(mer_scene_set_params(a, &p, &err), MER_OK);
     assert_int_equal(mer_scene_set_params(b, &p, &err), MER_OK);
-    assert_true(mer_shadow_hash(a->shadow) == mer_shadow_hash(b->shadow));
+    assert_true(mer_shadow_hash(a->env.shadow) == mer_shadow_hash(b->env.shadow));
     mer_scene_free(a);
     mer_scene_free(b);
 }

@@ -1,4 +1,4 @@
-/* Unit tests for lib/shadow.c: the pyramid, Q, V, incremental = rebuilt. */
+/* Unit tests for lib/env/shadow.c: the pyramid, Q, V, incremental = rebuilt. */
 #include "config.h"
 
 #include <math.h>

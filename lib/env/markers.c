@@ -1,12 +1,15 @@
 /* meristem — marker set on a uniform grid (P09 §4.1, §6). */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <meristem/markers.h>
 #include <meristem/params.h>
+
+#include "core/vec.h"
 
 #define NONE UINT32_MAX
 
@@ -288,88 +291,89 @@ int mer_in_cone(const float apex[3], const float dir[3], const float p[3], float
     return in_cone(apex, dir, p, r * r, cos_half_theta, cos_half_theta * cos_half_theta, &d2);
 }
 
-mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, const float *dir,
-                                float rho, float r, float theta, float *q, float *v,
-                                uint32_t *count, uint8_t *quiet, mer_error *err)
+/* Scratch for the competition, sized to the markers: best bud and its distance². */
+static mer_result ensure_scratch(mer_markers *m, mer_error *err)
 {
-    for (size_t b = 0; b < n; b++) {
-        q[b] = 0.0f;
-        v[3 * b] = v[3 * b + 1] = v[3 * b + 2] = 0.0f;
-        if (count != NULL)
-            count[b] = 0;
-        if (quiet != NULL)
-            quiet[b] = rho <= r;
+    if (m->n <= m->scratch_cap)
+        return MER_OK;
+    uint32_t *best = realloc(m->best, m->n * sizeof *best);
+    if (best == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
+    m->best = best;
+    float *bd = realloc(m->best_d2, m->n * sizeof *bd);
+    if (bd == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
+    m->best_d2 = bd;
+    m->scratch_cap = m->n;
+    for (size_t i = 0; i < m->n; i++)
+        m->best[i] = NONE;
+    return MER_OK;
+}
+
+/* Marker `id` at distance² d2 is perceived by bud b: it goes to the closest bud. The
+ * markers claimed so far are listed in m->touched[0..*nt), in first-touched order. */
+static mer_result claim(mer_markers *m, uint32_t id, uint32_t b, float d2, size_t *nt,
+                        mer_error *err)
+{
+    if (m->best[id] != NONE) {
+        if (d2 < m->best_d2[id]) {
+            m->best[id] = b;
+            m->best_d2[id] = d2;
+        }
+        return MER_OK;
     }
-    if (!ensure_grid(m))
-        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
-    /* 1. Occupancy zones: markers within ρ of any bud are deleted from S. */
-    for (size_t b = 0; b < n && m->alive > 0; b++)
-        remove_sphere_grid(m, pos + 3 * b, rho);
-    if (m->alive == 0 || n == 0)
-        return MER_OK; /* quiet stays as set: with no markers every bud is quiet */
-    if (m->n > m->scratch_cap) {
-        uint32_t *best = realloc(m->best, m->n * sizeof *best);
-        if (best == NULL)
+    if (*nt == m->touched_cap) {
+        size_t cap = m->touched_cap ? 2 * m->touched_cap : 4096;
+        uint32_t *tt = realloc(m->touched, cap * sizeof *tt);
+        if (tt == NULL) {
+            for (size_t x = 0; x < *nt; x++)
+                m->best[m->touched[x]] = NONE;
+            m->best[id] = NONE;
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
-        m->best = best;
-        float *bd = realloc(m->best_d2, m->n * sizeof *bd);
-        if (bd == NULL)
-            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
-        m->best_d2 = bd;
-        m->scratch_cap = m->n;
-        for (size_t i = 0; i < m->n; i++)
-            m->best[i] = NONE;
+        }
+        m->touched = tt;
+        m->touched_cap = cap;
     }
-    float cos_half = cosf(theta * 0.5f * 0.017453292519943295f);
-    if (theta >= 360.0f)
-        cos_half = -1.0f;
-    size_t nt = 0;
-    /* 2. Competition: each perceived marker goes to the closest bud. */
+    m->touched[(*nt)++] = id;
+    m->best[id] = b;
+    m->best_d2[id] = d2;
+    return MER_OK;
+}
+
+/* Competition for bud b: every live marker in its perception volume is claimed;
+ * any live marker in the cells around it makes it not quiet. */
+static mer_result compete(mer_markers *m, uint32_t b, const float *a, const float *db, float r,
+                          float cos_half, size_t *nt, uint8_t *quiet, mer_error *err)
+{
     float r2 = r * r, cos2 = cos_half * cos_half;
-    for (size_t b = 0; b < n; b++) {
-        const float *a = pos + 3 * b, *db = dir + 3 * b;
-        int lo[3], hi[3];
-        range(m, a, r, lo, hi);
-        for (int k = lo[2]; k <= hi[2]; k++)
-            for (int j = lo[1]; j <= hi[1]; j++)
-                for (int i = lo[0]; i <= hi[0]; i++) {
-                    size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
-                    for (uint32_t t = m->start[c]; t < m->start[c + 1]; t++) {
-                        const entry *e = &m->items[t];
-                        if (e->id & DEAD_BIT)
-                            continue;
-                        uint32_t id = e->id;
-                        if (quiet != NULL)
-                            quiet[b] = 0; /* a live marker in the neighbourhood */
-                        const float *p = e->p;
-                        float d2;
-                        if (!in_cone(a, db, p, r2, cos_half, cos2, &d2))
-                            continue;
-                        if (m->best[id] == NONE) {
-                            if (nt == m->touched_cap) {
-                                size_t cap = m->touched_cap ? 2 * m->touched_cap : 4096;
-                                uint32_t *tt = realloc(m->touched, cap * sizeof *tt);
-                                if (tt == NULL) {
-                                    for (size_t x = 0; x < nt; x++)
-                                        m->best[m->touched[x]] = NONE;
-                                    m->best[id] = NONE;
-                                    return mer_error_set(err, MER_ERR_NOMEM, NULL,
-                                                         "out of memory for colonization");
-                                }
-                                m->touched = tt;
-                                m->touched_cap = cap;
-                            }
-                            m->touched[nt++] = id;
-                            m->best[id] = (uint32_t)b;
-                            m->best_d2[id] = d2;
-                        } else if (d2 < m->best_d2[id]) {
-                            m->best[id] = (uint32_t)b;
-                            m->best_d2[id] = d2;
-                        }
-                    }
+    int lo[3], hi[3];
+    range(m, a, r, lo, hi);
+    for (int k = lo[2]; k <= hi[2]; k++)
+        for (int j = lo[1]; j <= hi[1]; j++)
+            for (int i = lo[0]; i <= hi[0]; i++) {
+                size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
+                for (uint32_t t = m->start[c]; t < m->start[c + 1]; t++) {
+                    const entry *e = &m->items[t];
+                    if (e->id & DEAD_BIT)
+                        continue;
+                    if (quiet != NULL)
+                        quiet[b] = 0; /* a live marker in the neighbourhood */
+                    float d2;
+                    if (!in_cone(a, db, e->p, r2, cos_half, cos2, &d2))
+                        continue;
+                    mer_result rc = claim(m, e->id, b, d2, nt, err);
+                    if (rc != MER_OK)
+                        return rc;
                 }
-    }
-    /* 3. Q and V per bud; markers in first-touched order, a fixed order. */
+            }
+    return MER_OK;
+}
+
+/* Q and V per bud from the claimed markers, in first-touched order (a fixed order):
+ * V is the normalized sum of the unit vectors towards its markers. */
+static void sum_directions(mer_markers *m, size_t nt, size_t n, const float *pos, float *q,
+                           float *v, uint32_t *count)
+{
     for (size_t t = 0; t < nt; t++) {
         uint32_t id = m->touched[t];
         uint32_t b = m->best[id];
@@ -393,5 +397,42 @@ mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, cons
             vb[2] /= len;
         }
     }
+}
+
+mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, const float *dir,
+                                float rho, float r, float theta, float *q, float *v,
+                                uint32_t *count, uint8_t *quiet, mer_error *err)
+{
+    assert(m != NULL && (n == 0 || (pos != NULL && dir != NULL && q != NULL && v != NULL)));
+    for (size_t b = 0; b < n; b++) {
+        q[b] = 0.0f;
+        v[3 * b] = v[3 * b + 1] = v[3 * b + 2] = 0.0f;
+        if (count != NULL)
+            count[b] = 0;
+        if (quiet != NULL)
+            quiet[b] = rho <= r;
+    }
+    if (!ensure_grid(m))
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
+    /* 1. Occupancy zones: markers within ρ of any bud are deleted from S. */
+    for (size_t b = 0; b < n && m->alive > 0; b++)
+        remove_sphere_grid(m, pos + 3 * b, rho);
+    if (m->alive == 0 || n == 0)
+        return MER_OK; /* quiet stays as set: with no markers every bud is quiet */
+    mer_result rc = ensure_scratch(m, err);
+    if (rc != MER_OK)
+        return rc;
+    float cos_half = cosf(theta * 0.5f * MER_DEG2RAD);
+    if (theta >= 360.0f)
+        cos_half = -1.0f;
+    size_t nt = 0;
+    /* 2. Competition: each perceived marker goes to the closest bud. */
+    for (size_t b = 0; b < n; b++) {
+        rc = compete(m, (uint32_t)b, pos + 3 * b, dir + 3 * b, r, cos_half, &nt, quiet, err);
+        if (rc != MER_OK)
+            return rc;
+    }
+    /* 3. Q and V per bud. */
+    sum_directions(m, nt, n, pos, q, v, count);
     return MER_OK;
 }

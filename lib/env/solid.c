@@ -37,7 +37,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene_private.h"
+#include "core/hash.h"
+#include "env/env.h"
 
 #define MERP_SOLID_RES 128      /* cells along the longest side, at most */
 #define MERP_SOLID_RES_MIN 16   /* and at least, unless huge triangles force fewer */
@@ -337,12 +338,12 @@ mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, 
     }
     memcpy(s->tri, xyz, triangles * 9 * sizeof *xyz);
     /* Digest of the triangles (FNV-1a over 32-bit words), for mer_scene_hash. */
-    uint64_t hsh = UINT64_C(1469598103934665603);
+    uint64_t hsh = MERP_FNV_OFFSET;
     float amax = 0.0f;
     for (size_t i = 0; i < 9 * triangles; i++) {
         uint32_t w;
         memcpy(&w, &s->tri[i], sizeof w);
-        hsh = (hsh ^ w) * UINT64_C(1099511628211);
+        hsh = merp_fnv_word(hsh, w);
         int a = (int)(i % 3);
         float x = s->tri[i];
         if (i < 3 || x < s->lo[a])

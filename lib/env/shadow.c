@@ -8,6 +8,8 @@
 #include <meristem/params.h>
 #include <meristem/shadow.h>
 
+#include "core/hash.h"
+
 #define FIX 4096.0f   /* fixed-point units per a */
 #define QMAX_LIMIT 32
 
@@ -254,13 +256,8 @@ void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float di
 
 uint64_t mer_shadow_hash(const mer_shadow *sh)
 {
-    uint64_t h = UINT64_C(1469598103934665603);
-    for (size_t i = 0; i < sh->nvox; i++) {
-        uint32_t v = sh->s[i];
-        for (int b = 0; b < 4; b++) {
-            h ^= (v >> (8 * b)) & 0xFFu;
-            h *= UINT64_C(1099511628211);
-        }
-    }
+    uint64_t h = MERP_FNV_OFFSET;
+    for (size_t i = 0; i < sh->nvox; i++)
+        h = merp_fnv_u32le(h, sh->s[i]);
     return h;
 }

@@ -1,0 +1,125 @@
+/* meristem — the environment every growth model may query: the markers of space
+ * colonization, the shadow grid, obstacles (box, sphere, mesh), the ground (P09
+ * §4.1, §6). Not installed. A model asks what light Q and direction V a bud at p
+ * facing d perceives (merp_env_perceive) and whether a point is blocked; the
+ * skeleton tells it when a dormant bud appears or goes (merp_env_bud_changed). */
+#ifndef MERISTEM_ENV_H
+#define MERISTEM_ENV_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <meristem/markers.h>
+#include <meristem/params.h>
+#include <meristem/result.h>
+#include <meristem/rng.h>
+#include <meristem/shadow.h>
+
+enum { MERP_OBS_BOX = 1, MERP_OBS_SPHERE = 2, MERP_OBS_MESH = 3 };
+
+/* A triangle mesh's solid inside, voxelized once (solid.c). */
+typedef struct merp_solid merp_solid;
+
+typedef struct merp_obstacle {
+    uint32_t kind;
+    float a[3]; /* box min, sphere centre, or mesh bounding-box min */
+    float b[3]; /* box max, or mesh bounding-box max */
+    float r;    /* sphere radius */
+    merp_solid *solid; /* mesh only; owned by the environment's obstacle array */
+} merp_obstacle;
+
+typedef struct merp_env {
+    mer_params p;       /* the scene's parameters, resolved: ground, grids, perception */
+    mer_markers *markers;
+    mer_shadow *shadow; /* NULL unless environment == MER_ENV_SHADOW */
+    merp_obstacle *obs;
+    uint32_t nobs;
+    uint32_t epoch;     /* bumped whenever markers are added or buds move: see merp_env_epoch */
+} merp_env;
+
+/* Grids built ahead of a parameter change, so that a failure leaves the old ones. */
+typedef struct merp_env_change {
+    mer_markers *markers; /* new marker grid (markers copied in), or NULL: keep */
+    mer_shadow *shadow;   /* new shadow grid, or NULL */
+    int markers_change, shadow_change, ground_change;
+} merp_env_change;
+
+/* env.c */
+/* Builds the grids of resolved parameters `p`. MER_ERR_NOMEM. */
+mer_result merp_env_init(merp_env *e, const mer_params *p, mer_error *err);
+void merp_env_free(merp_env *e);
+/* Prepares the grids `p` needs (O(markers) when the marker grid changes); nothing
+ * of `e` changes. Then merp_env_commit, which cannot fail, swaps them in; when it
+ * returns 1 the shadow grid is new and empty: the caller casts its buds and then
+ * calls merp_env_cast_obstacles. */
+mer_result merp_env_prepare(const merp_env *e, const mer_params *p, merp_env_change *c,
+                            mer_error *err);
+int merp_env_commit(merp_env *e, const mer_params *p, merp_env_change *c);
+/* Removes markers the ground now covers (after a commit that changed the ground). */
+void merp_env_drop_covered(merp_env *e, const merp_env_change *c);
+/* Light Q and optimal direction V (3 floats each) of `n` buds at `pos` facing
+ * `dir` (3 floats each): space colonization or shadow propagation, P09 §4.1. Under
+ * markers, quiet[b] is set to 1 when bud b has no marker in its perception volume
+ * (`quiet` may not be NULL then). O(n · neighbourhood). */
+mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const float *dir,
+                             float *q, float *v, uint8_t *quiet, mer_error *err);
+/* A bud at p that may not grow still clears its occupancy zone of markers. */
+void merp_env_occupy(merp_env *e, const float p[3]);
+/* 1 if p is below the ground or inside an obstacle. O(obstacles). */
+int merp_env_blocked(const merp_env *e, const float p[3]);
+/* A dormant bud appeared (+1) or went (-1) at p: its shadow follows (merp_bud_fn). */
+void merp_env_bud_changed(void *env, const float p[3], int sign);
+/* Buds moved (bend, new branch angle): perception results cached against the
+ * epoch are stale. */
+void merp_env_buds_moved(merp_env *e);
+/* A counter that changes whenever what a bud perceives may have changed other than
+ * by growth: markers added, buds moved. */
+uint32_t merp_env_epoch(const merp_env *e);
+/* Adds the points of `xyz` that are finite and not blocked. MER_ERR_INVALID names
+ * the first non-finite one (nothing added then). */
+mer_result merp_env_add_markers(merp_env *e, const float *xyz, size_t count, mer_error *err);
+/* Folds obstacles (only when there are some) and marker positions into `h`. */
+uint64_t merp_env_hash(const merp_env *e, uint64_t h);
+
+/* obstacles.c */
+/* Whether p is inside obstacle o. */
+int merp_inside_obstacle(const merp_obstacle *o, const float *p);
+/* Adds an obstacle (its shadow, and removes the markers inside it). The
+ * environment takes the solid of a mesh obstacle on success. MER_ERR_LIMIT. */
+mer_result merp_env_add_obstacle(merp_env *e, const merp_obstacle *o, mer_error *err);
+/* Casts every obstacle's shadow (after the grid was rebuilt). */
+void merp_env_cast_obstacles(merp_env *e);
+/* The checks of a triangle soup (9 floats per triangle) for a mesh obstacle or a
+ * mesh volume of markers: count, finite, in range, not flat. */
+mer_result merp_check_mesh(const float *xyz, size_t triangles, mer_error *err);
+mer_result merp_env_add_box(merp_env *e, const float min[3], const float max[3], mer_error *err);
+mer_result merp_env_add_sphere(merp_env *e, const float center[3], float radius, mer_error *err);
+mer_result merp_env_add_mesh(merp_env *e, const float *xyz, size_t triangles, mer_error *err);
+
+/* volumes.c: markers drawn from `rng` in a volume (P09 §6). */
+/* A point uniform in the unit ball, by rejection (deterministic: the same draws). */
+void merp_unit_ball(mer_rng *rng, float out[3]);
+mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const float center[3],
+                                const float size[3], uint32_t count, mer_error *err);
+mer_result merp_env_fill_mesh(merp_env *e, mer_rng *rng, const float *xyz, size_t triangles,
+                              uint32_t count, mer_error *err);
+
+/* solid.c: the inside of a triangle soup (9 floats per triangle, finite, not
+ * empty; checked by the caller). The definition, its robustness and costs are at
+ * the top of solid.c. merp_solid_new copies the triangles; O(triangles + cells +
+ * triangle-cell pairs), the pairs bounded there. */
+mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, mer_error *err);
+void merp_solid_free(merp_solid *s);
+/* 1 inside, 0 outside. O(1) away from the surface, else O(the triangles listed
+ * in the few cells each axis walks). */
+int merp_solid_inside(const merp_solid *s, const float p[3]);
+void merp_solid_bounds(const merp_solid *s, float lo[3], float hi[3]);
+/* FNV-1a of the triangles' bytes, computed once. */
+uint64_t merp_solid_digest(const merp_solid *s);
+/* The cells that may hold inside points (IN or SURFACE), by index, into `out`
+ * (NULL: count only). Returns their number. O(cells). */
+size_t merp_solid_candidates(const merp_solid *s, uint32_t *out);
+/* The point at fractions f (each in [0, 1)) across cell `cell`. */
+void merp_solid_cell_point(const merp_solid *s, uint32_t cell, const float f[3], float out[3]);
+
+#endif

@@ -1,0 +1,68 @@
+/* meristem — the growth-model interface (private to lib). A growth model (a
+ * paradigm: P09's self-organizing trees, later L-systems, the inverse model) grows
+ * the shared skeleton in the shared environment, one step (a season) at a time.
+ * The scene owns the world and calls the model through its ops table; after the
+ * model's step the scene updates the pipe model's diameters and counts the step.
+ *
+ * Adding a model: a folder under lib/models/ with an ops table, a row in the
+ * registry (models/registry.c), an entry in mer_model_kind (params.h), and its
+ * parameters as rows of params.c's table tagged with a new MERP_ROWS_ group. A
+ * test can run a model of its own without registering it: merp_scene_new_with
+ * (scene_private.h). */
+#ifndef MERISTEM_MODEL_H
+#define MERISTEM_MODEL_H
+
+#include <stdint.h>
+
+#include <meristem/params.h>
+#include <meristem/result.h>
+#include <meristem/rng.h>
+
+#include "env/env.h"
+#include "skeleton/skeleton.h"
+
+/* What every model shares, lent to it for the length of one call. */
+typedef struct merp_world {
+    merp_skeleton *sk;   /* metamers, buds, diameters: what gets meshed */
+    merp_env *env;       /* markers, shadow, obstacles, ground */
+    mer_rng *rng;        /* the scene's one deterministic stream */
+    const mer_params *p; /* the scene's parameters, resolved and valid */
+    uint32_t step;       /* the step being grown (new nodes are born at it) */
+} merp_world;
+
+/* Each model's own state, defined in its folder. */
+typedef struct merp_model merp_model;
+
+typedef struct merp_model_ops {
+    const char *name; /* "p09": what mer_model_parse reads and mer_model_name gives */
+    /* The groups of rows of the parameter table (params.c) it reads besides the
+     * world's: MERP_ROWS_* below; mer_params_field_model reports them. */
+    uint32_t param_rows;
+    /* The checks across its fields that the table's ranges cannot express; `p` is
+     * resolved and in range. May be NULL (nothing more to check). */
+    mer_result (*validate)(const mer_params *p, mer_error *err);
+    /* Its state for a new scene; the skeleton is still empty. */
+    mer_result (*create)(const mer_params *p, merp_model **out, mer_error *err);
+    /* New parameters, already valid; cannot fail once validated. */
+    void (*set_params)(merp_model *m, const mer_params *p);
+    /* One step (a season), whole: the model adds nodes and sets buds through the
+     * skeleton, and asks the environment what the buds perceive. */
+    mer_result (*step)(merp_model *m, const merp_world *w, mer_error *err);
+    /* Nodes were removed or moved outside the model's step (prune, bend). */
+    void (*nodes_changed)(merp_model *m, const merp_world *w);
+    /* Folds the model's own state into the scene hash `h`. */
+    uint64_t (*hash)(const merp_model *m, uint64_t h);
+    void (*free)(merp_model *m);
+} merp_model_ops;
+
+/* The row groups of the parameter table: a row read by every model, or only by
+ * the models whose param_rows include its group. */
+enum { MERP_ROWS_WORLD = 1u << 0, MERP_ROWS_P09 = 1u << 1 };
+
+/* The ops of model `kind` (mer_model_kind), or NULL when there is none. */
+const merp_model_ops *merp_model_ops_of(uint32_t kind);
+
+/* models/p09/p09.c */
+extern const merp_model_ops merp_p09_ops;
+
+#endif

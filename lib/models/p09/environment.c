@@ -1,0 +1,109 @@
+/* meristem — P09's environment input (P09 §4.1): the light Q and optimal growth
+ * direction V of every bud that may grow this round, from the shared environment.
+ * Buds that may not grow still clear their occupancy zone of markers, and cast
+ * shadow. */
+#include "config.h"
+
+#include <assert.h>
+#include <string.h>
+
+#include "core/array.h"
+#include "models/p09/p09.h"
+
+static mer_result reserve_buds(merp_model *m, size_t want, mer_error *err)
+{
+    if (want <= m->bcap)
+        return MER_OK;
+    size_t cap = want + want / 2 + 64;
+    if (!MERP_RESIZE(m->bkey, cap) || !MERP_RESIZE(m->bpos, 3 * cap) ||
+        !MERP_RESIZE(m->bdir, 3 * cap) || !MERP_RESIZE(m->bv, 3 * cap) ||
+        !MERP_RESIZE(m->bq, cap) || !MERP_RESIZE(m->bquiet, cap))
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for buds");
+    m->bcap = cap;
+    return MER_OK;
+}
+
+/* Marks (m->mark) the nodes whose buds may grow under the brush constraint. */
+static void mark_constraint(merp_model *m, const merp_skeleton *sk)
+{
+    uint32_t c = sk->child[3 * sk->con_node + sk->con_slot];
+    for (uint32_t i = 0; i < sk->n; i++) {
+        uint32_t p = sk->parent[i];
+        m->mark[i] = sk->alive[i] && (i == c || (p != MER_NO_NODE && m->mark[p]));
+    }
+}
+
+/* Whether bud k of node i may grow this round: in a sylleptic round only the
+ * lateral buds made this step; under the brush constraint only buds at or above it. */
+static int may_grow(const merp_model *m, const merp_world *w, uint32_t i, uint32_t k,
+                    int syllepsis)
+{
+    const merp_skeleton *sk = w->sk;
+    int ok = 1;
+    if (syllepsis)
+        ok = k > 0 && sk->born[i] == w->step;
+    if (ok && sk->con_node != MER_NO_NODE)
+        ok = m->mark[i] || (i == sk->con_node && k == sk->con_slot);
+    return ok;
+}
+
+/* Lists the buds that may grow into the round's scratch (bkey, bpos, bdir). */
+static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis,
+                               mer_error *err)
+{
+    const merp_skeleton *sk = w->sk;
+    int markers = w->p->environment == MER_ENV_MARKERS;
+    uint32_t quiet_now = merp_env_epoch(w->env) + 1;
+    m->bn = 0;
+    for (uint32_t i = 0; i < sk->n; i++) {
+        if (!sk->alive[i])
+            continue;
+        for (uint32_t k = 0; k < 3; k++) {
+            m->qb[3 * i + k] = 0.0f;
+            m->vb[3 * i + k] = 0.0f;
+            if (!merp_skel_bud_exists(sk, i, k, w->p->buds_per_node))
+                continue;
+            int ok = may_grow(m, w, i, k, syllepsis);
+            /* A bud known to have no marker near it, with no marker added and no
+             * bud moved since, can neither take nor remove one: Q = 0, skip it. */
+            if (markers && m->quiet[3 * i + k] == quiet_now)
+                continue;
+            float e[3];
+            merp_skel_node_end(sk, i, e);
+            if (!ok) {
+                merp_env_occupy(w->env, e);
+                continue;
+            }
+            mer_result rc = reserve_buds(m, m->bn + 1, err);
+            if (rc != MER_OK)
+                return rc;
+            size_t b = m->bn++;
+            m->bkey[b] = 3 * i + k;
+            memcpy(m->bpos + 3 * b, e, sizeof e);
+            merp_skel_bud_dir(sk, i, k, m->bdir + 3 * b);
+        }
+    }
+    return MER_OK;
+}
+
+mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsis,
+                                mer_error *err)
+{
+    assert(m != NULL && w != NULL && m->n == w->sk->n);
+    if (w->sk->con_node != MER_NO_NODE)
+        mark_constraint(m, w->sk);
+    mer_result rc = collect_buds(m, w, syllepsis, err);
+    if (rc != MER_OK)
+        return rc;
+    rc = merp_env_perceive(w->env, m->bn, m->bpos, m->bdir, m->bq, m->bv, m->bquiet, err);
+    if (rc != MER_OK)
+        return rc;
+    if (w->p->environment == MER_ENV_MARKERS) {
+        uint32_t quiet_now = merp_env_epoch(w->env) + 1;
+        for (size_t b = 0; b < m->bn; b++)
+            m->quiet[m->bkey[b]] = m->bquiet[b] ? quiet_now : 0;
+    }
+    for (size_t b = 0; b < m->bn; b++)
+        m->qb[m->bkey[b]] = m->bq[b];
+    return MER_OK;
+}

@@ -1,0 +1,183 @@
+/* meristem — one P09 step (P09 Fig. 3 right): environment, basipetal pass,
+ * shedding, bud fate, new shoots; a second round in sylleptic mode. The pipe
+ * model's diameters are the scene's, after the step (skeleton/pipe.c). See
+ * scene.h for the choices made. */
+#include "config.h"
+
+#include <assert.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <meristem/fate.h>
+
+#include "core/array.h"
+#include "models/p09/p09.h"
+
+static mer_result p09_create(const mer_params *p, merp_model **out, mer_error *err)
+{
+    (void)p;
+    assert(out != NULL);
+    *out = calloc(1, sizeof **out);
+    if (*out == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
+    return MER_OK;
+}
+
+static void p09_free(merp_model *m)
+{
+    if (m == NULL)
+        return;
+    void *arrays[] = {m->nbuds, m->nint, m->vin, m->qb, m->vb, m->quiet, m->mark, m->bkey,
+                      m->bpos, m->bdir, m->bq, m->bv, m->bquiet, m->pq, m->pv, m->pbuds,
+                      m->prank, m->pscr, m->ptarget};
+    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
+        free(arrays[i]);
+    free(m);
+}
+
+/* Gives the nodes made since the last round (by the model's shoots, new plants)
+ * their starting per-node state. */
+static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *err)
+{
+    if (sk->cap > m->cap) {
+        size_t c1 = sk->cap, c3 = 3 * (size_t)sk->cap;
+        if (!MERP_RESIZE(m->nbuds, c1) || !MERP_RESIZE(m->nint, c1) ||
+            !MERP_RESIZE(m->vin, c1) || !MERP_RESIZE(m->qb, c3) || !MERP_RESIZE(m->vb, c3) ||
+            !MERP_RESIZE(m->quiet, c3) || !MERP_RESIZE(m->mark, c1))
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for nodes");
+        m->cap = sk->cap;
+    }
+    for (uint32_t i = m->n; i < sk->n; i++) {
+        for (int k = 0; k < 3; k++) {
+            m->qb[3 * i + k] = 0.0f;
+            m->vb[3 * i + k] = 0.0f;
+            m->quiet[3 * i + k] = 0;
+        }
+        m->nbuds[i] = 0;
+        m->nint[i] = 1;
+        m->vin[i] = 0.0f;
+        m->mark[i] = 0;
+    }
+    m->n = sk->n;
+    return MER_OK;
+}
+
+/* Basipetal pass: light Q of the buds that may grow, the number of living
+ * (dormant) buds, and the internode count, per subtree. The priority model sorts
+ * branches by Q per living bud (P09 Fig. 8b: 2.1/3), so shaded buds count. */
+static void basipetal(merp_model *m, const merp_world *w)
+{
+    merp_skeleton *sk = w->sk;
+    for (uint32_t i = sk->n; i-- > 0;) {
+        if (!sk->alive[i])
+            continue;
+        float q = 0.0f;
+        uint32_t nb = 0, ni = 1;
+        for (uint32_t k = 0; k < 3; k++) {
+            uint32_t c = sk->child[3 * i + k];
+            if (c != MER_NO_NODE) {
+                q += sk->q[c];
+                nb += m->nbuds[c];
+                ni += m->nint[c];
+            } else if (merp_skel_bud_exists(sk, i, k, w->p->buds_per_node)) {
+                q += m->qb[3 * i + k];
+                nb++;
+            }
+        }
+        sk->q[i] = q;
+        m->nbuds[i] = nb;
+        m->nint[i] = ni;
+    }
+}
+
+/* The buds listed by the environment pass grow their shoots. */
+static mer_result grow_buds(merp_model *m, const merp_world *w, mer_error *err)
+{
+    const merp_skeleton *sk = w->sk;
+    size_t nb = m->bn;
+    for (size_t b = 0; b < nb; b++) {
+        uint32_t key = m->bkey[b];
+        uint32_t i = key / 3, k = key % 3;
+        if (!sk->alive[i] || sk->bud[key] != MER_BUD_DORMANT)
+            continue;
+        float l;
+        uint32_t n = mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, &l);
+        if (n == 0)
+            continue;
+        float V[3];
+        memcpy(V, m->bv + 3 * b, sizeof V);
+        mer_result rc = merp_p09_grow_shoot(w, i, k, n, l, V, err);
+        if (rc != MER_OK)
+            return rc;
+    }
+    return MER_OK;
+}
+
+static mer_result round_(merp_model *m, const merp_world *w, int syllepsis, mer_error *err)
+{
+    mer_result rc = p09_sync(m, w->sk, err);
+    if (rc == MER_OK)
+        rc = merp_p09_environment(m, w, syllepsis, err);
+    if (rc != MER_OK)
+        return rc;
+    basipetal(m, w);
+    /* No shedding while growth is constrained to one bud: the other buds' Q is
+     * held at 0 then, which says nothing about their light. */
+    if (!syllepsis && w->p->shed_threshold > 0.0f && w->sk->con_node == MER_NO_NODE) {
+        uint32_t shed_count;
+        rc = merp_p09_shed(m, w, &shed_count, err);
+        if (rc != MER_OK)
+            return rc;
+        if (shed_count > 0)
+            basipetal(m, w);
+    }
+    if (w->p->fate == MER_FATE_PRIORITY)
+        rc = merp_p09_allocate_priority(m, w, err);
+    else
+        merp_p09_allocate_bh(m, w);
+    if (rc != MER_OK)
+        return rc;
+    return grow_buds(m, w, err);
+}
+
+static mer_result p09_step(merp_model *m, const merp_world *w, mer_error *err)
+{
+    assert(m != NULL && w != NULL);
+    mer_result rc = round_(m, w, 0, err);
+    if (rc == MER_OK && w->p->sylleptic)
+        rc = round_(m, w, 1, err);
+    return rc;
+}
+
+/* P09 reads its parameters from the world at each step and derives its per-node
+ * state anew in each round: nothing to do on a parameter change or an edit. */
+static void p09_set_params(merp_model *m, const mer_params *p)
+{
+    (void)m;
+    (void)p;
+}
+
+static void p09_nodes_changed(merp_model *m, const merp_world *w)
+{
+    (void)m;
+    (void)w;
+}
+
+/* Its state is a cache of the last round: the scene hash has never included it. */
+static uint64_t p09_hash(const merp_model *m, uint64_t h)
+{
+    (void)m;
+    return h;
+}
+
+const merp_model_ops merp_p09_ops = {
+    .name = "p09",
+    .param_rows = MERP_ROWS_P09,
+    .validate = merp_p09_validate,
+    .create = p09_create,
+    .set_params = p09_set_params,
+    .step = p09_step,
+    .nodes_changed = p09_nodes_changed,
+    .hash = p09_hash,
+    .free = p09_free,
+};

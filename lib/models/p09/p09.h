@@ -1,0 +1,60 @@
+/* meristem — the self-organizing tree model of Palubicki et al. 2009 (P09), the
+ * first growth model: its state and the passes of one round (P09 Fig. 3 right).
+ * Not installed. The files of this folder follow the paper's parts:
+ *   environment.c    environment input: Q and V of the buds that may grow (§4.1)
+ *   p09.c            the round: environment, basipetal pass, shedding, fate, shoots
+ *   borchert_honda.c extended Borchert-Honda allocation (§4.2, Fig. 8a)
+ *   priority.c       priority model allocation (§4.2, Fig. 8b)
+ *   fate.c           the BH and priority kernels (public: meristem/fate.h)
+ *   schedule.c       apical control, λ and η over time (Fig. 10, 11, 13, 20)
+ *   shoot.c          new shoots: phyllotaxis and tropism (§4.3)
+ *   shedding.c       shedding branches that do not pay (§4.4)
+ *   params_p09.c     the checks across P09's parameters */
+#ifndef MERISTEM_P09_H
+#define MERISTEM_P09_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "models/model.h"
+
+#define MERP_BRANCH_FLAG UINT32_C(0x80000000)
+
+struct merp_model {
+    /* Per node, for the nodes [0, n) seen so far (p09_sync gives new ones their
+     * starting values); the subtree light Q lives in the skeleton (sk->q). */
+    uint32_t n, cap;
+    uint32_t *nbuds;   /* eligible buds in the subtree, last pass */
+    uint32_t *nint;    /* live internodes in the subtree, last pass */
+    float *vin;        /* resource entering the node, last pass */
+    float *qb, *vb;    /* 3 per node: Q and v of each bud, last pass */
+    uint32_t *quiet;   /* 3 per node: epoch + 1 when the bud's marker neighbourhood was empty */
+    uint8_t *mark;     /* scratch: under the brush constraint */
+
+    /* per-round scratch: the buds that may grow */
+    uint32_t *bkey;    /* 3·node + slot */
+    float *bpos, *bdir, *bq, *bv;
+    uint8_t *bquiet;
+    size_t bn, bcap;
+    /* priority scratch */
+    float *pq, *pv;
+    uint32_t *pbuds, *prank, *pscr, *ptarget;
+    size_t pcap;
+};
+
+/* environment.c */
+mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsis,
+                                mer_error *err);
+/* borchert_honda.c */
+void merp_p09_allocate_bh(merp_model *m, const merp_world *w);
+/* priority.c */
+mer_result merp_p09_allocate_priority(merp_model *m, const merp_world *w, mer_error *err);
+/* shoot.c */
+mer_result merp_p09_grow_shoot(const merp_world *w, uint32_t i, uint32_t k, uint32_t n, float l,
+                               const float *V, mer_error *err);
+/* shedding.c */
+mer_result merp_p09_shed(merp_model *m, const merp_world *w, uint32_t *count, mer_error *err);
+/* params_p09.c */
+mer_result merp_p09_validate(const mer_params *p, mer_error *err);
+
+#endif
