@@ -45,7 +45,6 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/leaves.c \
 	lib/mesh/color.c \
 	lib/scene_private.h \
-	lib/vec_private.h \
 	lib/version.c \
 	lib/gltf/gltf_private.h \
 	lib/gltf/tinygltf_private.h \

@@ -171,11 +171,6 @@ uint64_t mer_scene_hash(const mer_scene *s)
     return s->ops->hash(s->model, h);
 }
 
-void merp_bud_dir(const mer_scene *s, uint32_t i, uint32_t k, float out[3])
-{
-    merp_skel_bud_dir(&s->sk, i, k, out);
-}
-
 void merp_scene_rebuild_shadow(mer_scene *s)
 {
     if (s->env.shadow == NULL)

@@ -32,8 +32,6 @@ mer_result merp_scene_new_with(const merp_model_ops *ops, const mer_params *para
                                uint64_t seed, mer_scene **out, mer_error *err);
 /* The world lent to the model for one call. */
 merp_world merp_scene_world(mer_scene *s);
-/* The direction of bud k of node i (merp_skel_bud_dir on the scene's skeleton). */
-void merp_bud_dir(const mer_scene *s, uint32_t i, uint32_t k, float out[3]);
 /* Recasts the shadow grid from scratch: every dormant bud, then every obstacle.
  * O(nodes + obstacle voxels). */
 void merp_scene_rebuild_shadow(mer_scene *s);

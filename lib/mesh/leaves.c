@@ -3,7 +3,7 @@
 #include "config.h"
 
 #include "mesh_private.h"
-#include "vec_private.h"
+#include "core/vec.h"
 
 static bool has_leaf_at(const merp_builder *b, const mer_node *n)
 {

@@ -13,7 +13,8 @@
 #include <meristem/mesh.h>
 #include <meristem/scene.h>
 
-#define MERP_TWO_PI 6.28318530717958647692f
+#include "core/vec.h"
+
 #define MERP_MAX_SIDES 16 /* the sides of the thickest axis at MER_MESH_DETAIL_MAX */
 
 enum merp_axis_end { MERP_END_TIP, MERP_END_CUT };

@@ -6,7 +6,7 @@
 #include <math.h>
 
 #include "mesh_private.h"
-#include "vec_private.h"
+#include "core/vec.h"
 
 /* One axis being meshed: its ring layout and the frame carried along it. */
 typedef struct tube {
