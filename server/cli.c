@@ -1,7 +1,7 @@
 /* meristem — the offline command line: grow a tree from a preset, print its
  * summary as JSON, and write the snapshot as GLB (or .gltf for debugging).
  *
- *   meristem grow [--preset NAME] [--steps N] [--seed S] [--set key=value]...
+ *   meristem grow [--model NAME] [--preset NAME] [--steps N] [--seed S] [--set key=value]...
  *                 [-o FILE.glb|FILE.gltf] [--detail 1..5] [--leaves] [--markers]
  *                 [--color none|order|light|age]
  *   meristem presets
@@ -23,6 +23,7 @@
 #define SETS_MAX 256
 
 typedef struct grow_args {
+    const char *model; /* NULL: the preset's (P09) */
     const char *preset;
     uint32_t steps;
     uint64_t seed;
@@ -39,6 +40,7 @@ static void usage(FILE *out)
     fprintf(out,
             "Usage: meristem grow [OPTION]...   grow a tree, print its summary as JSON\n"
             "       meristem presets            list the presets\n\n"
+            "  --model=NAME       growth model (default p09)\n"
             "  --preset=NAME      parameter set (default \"default\"; see `meristem presets`)\n"
             "  --steps=N          simulation steps (default 20)\n"
             "  --seed=S           random seed, 0..2^64-1 (default 0)\n"
@@ -119,6 +121,8 @@ static int grow(const grow_args *a)
     mer_params params;
     if (mer_preset_params(a->preset, &params, &err) != MER_OK)
         return fail("--preset", &err);
+    if (a->model != NULL && mer_model_parse(a->model, &params.model, &err) != MER_OK)
+        return fail("--model", &err);
     if (apply_sets(&params, a) != 0)
         return 1;
     mer_scene *scene = NULL;
@@ -178,9 +182,10 @@ static int list_presets(void)
 }
 
 /* grow's long options. */
-enum { O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
+enum { O_MODEL = 999, O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
        O_NO_TEXCOORDS, O_COMPRESS, O_TWIG_LINES };
 static const struct option longopts[] = {
+    {"model", required_argument, NULL, O_MODEL},
     {"preset", required_argument, NULL, O_PRESET}, {"steps", required_argument, NULL, O_STEPS},
     {"seed", required_argument, NULL, O_SEED},     {"set", required_argument, NULL, O_SET},
     {"output", required_argument, NULL, 'o'},      {"detail", required_argument, NULL, O_DETAIL},
@@ -199,6 +204,7 @@ static int parse_grow(int argc, char **argv, grow_args *a)
     uint64_t v;
     while ((c = getopt_long(argc, argv, "o:", longopts, NULL)) != -1) {
         switch (c) {
+        case O_MODEL: a->model = optarg; break;
         case O_PRESET: a->preset = optarg; break;
         case O_STEPS:
             if (parse_u64(optarg, 100000, &v) != 0) {

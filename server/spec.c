@@ -185,10 +185,11 @@ static int add_plant(mer_scene *scene, const json_t *item, const char *w, merd_r
     return -1;
 }
 
-/* The preset, seed and parameters of a request, checked: into *p and *seed. */
+/* The growth model, preset, seed and parameters of a request, checked: into *p
+ * and *seed. The model defaults to P09, the preset's parameters' model. */
 static int decode_params(const json_t *spec, mer_params *p, uint64_t *seed, merd_refusal *why)
 {
-    static const char *const fields[] = {"preset", "seed", "params", "scene", NULL};
+    static const char *const fields[] = {"model", "preset", "seed", "params", "scene", NULL};
     if (!json_is_object(spec))
         return merd_refuse(why, 422, "invalid-field", "body",
                            "the body must be a JSON object ({} for defaults)");
@@ -208,6 +209,11 @@ static int decode_params(const json_t *spec, mer_params *p, uint64_t *seed, merd
         return merd_refuse(why, 422, "out-of-range", "seed",
                            "seed must be an integer from 0 to 2^53 - 1");
     *seed = s != NULL ? (uint64_t)json_integer_value(s) : 0;
+    const json_t *model = json_object_get(spec, "model");
+    if (model != NULL && !json_is_string(model))
+        return merd_refuse(why, 422, "invalid-field", "model", "model must be a string, e.g. \"p09\"");
+    if (model != NULL && mer_model_parse(json_string_value(model), &p->model, &err) != MER_OK)
+        return merd_refuse(why, 422, "invalid-field", "model", "%s", err.message);
     const json_t *params = json_object_get(spec, "params");
     return params != NULL ? merd_params_from_json(params, p, "params", why) : 0;
 }

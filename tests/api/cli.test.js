@@ -81,6 +81,16 @@ test('mistakes are named with the allowed range', () => {
   assert.match(r.stderr, /--detail wants an integer from 1 to 5/);
   r = run(['grow', '--color', 'purple']);
   assert.equal(r.status, 2);
+  r = run(['grow', '--model', 'lsys']);
+  assert.equal(r.status, 1);
+  assert.match(r.stderr, /unknown model 'lsys'; use one of p09/);
+});
+
+test('--model p09 is the default model', () => {
+  const a = run(['grow', '--steps', '4']), b = run(['grow', '--steps', '4', '--model', 'p09']);
+  assert.equal(a.status, 0, a.stderr);
+  assert.equal(b.status, 0, b.stderr);
+  assert.equal(JSON.parse(b.stdout).hash, JSON.parse(a.stdout).hash);
 });
 
 test('meristem presets lists every preset with a description', () => {

@@ -56,6 +56,20 @@ test('POST /v1/sessions with {} gives the default preset, seed 0', async () => {
   assert.equal(e.status, 201);
 });
 
+test('"model" names the growth model: "p09" is the default, an unknown one is refused', async () => {
+  const plain = await create({ seed: 5 });
+  const named = await create({ model: 'p09', seed: 5 });
+  assert.equal(named.body.hash, plain.body.hash);
+  for (const id of [plain.body.id, named.body.id]) {
+    const r = await J('POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 4 });
+    assert.equal(r.status, 200);
+  }
+  const a = await state(plain.body.id), b = await state(named.body.id);
+  assert.equal(a.hash, b.hash);
+  problem(await J('POST', '/v1/sessions', { model: 'lsystem' }), 422, 'invalid-field', /use one of p09/, 'model');
+  problem(await J('POST', '/v1/sessions', { model: 9 }), 422, 'invalid-field', /string/, 'model');
+});
+
 test('session ids are random 128-bit values, not counters', async () => {
   const a = (await create()).body.id, b = (await create()).body.id;
   assert.notEqual(a, b);
