@@ -35,7 +35,7 @@ function treeBase(viewer) {
   return root ? [round3(root.center[0]), 0, round3(root.center[2])] : [0, 0, 0];
 }
 
-/** The symmetric copies of point p, in the order the server makes them (lib/edit.c). */
+/** The symmetric copies of point p, in the order the library makes them (lib/symmetry.c). */
 export function symmetricCopies(p, sym) {
   if (!sym) return [p.clone()];
   const c = new THREE.Vector3(...(sym.center || [0, 0, 0]));
