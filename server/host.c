@@ -10,7 +10,7 @@
 #include "server/host.h"
 
 /* Splits `host` into its name (brackets of an IPv6 literal removed) and port
- * (80 when absent). False when it is not of the form NAME[:PORT]. */
+ * (0 when absent). False when it is not of the form NAME[:PORT]. */
 static bool split(const char *host, char *name, size_t size, unsigned long *port)
 {
     const char *colon;
@@ -34,13 +34,13 @@ static bool split(const char *host, char *name, size_t size, unsigned long *port
         return false;
     memcpy(name, host, n);
     name[n] = '\0';
-    *port = 80;
+    *port = 0;
     if (colon != NULL) {
         char *end = NULL;
         if (colon[1] < '0' || colon[1] > '9')
             return false;
         *port = strtoul(colon + 1, &end, 10);
-        if (*end != '\0' || *port > 65535)
+        if (*end != '\0' || *port == 0 || *port > 65535)
             return false;
     }
     return true;
@@ -60,14 +60,15 @@ bool merd_host_allowed(const char *host, unsigned port, const char *allowed)
     unsigned long got = 0;
     if (!split(host, name, sizeof name, &got))
         return false;
-    if ((ip_literal(name) || strcasecmp(name, "localhost") == 0) && got == port)
+    // Without a port the client means this one; with one, it must be ours.
+    if ((ip_literal(name) || strcasecmp(name, "localhost") == 0) && (got == 0 || got == port))
         return true;
     for (const char *a = allowed; a != NULL && *a != '\0'; a += strlen(a) + 1) {
         char want[256];
         unsigned long want_port = 0;
         if (!split(a, want, sizeof want, &want_port) || strcasecmp(want, name) != 0)
             continue;
-        if (strchr(a[0] == '[' ? strchr(a, ']') : a, ':') == NULL || want_port == got)
+        if (want_port == 0 || want_port == got)
             return true;
     }
     return false;

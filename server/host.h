@@ -5,7 +5,7 @@
  * the attacker's name in Host. So a request is served only when its Host names
  * this daemon: an IP literal (a rebinding needs a DNS name, so literals are
  * safe, and they keep --bind 0.0.0.0 usable by address) or localhost, with the
- * bound port; or a name given with --allowed-host. */
+ * bound port or none; or a name given with --allowed-host. */
 #ifndef MERISTEMD_HOST_H
 #define MERISTEMD_HOST_H
 

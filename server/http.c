@@ -48,10 +48,13 @@ static enum MHD_Result refuse_too_large(merd_server *server, merd_request *req)
 
 /* What can be refused from the head alone is refused before any body is read:
  * libmicrohttpd then closes the connection instead of reading the upload. */
-static enum MHD_Result first_call(merd_server *server, merd_request *req)
+static enum MHD_Result first_call(merd_server *server, merd_request *req, const char *version)
 {
     const char *host = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
                                                    MHD_HTTP_HEADER_HOST);
+    if (host == NULL && strcmp(version, MHD_HTTP_VERSION_1_0) != 0)
+        return merd_reply_problem(req, 400, "missing-host", "Bad Request",
+                                  "an HTTP/1.1 request must say Host (RFC 9112 §3.2)");
     if (!merd_host_allowed(host, server->port, server->config.allowed_hosts)) {
         char detail[400];
         snprintf(detail, sizeof detail, "this meristemd does not answer to the host '%.200s'; "
@@ -60,8 +63,18 @@ static enum MHD_Result first_call(merd_server *server, merd_request *req)
     }
     const char *length = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
                                                      MHD_HTTP_HEADER_CONTENT_LENGTH);
-    if (length != NULL && strtoull(length, NULL, 10) > (unsigned long long)server->config.body_limit)
+    unsigned long long announced = length != NULL ? strtoull(length, NULL, 10) : 0;
+    unsigned long long limit = (unsigned long long)server->config.body_limit;
+    if (announced <= limit)
+        return MHD_YES;
+    // A client waiting for 100-continue, or announcing more than twice the limit,
+    // is answered now and its connection closed unread. A smaller overshoot is
+    // read and discarded first (at most --max-body more): most clients send the
+    // whole body before reading, and would otherwise see a reset, not the 413.
+    if (MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_EXPECT) != NULL ||
+        announced > 2 * limit)
         return refuse_too_large(server, req);
+    req->body_too_large = true;
     return MHD_YES;
 }
 
@@ -70,7 +83,6 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
                                   const char *upload_data, size_t *upload_data_size,
                                   void **state)
 {
-    (void)version;
     merd_server *server = cls;
     merd_request *req = *state;
 
@@ -88,7 +100,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         *state = req;
         atomic_fetch_add(&server->requests, 1);
         merd_guard_request_began(server->guard, connection);
-        return first_call(server, req);
+        return first_call(server, req, version);
     }
 
     if (req->async == MERD_ASYNC_READY) {

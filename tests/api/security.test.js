@@ -4,6 +4,7 @@ const test = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const http = require('node:http');
+const net = require('node:net');
 const os = require('node:os');
 const path = require('node:path');
 const { startDaemon } = require('../support/daemon.js');
@@ -92,7 +93,7 @@ function withHost(port, p, host) {
 test('DNS rebinding: only IP literals, localhost and --allowed-host names are served', async (t) => {
   const d = await startDaemon();
   t.after(() => d.stop());
-  for (const host of [`127.0.0.1:${d.port}`, `localhost:${d.port}`, `LocalHost:${d.port}`, `[::1]:${d.port}`])
+  for (const host of [`127.0.0.1:${d.port}`, `localhost:${d.port}`, `LocalHost:${d.port}`, `[::1]:${d.port}`, 'localhost', '127.0.0.1'])
     assert.equal((await withHost(d.port, '/v1/health', host)).status, 200, host);
   // A rebinding page's own name, every route and the static files too.
   for (const p of ['/v1/health', '/v1/sessions', '/', '/index.html']) {
@@ -103,8 +104,23 @@ test('DNS rebinding: only IP literals, localhost and --allowed-host names are se
     assert.equal(problem.type, 'urn:meristem:problem:host-not-allowed');
     assert.match(problem.detail, /--allowed-host/);
   }
-  for (const host of [`localhost:${d.port + 1}`, 'localhost', `127.0.0.1.rebind.example:${d.port}`, `[::1:${d.port}`])
+  for (const host of [`localhost:${d.port + 1}`, 'rebind.example', `127.0.0.1.rebind.example:${d.port}`, `[::1:${d.port}`])
     assert.equal((await withHost(d.port, '/v1/health', host)).status, 421, host);
+
+  // HTTP/1.1 must name a host; HTTP/1.0 may not, and a browser always does.
+  const raw = async (request) => new Promise((resolve, reject) => {
+    const socket = net.connect(d.port, '127.0.0.1');
+    let text = '';
+    socket.on('data', (c) => { text += c; });
+    socket.on('end', () => resolve(text));
+    socket.on('error', reject);
+    socket.end(request);
+  });
+  let text = await raw('GET /v1/health HTTP/1.1\r\nConnection: close\r\n\r\n');
+  assert.match(text, /^HTTP\/1\.1 400 /);
+  assert.match(text, /urn:meristem:problem:missing-host/);
+  text = await raw('GET /v1/health HTTP/1.0\r\n\r\n');
+  assert.match(text, /^HTTP\/1\.[01] 200 /);
 
   const named = await startDaemon(['--allowed-host', 'trees.example', '--allowed-host', 'lab.example:8443']);
   t.after(() => named.stop());
