@@ -33,6 +33,12 @@ mer_result mer_scene_prune(mer_scene *s, uint32_t node, mer_error *err)
 {
     assert(s != NULL);
     mer_result rc = live_node(s, node, err);
+    // A plant without its first internode has nothing left to grow from, for good.
+    if (rc == MER_OK && s->sk.parent[node] == MER_NO_NODE)
+        rc = mer_error_set(err, MER_ERR_ROOT, "node",
+                           "node %u is the first internode of plant %u; pruning it would "
+                           "remove the whole plant for good",
+                           (unsigned)node, (unsigned)s->sk.plant[node]);
     if (rc == MER_OK)
         rc = merp_skel_kill(&s->sk, node, err);
     if (rc == MER_OK)

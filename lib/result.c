@@ -19,6 +19,7 @@ const char *mer_result_name(mer_result code)
     case MER_ERR_INTERNAL: return "internal";
     case MER_ERR_NOT_FOUND: return "not-found";
     case MER_ERR_GONE: return "gone";
+    case MER_ERR_ROOT: return "root";
     }
     return "unknown";
 }

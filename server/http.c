@@ -5,32 +5,84 @@
 
 #include <limits.h>
 #include <netdb.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "server/app.h"
 #include "server/clock.h"
+#include "server/guard.h"
+#include "server/host.h"
 #include "server/http.h"
 #include "server/request.h"
 #include "server/routes.h"
 
+/* Connections past --max-connections that libmicrohttpd still accepts while the
+ * guard closes the oldest idle ones. */
+#define GUARD_MARGIN 64
+
 struct merd_server {
     struct MHD_Daemon *daemon;
+    merd_guard *guard;
+    atomic_int requests;       /* begun and not completed */
+    MHD_socket listener;       /* after merd_server_quiesce: closed by merd_server_stop */
+    unsigned port;             /* bound */
     merd_app *app;
     merd_settings config;
     char web_root[PATH_MAX];   /* canonical */
     struct sockaddr_storage address;
 };
 
+static enum MHD_Result refuse_too_large(merd_server *server, merd_request *req)
+{
+    char detail[160];
+    snprintf(detail, sizeof detail, "the request body is larger than %ld bytes (meristemd --max-body)",
+             server->config.body_limit);
+    return merd_reply_problem(req, 413, "body-too-large", "Content Too Large", detail);
+}
+
+/* What can be refused from the head alone is refused before any body is read:
+ * libmicrohttpd then closes the connection instead of reading the upload. */
+static enum MHD_Result first_call(merd_server *server, merd_request *req, const char *version)
+{
+    const char *host = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
+                                                   MHD_HTTP_HEADER_HOST);
+    if (host == NULL && strcmp(version, MHD_HTTP_VERSION_1_0) != 0)
+        return merd_reply_problem(req, 400, "missing-host", "Bad Request",
+                                  "an HTTP/1.1 request must say Host (RFC 9112 §3.2)");
+    if (!merd_host_allowed(host, server->port, server->config.allowed_hosts)) {
+        char detail[400];
+        snprintf(detail, sizeof detail, "this meristemd does not answer to the host '%.200s'; "
+                 "use its address, localhost, or start it with --allowed-host NAME", host);
+        return merd_reply_problem(req, 421, "host-not-allowed", "Misdirected Request", detail);
+    }
+    const char *length = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
+                                                     MHD_HTTP_HEADER_CONTENT_LENGTH);
+    unsigned long long announced = length != NULL ? strtoull(length, NULL, 10) : 0;
+    unsigned long long limit = (unsigned long long)server->config.body_limit;
+    if (announced <= limit)
+        return MHD_YES;
+    // A client waiting for 100-continue, or announcing more than twice the limit,
+    // is answered now and its connection closed unread. A smaller overshoot is
+    // read and discarded first (at most --max-body more): most clients send the
+    // whole body before reading, and would otherwise see a reset, not the 413.
+    if (MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_EXPECT) != NULL ||
+        announced > 2 * limit)
+        return refuse_too_large(server, req);
+    req->body_too_large = true;
+    return MHD_YES;
+}
+
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, const char *url,
                                   const char *method, const char *version,
                                   const char *upload_data, size_t *upload_data_size,
                                   void **state)
 {
-    (void)version;
     merd_server *server = cls;
     merd_request *req = *state;
 
@@ -46,12 +98,9 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         req->url = url;
         req->started = merd_now();
         *state = req;
-        // Refuse an announced oversize body before reading any of it.
-        const char *length = MHD_lookup_connection_value(connection, MHD_HEADER_KIND,
-                                                         MHD_HTTP_HEADER_CONTENT_LENGTH);
-        if (length != NULL && strtoull(length, NULL, 10) > (unsigned long long)server->config.body_limit)
-            req->body_too_large = true;
-        return MHD_YES;
+        atomic_fetch_add(&server->requests, 1);
+        merd_guard_request_began(server->guard, connection);
+        return first_call(server, req, version);
     }
 
     if (req->async == MERD_ASYNC_READY) {
@@ -63,6 +112,10 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
     }
     if (req->async == MERD_ASYNC_WAITING)
         return MHD_YES;
+    if (req->status != 0) {  // answered from the head: the body is not wanted
+        *upload_data_size = 0;
+        return MHD_YES;
+    }
 
     if (*upload_data_size != 0) {
         size_t chunk = *upload_data_size;
@@ -81,13 +134,8 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         return MHD_YES;
     }
 
-    if (req->body_too_large) {
-        char detail[160];
-        snprintf(detail, sizeof detail,
-                 "the request body is larger than %ld bytes (meristemd --max-body)",
-                 server->config.body_limit);
-        return merd_reply_problem(req, 413, "body-too-large", "Content Too Large", detail);
-    }
+    if (req->body_too_large)
+        return refuse_too_large(server, req);
     return merd_route(req, server->web_root);
 }
 
@@ -127,11 +175,11 @@ static size_t unescape_path(void *cls, struct MHD_Connection *connection, char *
 static void on_completed(void *cls, struct MHD_Connection *connection, void **state,
                          enum MHD_RequestTerminationCode code)
 {
-    (void)connection;
     merd_server *server = cls;
     merd_request *req = *state;
     if (req == NULL)
         return;
+    merd_guard_request_ended(server->guard, connection);
     if (server->app != NULL)
         merd_metrics_request(server->app->metrics, req->route, req->status);
     if (req->pending != NULL)
@@ -143,6 +191,7 @@ static void on_completed(void *cls, struct MHD_Connection *connection, void **st
     free(req->body);
     free(req);
     *state = NULL;
+    atomic_fetch_sub(&server->requests, 1);
 }
 
 static bool resolve_bind(merd_server *server, FILE *err)
@@ -169,12 +218,17 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
         return NULL;
     server->config = *config;
     server->app = app;
+    server->listener = MHD_INVALID_SOCKET;
+    atomic_init(&server->requests, 0);
     if (realpath(config->web_root, server->web_root) == NULL) {
         fprintf(err, "meristemd: --web-root '%s' does not exist\n", config->web_root);
         free(server);
         return NULL;
     }
-    if (!resolve_bind(server, err)) {
+    server->guard = merd_guard_start((unsigned)config->connection_limit,
+                                     (double)config->header_timeout, (double)config->timeout);
+    if (server->guard == NULL || !resolve_bind(server, err)) {
+        merd_guard_stop(server->guard);
         free(server);
         return NULL;
     }
@@ -186,7 +240,10 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
         flags, (uint16_t)config->port, NULL, NULL, on_request, server,
         MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&server->address,
         MHD_OPTION_THREAD_POOL_SIZE, (unsigned)config->threads,
-        MHD_OPTION_CONNECTION_LIMIT, (unsigned)config->connection_limit,
+        // The guard keeps the count at --max-connections by closing the oldest
+        // connection not in a request; the margin absorbs arrivals meanwhile.
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned)config->connection_limit + GUARD_MARGIN,
+        MHD_OPTION_NOTIFY_CONNECTION, merd_guard_notify, server->guard,
         MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)config->per_ip_limit,
         MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)config->memory_limit,
         MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)config->timeout,
@@ -196,17 +253,37 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
     if (server->daemon == NULL) {
         fprintf(err, "meristemd: cannot listen on %s port %ld (in use, or not permitted)\n",
                 config->bind, config->port);
+        merd_guard_stop(server->guard);
         free(server);
         return NULL;
     }
+    const union MHD_DaemonInfo *info =
+        MHD_get_daemon_info(server->daemon, MHD_DAEMON_INFO_BIND_PORT);
+    server->port = info != NULL ? info->port : (unsigned)config->port;
     return server;
 }
 
 unsigned merd_server_port(const merd_server *server)
 {
-    const union MHD_DaemonInfo *info =
-        MHD_get_daemon_info(server->daemon, MHD_DAEMON_INFO_BIND_PORT);
-    return info != NULL ? info->port : (unsigned)server->config.port;
+    return server->port;
+}
+
+void merd_server_quiesce(merd_server *server)
+{
+    if (server->listener == MHD_INVALID_SOCKET)
+        server->listener = MHD_quiesce_daemon(server->daemon);
+}
+
+bool merd_server_settle(merd_server *server, double seconds)
+{
+    double until = merd_now() + seconds;
+    while (atomic_load(&server->requests) > 0) {
+        if (merd_now() > until)
+            return false;
+        struct timespec tick = {0, 10 * 1000000L};
+        nanosleep(&tick, NULL);
+    }
+    return true;
 }
 
 void merd_server_stop(merd_server *server)
@@ -214,5 +291,8 @@ void merd_server_stop(merd_server *server)
     if (server == NULL)
         return;
     MHD_stop_daemon(server->daemon);
+    if (server->listener != MHD_INVALID_SOCKET)
+        close(server->listener);
+    merd_guard_stop(server->guard);
     free(server);
 }

@@ -2,6 +2,7 @@
 #ifndef MERISTEMD_HTTP_H
 #define MERISTEMD_HTTP_H
 
+#include <stdbool.h>
 #include <stdio.h>
 
 #include "server/settings.h"
@@ -17,7 +18,16 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
 /* The TCP port actually bound (useful with --port 0). */
 unsigned merd_server_port(const merd_server *server);
 
-/* Stops accepting, finishes or drops open connections, frees everything. NULL is fine. */
+/* Stops accepting new connections; open ones are still served. */
+void merd_server_quiesce(merd_server *server);
+
+/* Waits until no request is in progress (every suspended one answered and
+ * sent), at most `seconds`. Whether it got there. */
+bool merd_server_settle(merd_server *server, double seconds);
+
+/* Stops the daemon, closing every connection, and frees everything. Every
+ * suspended request must have been answered (merd_request_finish) first:
+ * libmicrohttpd aborts the process otherwise. NULL is fine. */
 void merd_server_stop(merd_server *server);
 
 #endif

@@ -17,8 +17,8 @@ struct merd_jobs {
     pthread_mutex_t lock;
     pthread_cond_t ready;
     job *head, *tail;
-    size_t pending;
-    bool stopping;
+    size_t pending, max_pending;
+    bool stopping, drained;
     size_t threads;
     pthread_t *workers;
 };
@@ -45,11 +45,12 @@ static void *worker(void *arg)
     }
 }
 
-merd_jobs *merd_jobs_start(size_t threads)
+merd_jobs *merd_jobs_start(size_t threads, size_t max_queued)
 {
     merd_jobs *jobs = calloc(1, sizeof *jobs);
     if (jobs == NULL)
         return NULL;
+    jobs->max_pending = max_queued;
     pthread_mutex_init(&jobs->lock, NULL);
     pthread_cond_init(&jobs->ready, NULL);
     jobs->workers = calloc(threads, sizeof *jobs->workers);
@@ -71,13 +72,14 @@ int merd_jobs_submit(merd_jobs *jobs, merd_job_fn fn, void *arg)
 {
     job *j = malloc(sizeof *j);
     if (j == NULL)
-        return -1;
+        return MERD_JOBS_STOPPING;
     *j = (job){fn, arg, NULL};
     pthread_mutex_lock(&jobs->lock);
-    if (jobs->stopping) {
+    if (jobs->stopping || jobs->pending >= jobs->max_pending) {
+        int rc = jobs->stopping ? MERD_JOBS_STOPPING : MERD_JOBS_FULL;
         pthread_mutex_unlock(&jobs->lock);
         free(j);
-        return -1;
+        return rc;
     }
     if (jobs->tail != NULL)
         jobs->tail->next = j;
@@ -98,16 +100,24 @@ size_t merd_jobs_pending(merd_jobs *jobs)
     return n;
 }
 
+void merd_jobs_drain(merd_jobs *jobs)
+{
+    pthread_mutex_lock(&jobs->lock);
+    jobs->stopping = true;
+    bool drained = jobs->drained;
+    jobs->drained = true;
+    pthread_cond_broadcast(&jobs->ready);
+    pthread_mutex_unlock(&jobs->lock);
+    if (!drained)
+        for (size_t i = 0; i < jobs->threads; i++)
+            pthread_join(jobs->workers[i], NULL);
+}
+
 void merd_jobs_stop(merd_jobs *jobs)
 {
     if (jobs == NULL)
         return;
-    pthread_mutex_lock(&jobs->lock);
-    jobs->stopping = true;
-    pthread_cond_broadcast(&jobs->ready);
-    pthread_mutex_unlock(&jobs->lock);
-    for (size_t i = 0; i < jobs->threads; i++)
-        pthread_join(jobs->workers[i], NULL);
+    merd_jobs_drain(jobs);
     free(jobs->workers);
     pthread_mutex_destroy(&jobs->lock);
     pthread_cond_destroy(&jobs->ready);

@@ -9,17 +9,26 @@
 typedef struct merd_jobs merd_jobs;
 typedef void (*merd_job_fn)(void *arg);
 
-/* Starts `threads` workers. NULL on failure. */
-merd_jobs *merd_jobs_start(size_t threads);
+/* Starts `threads` workers and a queue of at most `max_queued` jobs waiting
+ * for one. NULL on failure. */
+merd_jobs *merd_jobs_start(size_t threads, size_t max_queued);
 
-/* Queues fn(arg); runs in submission order across the workers. 0, or -1 when
- * out of memory or stopping. */
+enum { MERD_JOBS_STOPPING = -1, MERD_JOBS_FULL = -2 };
+
+/* Queues fn(arg); runs in submission order across the workers. 0;
+ * MERD_JOBS_FULL when `max_queued` jobs already wait (answer 503 and let the
+ * client retry rather than let requests wait for seconds); MERD_JOBS_STOPPING
+ * when out of memory or stopping. O(1). */
 int merd_jobs_submit(merd_jobs *jobs, merd_job_fn fn, void *arg);
 
 /* Jobs queued and not yet started. */
 size_t merd_jobs_pending(merd_jobs *jobs);
 
-/* Runs every queued job, then joins the workers and frees the pool. NULL is fine. */
+/* Refuses new jobs, runs every queued one and joins the workers; the pool
+ * stays valid (submit answers MERD_JOBS_STOPPING) until merd_jobs_stop. */
+void merd_jobs_drain(merd_jobs *jobs);
+
+/* Drains (if not done yet) and frees the pool. NULL is fine. */
 void merd_jobs_stop(merd_jobs *jobs);
 
 #endif

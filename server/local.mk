@@ -4,6 +4,8 @@ server_meristemd_SOURCES = \
 	server/main.c \
 	server/settings.c server/settings.h \
 	server/http.c server/http.h \
+	server/guard.c server/guard.h \
+	server/host.c server/host.h \
 	server/request.c server/request.h \
 	server/routes.c server/routes.h \
 	server/static_files.c server/static_files.h \

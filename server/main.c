@@ -2,6 +2,8 @@
 #include "config.h"
 
 #include <malloc.h>
+#include <stdatomic.h>
+#include <sys/resource.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
@@ -17,10 +19,14 @@
 #include "server/http.h"
 #include "server/settings.h"
 
+/* Set on SIGINT or SIGTERM: running batches stop at their next whole step. */
+static atomic_int stopping;
+
 /* What sessions need of the settings. */
 static merd_session_config session_config(const merd_settings *config)
 {
     return (merd_session_config){
+        .stopping = &stopping,
         .data_dir = config->data_dir,
         .fsync = strcmp(config->fsync, "interval") == 0 ? MERD_FSYNC_INTERVAL : MERD_FSYNC_ALWAYS,
         .limits = {.max_steps = (uint32_t)config->max_steps,
@@ -45,6 +51,20 @@ static int wait_for_stop(const sigset_t *stop, merd_app *app)
         if (interval)
             merd_registry_sync(app->registry);
     }
+}
+
+/* In order: no new connections; running batches stop at a whole step and are
+ * journaled; every suspended request is answered, and the answers sent; only
+ * then libmicrohttpd stops (it aborts on a suspended connection). */
+static void shut_down(merd_app *app, merd_server *server)
+{
+    merd_server_quiesce(server);
+    atomic_store(&stopping, 1);
+    merd_jobs_drain(app->jobs);
+    if (!merd_server_settle(server, 5.0))
+        printf("meristemd: requests still open after 5 s are dropped\n");
+    merd_server_stop(server);
+    merd_jobs_stop(app->jobs);
 }
 
 int main(int argc, char **argv)
@@ -86,7 +106,13 @@ int main(int argc, char **argv)
     if (restored > 0)
         printf("meristemd: restored %ld sessions from %s in %.2f s\n", restored, config.data_dir,
                merd_now() - t0);
-    app.jobs = merd_jobs_start((size_t)config.workers);
+    // Every connection is a descriptor: take all the kernel allows this process.
+    struct rlimit files;
+    if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
+        files.rlim_cur = files.rlim_max;
+        setrlimit(RLIMIT_NOFILE, &files);
+    }
+    app.jobs = merd_jobs_start((size_t)config.workers, (size_t)config.max_queue);
     if (app.jobs == NULL)
         return EXIT_FAILURE;
 
@@ -100,8 +126,7 @@ int main(int argc, char **argv)
 
     int signo = wait_for_stop(&stop, &app);
     printf("meristemd: %s, shutting down\n", signo == SIGINT ? "SIGINT" : "SIGTERM");
-    merd_server_stop(server);
-    merd_jobs_stop(app.jobs);
+    shut_down(&app, server);
     merd_registry_sync(app.registry);
     merd_registry_free(app.registry);
     merd_metrics_free(app.metrics);

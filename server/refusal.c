@@ -47,6 +47,7 @@ static const struct {
     [MER_ERR_NOMEM] = {503, "out-of-memory"},    [MER_ERR_FORMAT] = {422, "invalid-field"},
     [MER_ERR_LIMIT] = {409, "limit"},            [MER_ERR_INTERNAL] = {500, "internal"},
     [MER_ERR_NOT_FOUND] = {404, "unknown-node"}, [MER_ERR_GONE] = {409, "dead-node"},
+    [MER_ERR_ROOT] = {422, "root-node"},
 };
 
 int merd_refuse_lib(merd_refusal *why, mer_result rc, const mer_error *err, const char *where)

@@ -35,6 +35,7 @@ int merd_refuse(merd_refusal *why, unsigned status, const char *slug, const char
  * err->message. Status and type by code:
  *   MER_ERR_NOT_FOUND  404 unknown-node   (a node id never issued)
  *   MER_ERR_GONE       409 dead-node      (a node pruned or shed)
+ *   MER_ERR_ROOT       422 root-node      (a prune of a plant's first internode)
  *   MER_ERR_LIMIT      409 limit          (a limit of the tree or scene)
  *   MER_ERR_RANGE      422 out-of-range
  *   MER_ERR_NOMEM      503 out-of-memory  (nothing was changed; try again)

@@ -206,6 +206,8 @@ static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
     pthread_mutex_unlock(&s->state);
     if (atomic_load(&s->cancel))
         return "cancelled";
+    if (s->cfg->stopping != NULL && atomic_load(s->cfg->stopping))
+        return "shutting down";
     if (c->s->cfg->max_seconds > 0 && merd_now() - c->started > s->cfg->max_seconds)
         return "time limit";
     mer_summary sum;

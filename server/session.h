@@ -14,6 +14,7 @@
 #ifndef MERISTEMD_SESSION_H
 #define MERISTEMD_SESSION_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -35,6 +36,7 @@ typedef struct merd_session_config {
     uint32_t max_internodes;     /* per session: a batch stops growing past it */
     double max_seconds;          /* per request: a batch stops at the step that passes it */
     size_t max_obstacle_triangles;
+    const atomic_int *stopping;  /* when set and non-zero: batches stop at the next whole step */
 } merd_session_config;
 
 /* Creates a session with id `id` (32 hex digits) from a create request `spec`

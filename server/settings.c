@@ -16,7 +16,7 @@
 #define MER_WEB_ROOT "web"
 #endif
 
-typedef enum { OPT_STRING, OPT_LONG, OPT_FLAG } opt_type;
+typedef enum { OPT_STRING, OPT_LONG, OPT_FLAG, OPT_LIST } opt_type;
 
 typedef struct opt_spec {
     const char *name;
@@ -49,6 +49,10 @@ static const opt_spec specs[] = {
      "header buffer bytes per connection (libmicrohttpd clears it for every request, so "
      "bigger is slower)"},
     {"timeout", OPT_LONG, 1, 86400, "60", NUM(timeout), "seconds an idle connection is kept"},
+    {"header-timeout", OPT_LONG, 1, 3600, "5", NUM(header_timeout),
+     "seconds a client has to send its request line and headers, however it trickles them"},
+    {"max-queue", OPT_LONG, 1, 1000000, "64", NUM(max_queue),
+     "requests that may wait for a worker; more get 503 with Retry-After"},
     {"quiet", OPT_FLAG, 0, 0, NULL, NUM(quiet), "no request log on stdout"},
     {"workers", OPT_LONG, 1, 256, "2", NUM(workers), "threads that step and mesh trees"},
     {"max-sessions", OPT_LONG, 1, 1000000, "10000", NUM(max_sessions), "live sessions at once"},
@@ -69,6 +73,9 @@ static const opt_spec specs[] = {
     {"token-file", OPT_STRING, 0, 0, NULL, STR(token_file), "read the token from this file"},
     {"cors-origin", OPT_STRING, 0, 0, NULL, STR(cors_origin),
      "allow this one origin to call the API from a browser (CORS is off without it)"},
+    {"allowed-host", OPT_LIST, 0, 0, NULL, STR(allowed_hosts),
+     "also accept this name (NAME or NAME:PORT) in the Host header; repeatable. Without it "
+     "only IP literals and localhost are, so DNS rebinding cannot reach the daemon"},
 };
 #define N_SPECS (sizeof specs / sizeof specs[0])
 
@@ -84,6 +91,19 @@ static int set_option(merd_settings *config, const opt_spec *spec, const char *t
         }
         memcpy(base, text, strlen(text) + 1);
         return 0;
+    case OPT_LIST: {
+        size_t used = 0;
+        while (base[used] != '\0')
+            used += strlen(base + used) + 1;
+        if (text[0] == '\0' || used + strlen(text) + 2 > spec->size) {
+            fprintf(err, "meristemd: --%s wants a name, and all of them fit in %zu characters\n",
+                    spec->name, spec->size - 2);
+            return -1;
+        }
+        memcpy(base + used, text, strlen(text) + 1);
+        base[used + strlen(text) + 1] = '\0';
+        return 0;
+    }
     case OPT_LONG: {
         char *end = NULL;
         errno = 0;

@@ -17,6 +17,8 @@ typedef struct merd_settings {
     long per_ip_limit;      /* --max-connections-per-ip */
     long memory_limit;      /* --connection-memory: bytes of buffer per connection */
     long timeout;           /* --timeout: idle connection seconds */
+    long header_timeout;    /* --header-timeout: seconds to send the request line and headers */
+    long max_queue;         /* --max-queue: requests waiting for a worker before 503 */
     bool quiet;             /* --quiet: no request log */
     long workers;           /* --workers: threads that step and mesh */
     long max_sessions;      /* --max-sessions */
@@ -29,6 +31,9 @@ typedef struct merd_settings {
     char token[256];        /* --token: required as Authorization: Bearer on /v1 but health */
     char token_file[4096];  /* --token-file: read the token from a file */
     char cors_origin[256];  /* --cors-origin: the one origin allowed to call the API */
+    /* --allowed-host (repeatable): host names accepted in Host besides IP literals
+     * and localhost, one after another, each NUL-terminated, then an empty one */
+    char allowed_hosts[1024];
 } merd_settings;
 
 typedef enum merd_settings_outcome {

@@ -31,6 +31,9 @@ TESTS += tests/api/cli.test.js
 TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
 TESTS += tests/api/security.test.js
+TESTS += tests/api/limits.test.js
+TESTS += tests/api/shutdown.test.js
+TESTS += tests/api/slow-clients.test.js
 TESTS += tests/api/proto.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
@@ -52,6 +55,9 @@ EXTRA_DIST += \
 	tests/api/sessions.test.js \
 	tests/api/durability.test.js \
 	tests/api/security.test.js \
+	tests/api/limits.test.js \
+	tests/api/shutdown.test.js \
+	tests/api/slow-clients.test.js \
 	tests/api/proto.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \

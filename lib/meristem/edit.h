@@ -33,7 +33,8 @@ extern "C" {
 #endif
 
 /* Prunes node `node` and its subtree. Field "node": MER_ERR_NOT_FOUND if the id
- * was never issued, MER_ERR_GONE if the node was pruned or shed.
+ * was never issued, MER_ERR_GONE if the node was pruned or shed, MER_ERR_ROOT
+ * if it is a plant's first internode (nothing could grow again).
  * O(subtree + buds·q_max²). */
 mer_result mer_scene_prune(mer_scene *s, uint32_t node, mer_error *err);
 

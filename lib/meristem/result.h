@@ -21,7 +21,8 @@ typedef enum mer_result {
     MER_ERR_LIMIT,    /* a configured limit would be exceeded */
     MER_ERR_INTERNAL, /* a bug: an invariant did not hold */
     MER_ERR_NOT_FOUND, /* a named thing (a node id) was never issued */
-    MER_ERR_GONE      /* a named thing existed but was removed (a pruned or shed node) */
+    MER_ERR_GONE,     /* a named thing existed but was removed (a pruned or shed node) */
+    MER_ERR_ROOT      /* the edit would remove a plant's first internode, emptying it */
 } mer_result;
 
 #define MER_ERROR_FIELD_MAX 64

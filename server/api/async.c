@@ -44,10 +44,20 @@ void merd_api_job_refuse(merd_api_job *j, const merd_refusal *why)
 enum MHD_Result merd_api_job_submit(merd_api_job *j, merd_job_fn fn)
 {
     merd_request_suspend(j->req);
-    if (merd_jobs_submit(j->app->jobs, fn, j) != 0) {
-        merd_refusal why = {0};
+    int rc = merd_jobs_submit(j->app->jobs, fn, j);
+    if (rc == 0)
+        return MHD_YES;
+    merd_refusal why = {0};
+    if (rc == MERD_JOBS_FULL)
+        merd_refuse(&why, 503, "queue-full", "", "%ld requests already wait for a worker "
+                    "(meristemd --max-queue); try again shortly", j->app->settings->max_queue);
+    else
         merd_refuse(&why, 503, "shutting-down", "", "meristemd is stopping");
-        merd_api_job_refuse(j, &why);
-    }
+    size_t size = 0;
+    struct MHD_Response *r = merd_refusal_response(&why, &size);
+    // Either way the daemon is fine a moment later: say when to come back.
+    if (r != NULL)
+        MHD_add_response_header(r, MHD_HTTP_HEADER_RETRY_AFTER, "1");
+    merd_api_job_finish(j, why.status, r, size);
     return MHD_YES;
 }

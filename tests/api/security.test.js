@@ -1,8 +1,10 @@
 'use strict';
-// --token and --cors-origin as a person deploying meristemd would rely on them.
+// --token, --cors-origin and the Host check as a person deploying meristemd would rely on them.
 const test = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
+const http = require('node:http');
+const net = require('node:net');
 const os = require('node:os');
 const path = require('node:path');
 const { startDaemon } = require('../support/daemon.js');
@@ -73,4 +75,59 @@ test('--max-internodes stops growth and then refuses with 409', async (t) => {
   const again = await step();
   assert.equal(again.status, 409);
   assert.match((await again.json()).detail, /--max-internodes/);
+});
+
+/** A request with the Host header given (fetch will not send another): status,
+ * content type and body. */
+function withHost(port, p, host) {
+  return new Promise((resolve, reject) => {
+    const req = http.get({ host: '127.0.0.1', port, path: p, headers: { Host: host }, agent: false }, (res) => {
+      let body = '';
+      res.on('data', (c) => { body += c; });
+      res.on('end', () => resolve({ status: res.statusCode, type: res.headers['content-type'], body }));
+    });
+    req.on('error', reject);
+  });
+}
+
+test('DNS rebinding: only IP literals, localhost and --allowed-host names are served', async (t) => {
+  const d = await startDaemon();
+  t.after(() => d.stop());
+  for (const host of [`127.0.0.1:${d.port}`, `localhost:${d.port}`, `LocalHost:${d.port}`, `[::1]:${d.port}`, 'localhost', '127.0.0.1'])
+    assert.equal((await withHost(d.port, '/v1/health', host)).status, 200, host);
+  // A rebinding page's own name, every route and the static files too.
+  for (const p of ['/v1/health', '/v1/sessions', '/', '/index.html']) {
+    const r = await withHost(d.port, p, `rebind.example:${d.port}`);
+    assert.equal(r.status, 421, p);
+    assert.equal(r.type, 'application/problem+json');
+    const problem = JSON.parse(r.body);
+    assert.equal(problem.type, 'urn:meristem:problem:host-not-allowed');
+    assert.match(problem.detail, /--allowed-host/);
+  }
+  for (const host of [`localhost:${d.port + 1}`, 'rebind.example', `127.0.0.1.rebind.example:${d.port}`, `[::1:${d.port}`])
+    assert.equal((await withHost(d.port, '/v1/health', host)).status, 421, host);
+
+  // HTTP/1.1 must name a host; HTTP/1.0 may not, and a browser always does.
+  const raw = async (request) => new Promise((resolve, reject) => {
+    const socket = net.connect(d.port, '127.0.0.1');
+    let text = '';
+    socket.on('data', (c) => { text += c; });
+    socket.on('end', () => resolve(text));
+    socket.on('error', reject);
+    socket.end(request);
+  });
+  let text = await raw('GET /v1/health HTTP/1.1\r\nConnection: close\r\n\r\n');
+  assert.match(text, /^HTTP\/1\.1 400 /);
+  assert.match(text, /urn:meristem:problem:missing-host/);
+  text = await raw('GET /v1/health HTTP/1.0\r\n\r\n');
+  assert.match(text, /^HTTP\/1\.[01] 200 /);
+
+  const named = await startDaemon(['--allowed-host', 'trees.example', '--allowed-host', 'lab.example:8443']);
+  t.after(() => named.stop());
+  assert.equal((await withHost(named.port, '/v1/sessions', `trees.example:${named.port}`)).status, 200);
+  assert.equal((await withHost(named.port, '/v1/sessions', 'TREES.example')).status, 200);
+  assert.equal((await withHost(named.port, '/v1/sessions', 'lab.example:8443')).status, 200);
+  assert.equal((await withHost(named.port, '/v1/sessions', `lab.example:${named.port}`)).status, 421);
+  assert.equal((await withHost(named.port, '/v1/sessions', `rebind.example:${named.port}`)).status, 421);
+  assert.equal((await withHost(named.port, '/v1/sessions', `127.0.0.1:${named.port}`)).status, 200);
 });

@@ -35,6 +35,9 @@ static void test_pipe_memory_after_prune_and_stable_ids(void **state)
     assert_string_equal(err.field, "node");
     assert_int_equal(mer_scene_prune(s, 99, &err), MER_ERR_NOT_FOUND);
     assert_string_equal(err.field, "node");
+    assert_int_equal(mer_scene_prune(s, 0, &err), MER_ERR_ROOT); /* it would empty the tree */
+    assert_string_equal(err.field, "node");
+    assert_int_equal(node(s, 0).alive, 1);
     mer_params p = *mer_scene_params(s);
     p.alpha = 1e-6f; /* no more growth */
     assert_int_equal(mer_scene_set_params(s, &p, &err), MER_OK);

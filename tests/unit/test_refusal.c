@@ -26,6 +26,7 @@ static void test_library_results_map_once(void **state)
         {MER_ERR_NOMEM, 503, "out-of-memory"},   {MER_ERR_FORMAT, 422, "invalid-field"},
         {MER_ERR_LIMIT, 409, "limit"},           {MER_ERR_INTERNAL, 500, "internal"},
         {MER_ERR_NOT_FOUND, 404, "unknown-node"}, {MER_ERR_GONE, 409, "dead-node"},
+        {MER_ERR_ROOT, 422, "root-node"},
     };
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
         mer_error err = {.code = want[i].rc, .field = "node", .message = "why"};
