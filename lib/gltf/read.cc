@@ -2,6 +2,7 @@
 // scene in world space, for obstacles and marker volumes.
 #include "config.h"
 
+#include "core/alloc.h"
 #include "gltf/gltf_private.h"
 
 #include <array>
@@ -192,7 +193,7 @@ extern "C" mer_result mer_gltf_read_triangles(const uint8_t *bytes, size_t size,
         }
         if (reader.xyz.empty())
             return mer_error_set(err, MER_ERR_FORMAT, "gltf", "the asset's default scene has no triangles");
-        float *copy = static_cast<float *>(std::malloc(reader.xyz.size() * sizeof(float)));
+        float *copy = static_cast<float *>(merp_malloc(reader.xyz.size() * sizeof(float)));
         if (copy == nullptr)
             return mer_error_set(err, MER_ERR_NOMEM, nullptr, "out of memory for triangles");
         std::memcpy(copy, reader.xyz.data(), reader.xyz.size() * sizeof(float));
