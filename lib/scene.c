@@ -136,7 +136,10 @@ static mer_result one_step(mer_scene *s, mer_error *err)
     merp_world w = merp_scene_world(s);
     mer_result rc = s->ops->step(s->model, &w, err);
     merp_pipe_update(&s->sk, &s->p);
-    s->step++;
+    /* mer_scene_step_index counts completed steps, as *done does: not a step
+     * cut short by a failure. */
+    if (rc == MER_OK)
+        s->step++;
     return rc;
 }
 
