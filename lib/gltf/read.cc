@@ -78,7 +78,7 @@ double component(const tinygltf::Model &model, const tinygltf::Accessor &a, size
         throw std::out_of_range("accessor reads past its buffer");
     const unsigned char *p = buf.data.data() + at;
     switch (a.componentType) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return static_cast<double>(f); }
     case TINYGLTF_COMPONENT_TYPE_BYTE: { int8_t x; std::memcpy(&x, p, 1); return a.normalized ? std::max(x / 127.0, -1.0) : x; }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { uint8_t x = *p; return a.normalized ? x / 255.0 : x; }
     case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t x; std::memcpy(&x, p, 2); return a.normalized ? std::max(x / 32767.0, -1.0) : x; }
