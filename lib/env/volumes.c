@@ -86,6 +86,8 @@ mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const 
     float *xyz = merp_malloc((count ? count : 1) * 3 * sizeof *xyz);
     if (xyz == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
+    /* A refused fill draws nothing: the generator goes back to where it was. */
+    const mer_rng drawn_from = *rng;
     for (uint32_t i = 0; i < count; i++) {
         float u[3], *p = xyz + 3 * (size_t)i;
         volume_point(rng, kind, size, u);
@@ -94,6 +96,8 @@ mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const 
     }
     mer_result rc = merp_env_add_markers(e, xyz, count, err);
     merp_free(xyz);
+    if (rc != MER_OK)
+        *rng = drawn_from;
     return rc;
 }
 
@@ -153,9 +157,10 @@ mer_result merp_env_fill_mesh(merp_env *e, mer_rng *rng, const float *xyz, size_
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for mesh markers");
     } else {
         merp_solid_candidates(solid, cand);
+        const mer_rng drawn_from = *rng;
         rc = sample_solid(solid, cand, ncand, rng, count, pts, err);
-        if (rc == MER_OK)
-            rc = merp_env_add_markers(e, pts, count, err);
+        if (rc == MER_OK && (rc = merp_env_add_markers(e, pts, count, err)) != MER_OK)
+            *rng = drawn_from;
     }
     merp_free(cand);
     merp_free(pts);

@@ -118,6 +118,38 @@ static mer_result call_add_box(mer_scene *s, mer_error *err)
     return mer_scene_add_box(s, lo, hi, err);
 }
 
+/* A closed tetrahedron beside the tree. */
+static const float tetra[] = {
+    3, 0, 3, 5, 0, 3, 4, 0, 5,   3, 0, 3, 4, 2, 4, 5, 0, 3,
+    5, 0, 3, 4, 2, 4, 4, 0, 5,   4, 0, 5, 4, 2, 4, 3, 0, 3,
+};
+
+static mer_result call_add_mesh(mer_scene *s, mer_error *err)
+{
+    return mer_scene_add_mesh(s, tetra, 4, err);
+}
+
+static mer_result call_fill_mesh(mer_scene *s, mer_error *err)
+{
+    return mer_scene_fill_mesh_markers(s, tetra, 4, 30, err);
+}
+
+static mer_result call_fill_volume(mer_scene *s, mer_error *err)
+{
+    static const float center[3] = {0, 8, 0}, size[3] = {3, 3, 3};
+    return mer_scene_fill_markers(s, MER_VOLUME_SPHERE, center, size, 40, err);
+}
+
+/* New parameters that rebuild the grids. */
+static mer_result call_set_params(mer_scene *s, mer_error *err)
+{
+    mer_params p = *mer_scene_params(s);
+    p.voxel *= 0.5f;
+    p.marker_cell *= 0.5f;
+    p.ground = 0.5f;
+    return mer_scene_set_params(s, &p, err);
+}
+
 static mer_result call_snapshot(mer_scene *s, mer_error *err)
 {
     mer_mesh *mesh = NULL;
@@ -181,6 +213,10 @@ static void test_add_markers(void **state) { (void)state; run(call_add_markers);
 static void test_brush(void **state) { (void)state; run(call_brush); }
 static void test_add_box(void **state) { (void)state; run(call_add_box); }
 static void test_snapshot(void **state) { (void)state; run(call_snapshot); }
+static void test_add_mesh(void **state) { (void)state; run(call_add_mesh); }
+static void test_fill_mesh(void **state) { (void)state; run(call_fill_mesh); }
+static void test_fill_volume(void **state) { (void)state; run(call_fill_volume); }
+static void test_set_params(void **state) { (void)state; run(call_set_params); }
 
 /* Creating a scene: every failure is NOMEM, with nothing returned or kept. */
 static void test_new(void **state)
@@ -214,6 +250,10 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_brush, setup, teardown),
         cmocka_unit_test_setup_teardown(test_add_box, setup, teardown),
         cmocka_unit_test_setup_teardown(test_snapshot, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_add_mesh, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_fill_mesh, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_fill_volume, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_set_params, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
