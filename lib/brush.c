@@ -9,6 +9,7 @@
 
 #include <meristem/edit.h>
 
+#include "core/alloc.h"
 #include "scene_private.h"
 #include "symmetry.h"
 
@@ -56,9 +57,11 @@ mer_result mer_scene_brush(mer_scene *s, const mer_brush *brush, const mer_symme
         return mer_error_set(err, MER_ERR_LIMIT, "max_count",
                              "a dab would make %zu markers with its copies, more than %u",
                              total, (unsigned)MER_BRUSH_MARKERS_MAX);
-    float *xyz = malloc(total * 3 * sizeof *xyz);
+    float *xyz = merp_malloc(total * 3 * sizeof *xyz);
     if (xyz == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for brush markers");
+    /* A refused dab draws nothing: the generator goes back to where it was. */
+    const mer_rng drawn_from = s->rng;
     for (uint32_t c = 0; c < count; c++) {
         float u[3];
         merp_unit_ball(&s->rng, u);
@@ -69,7 +72,9 @@ mer_result mer_scene_brush(mer_scene *s, const mer_brush *brush, const mer_symme
     }
     size_t before = mer_scene_marker_count(s);
     rc = mer_scene_add_markers(s, xyz, total, err);
-    free(xyz);
+    merp_free(xyz);
+    if (rc != MER_OK)
+        s->rng = drawn_from;
     if (rc == MER_OK && added != NULL)
         *added = mer_scene_marker_count(s) - before;
     return rc;

@@ -2,6 +2,8 @@
 # tests link whole; the installed shared library exports only the mer_ prefix.
 noinst_LTLIBRARIES += lib/libmeristem-core.la
 lib_libmeristem_core_la_SOURCES = \
+	lib/core/alloc.h \
+	lib/core/alloc.c \
 	lib/core/array.h \
 	lib/core/hash.h \
 	lib/core/vec.h \
@@ -69,6 +71,7 @@ include_HEADERS = lib/meristem.h
 meristemincludedir = $(includedir)/meristem
 meristeminclude_HEADERS = \
 	lib/meristem/result.h \
+	lib/meristem/alloc.h \
 	lib/meristem/rng.h \
 	lib/meristem/params.h \
 	lib/meristem/fate.h \

@@ -8,6 +8,7 @@
 #define MERISTEM_H
 
 #include <meristem/result.h>
+#include <meristem/alloc.h>
 #include <meristem/version.h>
 #include <meristem/rng.h>
 #include <meristem/params.h>

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/hash.h"
 #include "scene_private.h"
 
@@ -41,7 +42,7 @@ mer_result merp_scene_new_with(const merp_model_ops *ops, const mer_params *para
     mer_result rc = mer_params_validate(params, err);
     if (rc != MER_OK)
         return rc;
-    mer_scene *s = calloc(1, sizeof *s);
+    mer_scene *s = merp_calloc(1, sizeof *s);
     if (s == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a scene");
     mer_params_resolve(params, &s->p);
@@ -83,7 +84,7 @@ void mer_scene_free(mer_scene *s)
         s->ops->free(s->model);
     merp_skel_free(&s->sk);
     merp_env_free(&s->env);
-    free(s);
+    merp_free(s);
 }
 
 const mer_params *mer_scene_params(const mer_scene *s) { return &s->p; }
@@ -135,7 +136,10 @@ static mer_result one_step(mer_scene *s, mer_error *err)
     merp_world w = merp_scene_world(s);
     mer_result rc = s->ops->step(s->model, &w, err);
     merp_pipe_update(&s->sk, &s->p);
-    s->step++;
+    /* mer_scene_step_index counts completed steps, as *done does: not a step
+     * cut short by a failure. */
+    if (rc == MER_OK)
+        s->step++;
     return rc;
 }
 

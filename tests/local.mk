@@ -74,3 +74,4 @@ EXTRA_DIST += build-aux/tap-driver.sh
 include tests/bench/local.mk
 include tests/gallery/local.mk
 include tests/golden/local.mk
+include tests/fuzz/local.mk

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
+
 /* Resizes the array `*pp` to `count` elements of `size` bytes. On failure (out of
  * memory, or a size that overflows) returns 0 and leaves `*pp` as it was, so a
  * caller that grows several arrays in turn never loses one. Returns 1 on success. */
@@ -17,7 +19,7 @@ static inline int merp_array_resize(void *pp, size_t count, size_t size)
         return 0;
     void *old; /* copied, not cast: `pp` points at a float * or a uint32_t * */
     memcpy(&old, pp, sizeof old);
-    void *q = realloc(old, (count ? count : 1) * size);
+    void *q = merp_realloc(old, (count ? count : 1) * size);
     if (q == NULL)
         return 0;
     memcpy(pp, &q, sizeof q);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/hash.h"
 #include "env/env.h"
 
@@ -42,7 +43,7 @@ void merp_env_free(merp_env *e)
         return;
     for (uint32_t o = 0; o < e->nobs; o++)
         merp_solid_free(e->obs[o].solid);
-    free(e->obs);
+    merp_free(e->obs);
     mer_markers_free(e->markers);
     mer_shadow_free(e->shadow);
     memset(e, 0, sizeof *e);
@@ -63,14 +64,14 @@ static mer_result regrid_markers(const mer_markers *old, const mer_params *p, me
     if (rc != MER_OK)
         return rc;
     size_t cnt = mer_markers_count(old);
-    float *xyz = malloc((cnt ? cnt : 1) * 3 * sizeof *xyz);
+    float *xyz = merp_malloc((cnt ? cnt : 1) * 3 * sizeof *xyz);
     if (xyz == NULL) {
         mer_markers_free(mk);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
     }
     mer_markers_positions(old, xyz, cnt);
     rc = mer_markers_add(mk, xyz, cnt, err);
-    free(xyz);
+    merp_free(xyz);
     if (rc != MER_OK) {
         mer_markers_free(mk);
         return rc;
@@ -192,14 +193,14 @@ static int finite3(const float v[3])
 mer_result merp_env_add_markers(merp_env *e, const float *xyz, size_t count, mer_error *err)
 {
     assert(e != NULL && (xyz != NULL || count == 0));
-    float *keep = malloc((count ? count : 1) * 3 * sizeof *keep);
+    float *keep = merp_malloc((count ? count : 1) * 3 * sizeof *keep);
     if (keep == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
     size_t k = 0;
     for (size_t i = 0; i < count; i++) {
         const float *p = xyz + 3 * i;
         if (!finite3(p)) {
-            free(keep);
+            merp_free(keep);
             return mer_error_set(err, MER_ERR_INVALID, "points",
                                  "marker %zu is not 3 finite numbers", i);
         }
@@ -212,7 +213,7 @@ mer_result merp_env_add_markers(merp_env *e, const float *xyz, size_t count, mer
         rc = mer_markers_add(e->markers, keep, k, err);
         e->epoch++; /* quiet buds may see the new markers */
     }
-    free(keep);
+    merp_free(keep);
     return rc;
 }
 
@@ -235,11 +236,11 @@ uint64_t merp_env_hash(const merp_env *e, uint64_t h)
         }
     }
     size_t m = mer_markers_count(e->markers);
-    float *xyz = malloc((m ? m : 1) * 3 * sizeof *xyz);
+    float *xyz = merp_malloc((m ? m : 1) * 3 * sizeof *xyz);
     if (xyz != NULL) {
         mer_markers_positions(e->markers, xyz, m);
         h = merp_fnv(h, xyz, m * 3 * sizeof *xyz);
-        free(xyz);
+        merp_free(xyz);
     } else {
         h = merp_fnv(h, &m, sizeof m);
     }

@@ -9,6 +9,7 @@
 #include <meristem/markers.h>
 #include <meristem/params.h>
 
+#include "core/alloc.h"
 #include "core/vec.h"
 
 #define NONE UINT32_MAX
@@ -68,7 +69,7 @@ mer_result mer_markers_new(const float bmin[3], const float bmax[3], float cell,
                                  (unsigned)MER_GRID_CELLS_MAX);
         dim[a] = (int)d;
     }
-    mer_markers *m = calloc(1, sizeof *m);
+    mer_markers *m = merp_calloc(1, sizeof *m);
     if (m == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker set");
     memcpy(m->bmin, bmin, sizeof m->bmin);
@@ -76,9 +77,9 @@ mer_result mer_markers_new(const float bmin[3], const float bmax[3], float cell,
     m->cell = cell;
     m->inv_cell = 1.0f / cell;
     m->ncells = (size_t)dim[0] * (size_t)dim[1] * (size_t)dim[2];
-    m->start = calloc(m->ncells + 1, sizeof *m->start);
+    m->start = merp_calloc(m->ncells + 1, sizeof *m->start);
     if (m->start == NULL) {
-        free(m);
+        merp_free(m);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
     }
     m->dirty = 0;
@@ -90,14 +91,14 @@ void mer_markers_free(mer_markers *m)
 {
     if (m == NULL)
         return;
-    free(m->p);
-    free(m->dead);
-    free(m->start);
-    free(m->items);
-    free(m->best);
-    free(m->best_d2);
-    free(m->touched);
-    free(m);
+    merp_free(m->p);
+    merp_free(m->dead);
+    merp_free(m->start);
+    merp_free(m->items);
+    merp_free(m->best);
+    merp_free(m->best_d2);
+    merp_free(m->touched);
+    merp_free(m);
 }
 
 static int cell_coord(const mer_markers *m, float x, int a)
@@ -126,11 +127,11 @@ mer_result mer_markers_add(mer_markers *m, const float *xyz, size_t count, mer_e
         size_t cap = m->cap ? m->cap : 1024;
         while (cap < m->n + count)
             cap *= 2;
-        float *p = realloc(m->p, cap * 3 * sizeof *p);
+        float *p = merp_realloc(m->p, cap * 3 * sizeof *p);
         if (p == NULL)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
         m->p = p;
-        uint8_t *d = realloc(m->dead, cap);
+        uint8_t *d = merp_realloc(m->dead, cap);
         if (d == NULL)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
         m->dead = d;
@@ -164,7 +165,7 @@ static int rebuild(mer_markers *m)
 {
     if (m->alive > m->items_cap) {
         size_t cap = m->alive + m->alive / 2 + 16;
-        entry *it = realloc(m->items, cap * sizeof *it);
+        entry *it = merp_realloc(m->items, cap * sizeof *it);
         if (it == NULL)
             return 0;
         m->items = it;
@@ -296,11 +297,11 @@ static mer_result ensure_scratch(mer_markers *m, mer_error *err)
 {
     if (m->n <= m->scratch_cap)
         return MER_OK;
-    uint32_t *best = realloc(m->best, m->n * sizeof *best);
+    uint32_t *best = merp_realloc(m->best, m->n * sizeof *best);
     if (best == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
     m->best = best;
-    float *bd = realloc(m->best_d2, m->n * sizeof *bd);
+    float *bd = merp_realloc(m->best_d2, m->n * sizeof *bd);
     if (bd == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
     m->best_d2 = bd;
@@ -324,7 +325,7 @@ static mer_result claim(mer_markers *m, uint32_t id, uint32_t b, float d2, size_
     }
     if (*nt == m->touched_cap) {
         size_t cap = m->touched_cap ? 2 * m->touched_cap : 4096;
-        uint32_t *tt = realloc(m->touched, cap * sizeof *tt);
+        uint32_t *tt = merp_realloc(m->touched, cap * sizeof *tt);
         if (tt == NULL) {
             for (size_t x = 0; x < *nt; x++)
                 m->best[m->touched[x]] = NONE;

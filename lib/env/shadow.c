@@ -8,6 +8,7 @@
 #include <meristem/params.h>
 #include <meristem/shadow.h>
 
+#include "core/alloc.h"
 #include "core/hash.h"
 
 #define FIX 4096.0f   /* fixed-point units per a */
@@ -51,7 +52,7 @@ mer_result mer_shadow_new(const float bmin[3], const float bmax[3], float voxel,
                                  (unsigned)MER_GRID_CELLS_MAX);
         dim[i] = (int)d;
     }
-    mer_shadow *sh = calloc(1, sizeof *sh);
+    mer_shadow *sh = merp_calloc(1, sizeof *sh);
     if (sh == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
     memcpy(sh->bmin, bmin, sizeof sh->bmin);
@@ -64,9 +65,9 @@ mer_result mer_shadow_new(const float bmin[3], const float bmax[3], float voxel,
     sh->q_max = q_max;
     for (uint32_t q = 0; q <= q_max; q++)
         sh->delta[q] = (uint32_t)lround((double)FIX * pow((double)b, -(double)q)); /* a·b^(−q) */
-    sh->s = calloc(sh->nvox, sizeof *sh->s);
+    sh->s = merp_calloc(sh->nvox, sizeof *sh->s);
     if (sh->s == NULL) {
-        free(sh);
+        merp_free(sh);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
     }
     *out = sh;
@@ -77,8 +78,8 @@ void mer_shadow_free(mer_shadow *sh)
 {
     if (sh == NULL)
         return;
-    free(sh->s);
-    free(sh);
+    merp_free(sh->s);
+    merp_free(sh);
 }
 
 void mer_shadow_clear(mer_shadow *sh) { memset(sh->s, 0, sh->nvox * sizeof *sh->s); }

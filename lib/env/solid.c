@@ -37,6 +37,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/hash.h"
 #include "env/env.h"
 
@@ -204,11 +205,11 @@ void merp_solid_free(merp_solid *s)
 {
     if (s == NULL)
         return;
-    free(s->start);
-    free(s->listed);
-    free(s->cell);
-    free(s->tri);
-    free(s);
+    merp_free(s->start);
+    merp_free(s->listed);
+    merp_free(s->cell);
+    merp_free(s->tri);
+    merp_free(s);
 }
 
 static void tri_cols(const merp_solid *s, const float *t, int lo[3], int hi[3])
@@ -327,13 +328,13 @@ static void parities(merp_solid *s, int A)
 mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, mer_error *err)
 {
     *out = NULL;
-    merp_solid *s = calloc(1, sizeof *s);
+    merp_solid *s = merp_calloc(1, sizeof *s);
     if (s == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a mesh");
     s->ntri = triangles;
-    s->tri = malloc(triangles * 9 * sizeof *s->tri);
+    s->tri = merp_malloc(triangles * 9 * sizeof *s->tri);
     if (s->tri == NULL) {
-        free(s);
+        merp_free(s);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a mesh");
     }
     memcpy(s->tri, xyz, triangles * 9 * sizeof *xyz);
@@ -367,8 +368,8 @@ mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, 
         n /= 2;
     }
     size_t ncell = (size_t)s->dim[0] * (size_t)s->dim[1] * (size_t)s->dim[2];
-    s->cell = calloc(ncell, 1);
-    s->start = calloc(ncell + 1, sizeof *s->start);
+    s->cell = merp_calloc(ncell, 1);
+    s->start = merp_calloc(ncell + 1, sizeof *s->start);
     if (s->cell == NULL || s->start == NULL) {
         merp_solid_free(s);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a mesh grid");
@@ -381,7 +382,7 @@ mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, 
             s->cell[c] = CELL_SURFACE;
         s->start[c + 1] += s->start[c];
     }
-    s->listed = malloc((s->start[ncell] ? s->start[ncell] : 1) * sizeof *s->listed);
+    s->listed = merp_malloc((s->start[ncell] ? s->start[ncell] : 1) * sizeof *s->listed);
     if (s->listed == NULL) {
         merp_solid_free(s);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a mesh grid");

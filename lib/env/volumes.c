@@ -8,6 +8,7 @@
 
 #include <meristem/scene.h>
 
+#include "core/alloc.h"
 #include "core/vec.h"
 #include "env/env.h"
 
@@ -82,9 +83,11 @@ mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const 
     for (int a = 0; a < 3; a++)
         if (!(size[a] >= 0.0f))
             return mer_error_set(err, MER_ERR_RANGE, "marker_size", "marker_size must be >= 0");
-    float *xyz = malloc((count ? count : 1) * 3 * sizeof *xyz);
+    float *xyz = merp_malloc((count ? count : 1) * 3 * sizeof *xyz);
     if (xyz == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
+    /* A refused fill draws nothing: the generator goes back to where it was. */
+    const mer_rng drawn_from = *rng;
     for (uint32_t i = 0; i < count; i++) {
         float u[3], *p = xyz + 3 * (size_t)i;
         volume_point(rng, kind, size, u);
@@ -92,7 +95,9 @@ mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const 
             p[a] = center[a] + u[a];
     }
     mer_result rc = merp_env_add_markers(e, xyz, count, err);
-    free(xyz);
+    merp_free(xyz);
+    if (rc != MER_OK)
+        *rng = drawn_from;
     return rc;
 }
 
@@ -146,18 +151,19 @@ mer_result merp_env_fill_mesh(merp_env *e, mer_rng *rng, const float *xyz, size_
     if (rc != MER_OK)
         return rc;
     size_t ncand = merp_solid_candidates(solid, NULL);
-    uint32_t *cand = malloc((ncand ? ncand : 1) * sizeof *cand);
-    float *pts = malloc((size_t)count * 3 * sizeof *pts);
+    uint32_t *cand = merp_malloc((ncand ? ncand : 1) * sizeof *cand);
+    float *pts = merp_malloc((size_t)count * 3 * sizeof *pts);
     if (cand == NULL || pts == NULL) {
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for mesh markers");
     } else {
         merp_solid_candidates(solid, cand);
+        const mer_rng drawn_from = *rng;
         rc = sample_solid(solid, cand, ncand, rng, count, pts, err);
-        if (rc == MER_OK)
-            rc = merp_env_add_markers(e, pts, count, err);
+        if (rc == MER_OK && (rc = merp_env_add_markers(e, pts, count, err)) != MER_OK)
+            *rng = drawn_from;
     }
-    free(cand);
-    free(pts);
+    merp_free(cand);
+    merp_free(pts);
     merp_solid_free(solid);
     return rc;
 }

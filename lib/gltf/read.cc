@@ -2,6 +2,7 @@
 // scene in world space, for obstacles and marker volumes.
 #include "config.h"
 
+#include "core/alloc.h"
 #include "gltf/gltf_private.h"
 
 #include <array>
@@ -77,7 +78,7 @@ double component(const tinygltf::Model &model, const tinygltf::Accessor &a, size
         throw std::out_of_range("accessor reads past its buffer");
     const unsigned char *p = buf.data.data() + at;
     switch (a.componentType) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return static_cast<double>(f); }
     case TINYGLTF_COMPONENT_TYPE_BYTE: { int8_t x; std::memcpy(&x, p, 1); return a.normalized ? std::max(x / 127.0, -1.0) : x; }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { uint8_t x = *p; return a.normalized ? x / 255.0 : x; }
     case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t x; std::memcpy(&x, p, 2); return a.normalized ? std::max(x / 32767.0, -1.0) : x; }
@@ -192,7 +193,7 @@ extern "C" mer_result mer_gltf_read_triangles(const uint8_t *bytes, size_t size,
         }
         if (reader.xyz.empty())
             return mer_error_set(err, MER_ERR_FORMAT, "gltf", "the asset's default scene has no triangles");
-        float *copy = static_cast<float *>(std::malloc(reader.xyz.size() * sizeof(float)));
+        float *copy = static_cast<float *>(merp_malloc(reader.xyz.size() * sizeof(float)));
         if (copy == nullptr)
             return mer_error_set(err, MER_ERR_NOMEM, nullptr, "out of memory for triangles");
         std::memcpy(copy, reader.xyz.data(), reader.xyz.size() * sizeof(float));

@@ -161,7 +161,7 @@ Grid grid_for(const mer_mesh &mesh)
     for (const mer_mesh_part *p : {&mesh.bark, &mesh.leaves})
         for (size_t i = 0; i < p->vertex_count; i++)
             for (size_t k = 0; k < 3; k++) {
-                double x = p->positions[3 * i + k];
+                double x = static_cast<double>(p->positions[3 * i + k]);
                 lo[k] = std::min(lo[k], x);
                 hi[k] = std::max(hi[k], x);
             }

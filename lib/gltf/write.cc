@@ -2,6 +2,7 @@
 // frames it as a GLB, a compressed GLB (meshopt.cc) or an embedded .gltf.
 #include "config.h"
 
+#include "core/alloc.h"
 #include "gltf/gltf_private.h"
 
 #include <cmath>
@@ -110,7 +111,7 @@ mer_result check_options(const mer_gltf_options &options, mer_error *err)
 
 mer_result to_bytes(const std::string &text, uint8_t **out, size_t *out_size, mer_error *err)
 {
-    uint8_t *copy = static_cast<uint8_t *>(std::malloc(text.size()));
+    uint8_t *copy = static_cast<uint8_t *>(merp_malloc(text.size()));
     if (copy == nullptr)
         return mer_error_set(err, MER_ERR_NOMEM, nullptr, "out of memory for %zu glTF bytes",
                              text.size());
@@ -208,7 +209,7 @@ mer_result assemble_glb(const nlohmann::json &doc, size_t bin_size, uint8_t **ou
         return mer_error_set(err, MER_ERR_LIMIT, nullptr,
                              "the GLB would be %zu bytes, over the format's 4 GiB; lower the detail",
                              total);
-    uint8_t *glb = static_cast<uint8_t *>(std::malloc(total));
+    uint8_t *glb = static_cast<uint8_t *>(merp_malloc(total));
     if (glb == nullptr)
         return mer_error_set(err, MER_ERR_NOMEM, nullptr, "out of memory for %zu GLB bytes", total);
     std::memcpy(glb, "glTF", 4);
@@ -243,5 +244,5 @@ extern "C" mer_result mer_gltf_write_tree(const mer_mesh *mesh, const mer_gltf_m
 
 extern "C" void mer_gltf_free(void *bytes)
 {
-    std::free(bytes);
+    merp_free(bytes);
 }

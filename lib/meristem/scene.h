@@ -8,7 +8,8 @@
  *
  * Threads: a scene must not be used from two threads at once (the server holds a
  * lock per session); distinct scenes share nothing, and the library has no global
- * mutable state, so they may step in parallel.
+ * mutable state (but the allocator hook of meristem/alloc.h, set before use), so
+ * they may step in parallel.
  *
  * Structure. A node is a metamer: an internode from `base` along `dir` for
  * `length`, with a leaf and one or two lateral buds (buds_per_node) at its top

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/alloc.h"
 #include "mesh_private.h"
 
 static const uint32_t max_sides_by_detail[MER_MESH_DETAIL_MAX + 1] = {0, 4, 6, 8, 12, MERP_MAX_SIDES};
@@ -27,7 +28,7 @@ static uint32_t sides_for(const merp_builder *b, float diameter)
 static mer_result grow_axes(merp_builder *b, uint32_t *cap, mer_error *err)
 {
     *cap = *cap ? 2 * *cap : 256;
-    merp_axis *grown = realloc(b->axes, *cap * sizeof *grown);
+    merp_axis *grown = merp_realloc(b->axes, *cap * sizeof *grown);
     if (grown == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for axes");
     b->axes = grown;
@@ -74,8 +75,8 @@ mer_result merp_mesh_chain(merp_builder *b, const merp_axis *a, mer_error *err)
     assert(a->count >= 1);
     if (a->count > b->chain_cap) {
         uint32_t cap = a->count > 2 * b->chain_cap ? a->count : 2 * b->chain_cap;
-        uint32_t *grown = realloc(b->chain, cap * sizeof *grown);
-        float *radii = realloc(b->radii, (cap + 1) * sizeof *radii);
+        uint32_t *grown = merp_realloc(b->chain, cap * sizeof *grown);
+        float *radii = merp_realloc(b->radii, (cap + 1) * sizeof *radii);
         if (grown != NULL)
             b->chain = grown;
         if (radii != NULL)

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/alloc.h"
 #include "mesh_private.h"
 
 /* A twig (mesh.h, Twig lines) is at most 1/TWIG_EXTENT_FRACTION of the tree's
@@ -52,7 +53,7 @@ mer_result merp_mesh_begin_group(merp_cursor *c, uint32_t vertices, mer_error *e
         return MER_OK;
     if (part->chunk_count == c->chunk_cap) {
         uint32_t cap = c->chunk_cap ? 2 * c->chunk_cap : 8;
-        mer_mesh_chunk *grown = realloc(part->chunks, cap * sizeof *grown);
+        mer_mesh_chunk *grown = merp_realloc(part->chunks, cap * sizeof *grown);
         if (grown == NULL)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for mesh chunks");
         part->chunks = grown;
@@ -65,7 +66,7 @@ mer_result merp_mesh_begin_group(merp_cursor *c, uint32_t vertices, mer_error *e
 static mer_result load_nodes(merp_builder *b, mer_error *err)
 {
     b->node_count = mer_scene_node_bound(b->scene);
-    b->nodes = b->node_count ? malloc((size_t)b->node_count * sizeof *b->nodes) : NULL;
+    b->nodes = b->node_count ? merp_malloc((size_t)b->node_count * sizeof *b->nodes) : NULL;
     if (b->node_count && b->nodes == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for %u nodes", b->node_count);
     float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}; /* bounds of the living internodes */
@@ -133,12 +134,12 @@ static mer_result allocate_part(mer_mesh_part *part, uint64_t vertices, uint64_t
     part->index_count = (uint32_t)indices;
     if (vertices == 0)
         return MER_OK;
-    part->positions = malloc(vertices * 3 * sizeof(float));
-    part->normals = malloc(vertices * 3 * sizeof(float));
-    part->uvs = uvs ? malloc(vertices * 2 * sizeof(float)) : NULL;
-    part->node_ids = malloc(vertices * sizeof(uint32_t));
-    part->indices = malloc(indices * sizeof(uint32_t));
-    part->colors = colors ? malloc(vertices * 4 * sizeof(float)) : NULL;
+    part->positions = merp_malloc(vertices * 3 * sizeof(float));
+    part->normals = merp_malloc(vertices * 3 * sizeof(float));
+    part->uvs = uvs ? merp_malloc(vertices * 2 * sizeof(float)) : NULL;
+    part->node_ids = merp_malloc(vertices * sizeof(uint32_t));
+    part->indices = merp_malloc(indices * sizeof(uint32_t));
+    part->colors = colors ? merp_malloc(vertices * 4 * sizeof(float)) : NULL;
     if (!part->positions || !part->normals || (uvs && !part->uvs) || !part->node_ids ||
         !part->indices || (colors && !part->colors))
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for %llu vertices",
@@ -160,7 +161,7 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
     if (rc != MER_OK)
         return rc;
     if (size.line_indices > 0) {
-        m->bark.line_indices = malloc(size.line_indices * sizeof(uint32_t));
+        m->bark.line_indices = merp_malloc(size.line_indices * sizeof(uint32_t));
         if (m->bark.line_indices == NULL)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for twig lines");
         m->bark.line_index_count = (uint32_t)size.line_indices;
@@ -177,7 +178,7 @@ static mer_result add_markers(merp_builder *b, mer_error *err)
     size_t count = mer_scene_marker_count(b->scene);
     if (count == 0)
         return MER_OK;
-    b->mesh->points = malloc(count * 3 * sizeof(float));
+    b->mesh->points = merp_malloc(count * 3 * sizeof(float));
     if (b->mesh->points == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
     b->mesh->point_count = (uint32_t)mer_scene_markers(b->scene, b->mesh->points, count);
@@ -194,7 +195,7 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
     mer_result rc = resolve_options(options, mer_scene_params(scene), &b.opt, err);
     if (rc != MER_OK)
         return rc;
-    b.mesh = calloc(1, sizeof *b.mesh);
+    b.mesh = merp_calloc(1, sizeof *b.mesh);
     if (b.mesh == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a mesh");
     if ((rc = load_nodes(&b, err)) == MER_OK && (rc = merp_mesh_collect_axes(&b, err)) == MER_OK &&
@@ -209,24 +210,24 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
         *out = b.mesh;
         b.mesh = NULL; // handed over: the cleanup below must not free it
     }
-    free(b.nodes);
-    free(b.axes);
-    free(b.chain);
-    free(b.radii);
+    merp_free(b.nodes);
+    merp_free(b.axes);
+    merp_free(b.chain);
+    merp_free(b.radii);
     mer_mesh_free(b.mesh);
     return rc;
 }
 
 static void free_part(mer_mesh_part *part)
 {
-    free(part->chunks);
-    free(part->positions);
-    free(part->normals);
-    free(part->uvs);
-    free(part->colors);
-    free(part->node_ids);
-    free(part->indices);
-    free(part->line_indices);
+    merp_free(part->chunks);
+    merp_free(part->positions);
+    merp_free(part->normals);
+    merp_free(part->uvs);
+    merp_free(part->colors);
+    merp_free(part->node_ids);
+    merp_free(part->indices);
+    merp_free(part->line_indices);
 }
 
 void mer_mesh_free(mer_mesh *mesh)
@@ -235,6 +236,6 @@ void mer_mesh_free(mer_mesh *mesh)
         return;
     free_part(&mesh->bark);
     free_part(&mesh->leaves);
-    free(mesh->points);
-    free(mesh);
+    merp_free(mesh->points);
+    merp_free(mesh);
 }

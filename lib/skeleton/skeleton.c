@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/array.h"
 #include "core/hash.h"
 #include "core/vec.h"
@@ -37,7 +38,7 @@ void merp_skel_free(merp_skeleton *sk)
                       sk->order, sk->born, sk->pos, sk->dir, sk->side, sk->len, sk->q,
                       sk->dn, sk->roots, sk->stack};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
-        free(arrays[i]);
+        merp_free(arrays[i]);
     memset(sk, 0, sizeof *sk);
 }
 

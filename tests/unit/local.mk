@@ -98,4 +98,11 @@ nodist_EXTRA_tests_unit_test_snapshot_cache_SOURCES = lib/link-as-cxx.cc
 tests_unit_test_snapshot_cache_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_snapshot_cache_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_chaos
+tests_unit_test_chaos_SOURCES = tests/unit/test_chaos.c tests/unit/scene_helpers.h
+# It writes GLB: link with the C++ driver, as libmeristem does (tinygltf needs libstdc++).
+nodist_EXTRA_tests_unit_test_chaos_SOURCES = tests/unit/link-as-cxx.cc
+tests_unit_test_chaos_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_chaos_LDADD = $(UNIT_LDADD)
+
 TESTS += $(check_PROGRAMS)

@@ -10,6 +10,7 @@
 
 #include <meristem/fate.h>
 
+#include "core/alloc.h"
 #include "core/array.h"
 #include "models/p09/p09.h"
 
@@ -17,7 +18,7 @@ static mer_result p09_create(const mer_params *p, merp_model **out, mer_error *e
 {
     (void)p;
     assert(out != NULL);
-    *out = calloc(1, sizeof **out);
+    *out = merp_calloc(1, sizeof **out);
     if (*out == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
     return MER_OK;
@@ -31,8 +32,8 @@ static void p09_free(merp_model *m)
                       m->bpos, m->bdir, m->bq, m->bv, m->bquiet, m->pq, m->pv, m->pbuds,
                       m->prank, m->pscr, m->ptarget};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
-        free(arrays[i]);
-    free(m);
+        merp_free(arrays[i]);
+    merp_free(m);
 }
 
 /* Gives the nodes made since the last round (by the model's shoots, new plants)
