@@ -31,6 +31,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/p09/shedding.c \
 	lib/models/p09/params_p09.c \
 	lib/scene.c \
+	lib/scene_clone.c \
 	lib/scene_env.c \
 	lib/scene_read.c \
 	lib/edit.c \

@@ -215,6 +215,19 @@ static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
     return NULL;
 }
 
+/* Puts back the scene as it was before a refused batch (caller holds `work`):
+ * the copy taken then, or the journal replayed, or nothing (see merd_undo). */
+static void undo(merd_session *s, merd_undo how, mer_scene *before)
+{
+    char error[MERD_JOURNAL_ERROR_MAX] = "";
+    if (how == MERD_UNDO_COPY) {
+        mer_scene_free(s->scene);
+        s->scene = before;
+    } else if (how == MERD_UNDO_REPLAY && rebuild(s, error) != 0) {
+        fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
+    }
+}
+
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
                        merd_refusal *why)
 {
@@ -232,13 +245,18 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     pthread_mutex_unlock(&s->state);
     atomic_store(&s->cancel, 0);
 
+    merd_undo how = merd_batch_undo(batch);
+    mer_scene *before = NULL;
+    mer_error err = {0};
+    if (how == MERD_UNDO_COPY && mer_scene_clone(s->scene, &before, &err) != MER_OK) {
+        merd_refuse_lib(why, err.code, &err, "");
+        goto done;
+    }
     stop_ctx sc = {s, merd_now()};
     json_t *applied = NULL;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
     if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
-        // Refused halfway: undo what was applied by rebuilding from the journal.
-        if (rebuild(s, error) != 0)
-            fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
+        undo(s, how, before);
         goto done;
     }
     uint64_t revision = merd_session_revision(s);
@@ -251,14 +269,14 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
                         "undone: %s", text ? error : "out of memory");
             free(text);
             json_decref(applied);
-            if (rebuild(s, error) != 0)
-                fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
+            undo(s, how == MERD_UNDO_NOTHING ? MERD_UNDO_REPLAY : how, before);
             goto done;
         }
         free(text);
         merd_session_publish(s, revision + 1);
     }
     json_decref(applied);
+    mer_scene_free(before);
     rc = 0;
 done:
     pthread_mutex_lock(&s->state);

@@ -30,6 +30,7 @@ TESTS += tests/api/static.test.js
 TESTS += tests/api/cli.test.js
 TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
+TESTS += tests/api/undo.test.js
 TESTS += tests/api/security.test.js
 TESTS += tests/api/proto.test.js
 TESTS += tests/api/smoke.sh
@@ -51,6 +52,7 @@ EXTRA_DIST += \
 	tests/api/cli.test.js \
 	tests/api/sessions.test.js \
 	tests/api/durability.test.js \
+	tests/api/undo.test.js \
 	tests/api/security.test.js \
 	tests/api/proto.test.js \
 	tests/api/smoke.sh \

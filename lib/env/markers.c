@@ -9,7 +9,9 @@
 #include <meristem/markers.h>
 #include <meristem/params.h>
 
+#include "core/array.h"
 #include "core/vec.h"
+#include "env/env.h"
 
 #define NONE UINT32_MAX
 
@@ -434,5 +436,35 @@ mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, cons
     }
     /* 3. Q and V per bud. */
     sum_directions(m, nt, n, pos, q, v, count);
+    return MER_OK;
+}
+
+mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error *err)
+{
+    assert(m != NULL && out != NULL);
+    mer_markers *c = calloc(1, sizeof *c);
+    *out = NULL;
+    if (c == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker set");
+    *c = *m;
+    c->p = NULL;
+    c->dead = NULL;
+    c->start = NULL;
+    c->items = NULL;
+    c->best = NULL;
+    c->best_d2 = NULL;
+    c->touched = NULL;
+    /* The grid and the scratch too: what the next query sees stays exactly as it was. */
+    int ok = MERP_DUP(c->p, m->p, 3 * m->cap) && MERP_DUP(c->dead, m->dead, m->cap) &&
+             MERP_DUP(c->start, m->start, m->ncells + 1) &&
+             MERP_DUP(c->items, m->items, m->items_cap) &&
+             MERP_DUP(c->best, m->best, m->scratch_cap) &&
+             MERP_DUP(c->best_d2, m->best_d2, m->scratch_cap) &&
+             MERP_DUP(c->touched, m->touched, m->touched_cap);
+    if (!ok) {
+        mer_markers_free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a copy of the markers");
+    }
+    *out = c;
     return MER_OK;
 }

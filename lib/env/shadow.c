@@ -8,7 +8,9 @@
 #include <meristem/params.h>
 #include <meristem/shadow.h>
 
+#include "core/array.h"
 #include "core/hash.h"
+#include "env/env.h"
 
 #define FIX 4096.0f   /* fixed-point units per a */
 #define QMAX_LIMIT 32
@@ -260,4 +262,20 @@ uint64_t mer_shadow_hash(const mer_shadow *sh)
     for (size_t i = 0; i < sh->nvox; i++)
         h = merp_fnv_u32le(h, sh->s[i]);
     return h;
+}
+
+mer_result merp_shadow_clone(const mer_shadow *sh, mer_shadow **out, mer_error *err)
+{
+    assert(sh != NULL && out != NULL);
+    mer_shadow *c = malloc(sizeof *c);
+    *out = NULL;
+    if (c == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
+    *c = *sh;
+    if (!MERP_DUP(c->s, sh->s, sh->nvox)) {
+        free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
+    }
+    *out = c;
+    return MER_OK;
 }

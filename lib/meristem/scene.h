@@ -102,6 +102,13 @@ mer_result mer_scene_new(const mer_params *params, uint64_t seed, mer_scene **ou
 /* Frees `s` and everything it owns (NULL is fine). */
 void mer_scene_free(mer_scene *s);
 
+/* A deep copy of `s` into `*out` (owned by the caller): it hashes, meshes and
+ * grows on exactly as `s` does, and shares nothing with it, so a caller can keep
+ * one to undo a sequence of calls. Errors (nothing made): MER_ERR_NOMEM,
+ * MER_ERR_INVALID for a growth model that cannot be copied. Cost O(nodes + markers +
+ * shadow voxels + mesh obstacles' triangles and cells), far below regrowing. */
+mer_result mer_scene_clone(const mer_scene *s, mer_scene **out, mer_error *err);
+
 /* The scene's resolved parameters (borrowed; valid until the next set_params). */
 const mer_params *mer_scene_params(const mer_scene *s);
 

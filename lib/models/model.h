@@ -52,6 +52,9 @@ typedef struct merp_model_ops {
     void (*nodes_changed)(merp_model *m, const merp_world *w);
     /* Folds the model's own state into the scene hash `h`. */
     uint64_t (*hash)(const merp_model *m, uint64_t h);
+    /* A deep copy of its state that grows on exactly as `m` would. MER_ERR_NOMEM.
+     * May be NULL: scenes of the model cannot be cloned (MER_ERR_INVALID). */
+    mer_result (*clone)(const merp_model *m, merp_model **out, mer_error *err);
     void (*free)(merp_model *m);
 } merp_model_ops;
 

@@ -35,6 +35,29 @@ static void p09_free(merp_model *m)
     free(m);
 }
 
+static mer_result p09_clone(const merp_model *m, merp_model **out, mer_error *err)
+{
+    assert(m != NULL && out != NULL);
+    merp_model *c = calloc(1, sizeof *c);
+    *out = NULL;
+    if (c == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
+    /* The per-node state; the per-round scratch starts empty, as in a new model. */
+    size_t c1 = m->cap, c3 = 3 * (size_t)m->cap;
+    int ok = MERP_DUP(c->nbuds, m->nbuds, c1) && MERP_DUP(c->nint, m->nint, c1) &&
+             MERP_DUP(c->vin, m->vin, c1) && MERP_DUP(c->qb, m->qb, c3) &&
+             MERP_DUP(c->vb, m->vb, c3) && MERP_DUP(c->quiet, m->quiet, c3) &&
+             MERP_DUP(c->mark, m->mark, c1);
+    if (!ok) {
+        p09_free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
+    }
+    c->n = m->n;
+    c->cap = m->cap;
+    *out = c;
+    return MER_OK;
+}
+
 /* Gives the nodes made since the last round (by the model's shoots, new plants)
  * their starting per-node state. */
 static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *err)
@@ -180,4 +203,5 @@ const merp_model_ops merp_p09_ops = {
     .nodes_changed = p09_nodes_changed,
     .hash = p09_hash,
     .free = p09_free,
+    .clone = p09_clone,
 };
