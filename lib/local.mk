@@ -3,6 +3,7 @@
 noinst_LTLIBRARIES += lib/libmeristem-core.la
 lib_libmeristem_core_la_SOURCES = \
 	lib/core/array.h \
+	lib/core/bytes.h \
 	lib/core/hash.h \
 	lib/core/vec.h \
 	lib/result.c \
@@ -32,6 +33,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/p09/params_p09.c \
 	lib/scene.c \
 	lib/scene_clone.c \
+	lib/scene_io.c \
 	lib/scene_env.c \
 	lib/scene_read.c \
 	lib/edit.c \

@@ -88,6 +88,12 @@ uint64_t merp_env_hash(const merp_env *e, uint64_t h);
 /* markers.c, shadow.c: deep copies, grids and scratch included. MER_ERR_NOMEM. */
 mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error *err);
 mer_result merp_shadow_clone(const mer_shadow *sh, mer_shadow **out, mer_error *err);
+/* The markers by index, dead ones too, for a checkpoint (scene_io.c), and back
+ * into an empty set `m`: MER_ERR_FORMAT for damaged input, MER_ERR_NOMEM. */
+typedef struct merp_bytes_out merp_bytes_out;
+typedef struct merp_bytes_in merp_bytes_in;
+void merp_markers_save(const mer_markers *m, merp_bytes_out *out);
+mer_result merp_markers_load(mer_markers *m, merp_bytes_in *in, mer_error *err);
 
 /* obstacles.c */
 /* Whether p is inside obstacle o. */
@@ -120,6 +126,8 @@ mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, 
 void merp_solid_free(merp_solid *s);
 /* A solid of the same triangles. As merp_solid_new. */
 mer_result merp_solid_clone(const merp_solid *s, merp_solid **out, mer_error *err);
+/* Its triangles (9 floats each), as given to merp_solid_new. */
+const float *merp_solid_triangles(const merp_solid *s, size_t *count);
 /* 1 inside, 0 outside. O(1) away from the surface, else O(the triangles listed
  * in the few cells each axis walks). */
 int merp_solid_inside(const merp_solid *s, const float p[3]);

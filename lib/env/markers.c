@@ -10,6 +10,7 @@
 #include <meristem/params.h>
 
 #include "core/array.h"
+#include "core/bytes.h"
 #include "core/vec.h"
 #include "env/env.h"
 
@@ -466,5 +467,44 @@ mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a copy of the markers");
     }
     *out = c;
+    return MER_OK;
+}
+
+void merp_markers_save(const mer_markers *m, merp_bytes_out *out)
+{
+    /* Positions and deaths by index; the grid is rebuilt from them on the first
+     * query, in index order within a cell, as it always is. */
+    merp_put_u64(out, m->n);
+    merp_put(out, m->p, 3 * m->n * sizeof *m->p);
+    merp_put(out, m->dead, m->n);
+}
+
+mer_result merp_markers_load(mer_markers *m, merp_bytes_in *in, mer_error *err)
+{
+    assert(m != NULL && m->n == 0);
+    uint64_t n = merp_get_u64(in);
+    if (n > DEAD_BIT - 1)
+        in->bad = 1;
+    float *p = NULL;
+    uint8_t *dead = NULL;
+    if (MERP_GET_ARRAY(in, p, 3 * (size_t)n))
+        MERP_GET_ARRAY(in, dead, (size_t)n);
+    size_t alive = 0;
+    for (size_t i = 0; !in->bad && i < n; i++) {
+        if (dead[i] > 1)
+            in->bad = 1;
+        alive += !dead[i];
+    }
+    if (in->bad) {
+        free(p);
+        free(dead);
+        return in->bad == 2 ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers")
+                            : mer_error_set(err, MER_ERR_FORMAT, "markers", "damaged markers");
+    }
+    m->p = p;
+    m->dead = dead;
+    m->n = m->cap = (size_t)n;
+    m->alive = alive;
+    m->dirty = 1;
     return MER_OK;
 }

@@ -431,3 +431,9 @@ mer_result merp_solid_clone(const merp_solid *s, merp_solid **out, mer_error *er
     /* Voxelizing again is deterministic: the same triangles give the same cells. */
     return merp_solid_new(s->tri, s->ntri, out, err);
 }
+
+const float *merp_solid_triangles(const merp_solid *s, size_t *count)
+{
+    *count = s->ntri;
+    return s->tri;
+}

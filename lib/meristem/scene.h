@@ -109,6 +109,21 @@ void mer_scene_free(mer_scene *s);
  * shadow voxels + mesh obstacles' triangles and cells), far below regrowing. */
 mer_result mer_scene_clone(const mer_scene *s, mer_scene **out, mer_error *err);
 
+/* A checkpoint: the whole of `s` as versioned bytes (a magic, a version, the
+ * byte order, the length and a digest, then the state) in `*bytes` (`*size`
+ * of them, the caller frees them with free()). mer_scene_load of them gives a
+ * scene that hashes, meshes and grows on exactly as `s`. Errors (nothing
+ * made): MER_ERR_NOMEM, MER_ERR_INVALID for a growth model that cannot be
+ * saved. Cost O(nodes + markers + mesh obstacles' triangles). */
+mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer_error *err);
+
+/* The scene of a checkpoint mer_scene_save wrote, in `*out` (owned by the
+ * caller). Everything is checked before it is used: MER_ERR_FORMAT for bytes
+ * that are not a checkpoint of this version and byte order, cut short, damaged
+ * (the digest) or inconsistent (links, counts, parameters); MER_ERR_NOMEM.
+ * Cost O(size + voxels + dormant buds' shadows): the shadow grid is recast. */
+mer_result mer_scene_load(const uint8_t *bytes, size_t size, mer_scene **out, mer_error *err);
+
 /* The scene's resolved parameters (borrowed; valid until the next set_params). */
 const mer_params *mer_scene_params(const mer_scene *s);
 
