@@ -31,6 +31,7 @@ TESTS += tests/api/cli.test.js
 TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
 TESTS += tests/api/undo.test.js
+TESTS += tests/api/checkpoint.test.js
 TESTS += tests/api/security.test.js
 TESTS += tests/api/proto.test.js
 TESTS += tests/api/smoke.sh
@@ -53,6 +54,7 @@ EXTRA_DIST += \
 	tests/api/sessions.test.js \
 	tests/api/durability.test.js \
 	tests/api/undo.test.js \
+	tests/api/checkpoint.test.js \
 	tests/api/security.test.js \
 	tests/api/proto.test.js \
 	tests/api/smoke.sh \
