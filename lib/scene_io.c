@@ -4,10 +4,11 @@
  *            size, u64 FNV-1a of the payload
  *   payload  params (u32 size, then the scene's and the environment's), rng,
  *            step, skeleton (nodes by id, plants, constraint), environment
- *            (epoch, markers by index, obstacles with mesh triangles), the
- *            model's state (its ops' save)
- * The shadow grid is not stored: it is a sum of integer shadows, one per
- * dormant bud and obstacle, so recasting them gives it back exactly. */
+ *            (epoch, markers by index, the shadow grid's voxels, obstacles with
+ *            mesh triangles), the model's state (its ops' save)
+ * The shadow grid could be recast from the buds and obstacles exactly (its sums
+ * are of integers), but reading it back is O(voxels) where recasting costs
+ * O(buds · q_max²), most of a load on a large tree. */
 #include "config.h"
 
 #include <assert.h>
@@ -54,6 +55,9 @@ static void save_env(const merp_env *e, merp_bytes_out *o)
 {
     merp_put_u32(o, e->epoch);
     merp_markers_save(e->markers, o);
+    merp_put_u32(o, e->shadow != NULL);
+    if (e->shadow != NULL)
+        merp_shadow_save(e->shadow, o);
     merp_put_u32(o, e->nobs);
     for (uint32_t k = 0; k < e->nobs; k++) {
         const merp_obstacle *ob = &e->obs[k];
@@ -188,6 +192,10 @@ static mer_result load_env(merp_env *e, merp_bytes_in *in, uint32_t *epoch, mer_
     if (in->bad)
         return MER_OK;
     mer_result rc = merp_markers_load(e->markers, in, err);
+    if (rc == MER_OK && merp_get_u32(in) != (e->shadow != NULL))
+        in->bad = 1;
+    if (rc == MER_OK && !in->bad && e->shadow != NULL)
+        rc = merp_shadow_load(e->shadow, in, err);
     uint32_t nobs = rc == MER_OK ? merp_get_u32(in) : 0;
     if (nobs > MER_OBSTACLES_MAX)
         in->bad = 1;
@@ -259,7 +267,6 @@ static mer_result load_body(mer_scene *s, merp_bytes_in *in, const mer_params *e
                           : mer_error_set(err, MER_ERR_FORMAT, NULL, "a damaged checkpoint");
     if (rc != MER_OK)
         return rc;
-    merp_scene_rebuild_shadow(s);
     s->env.epoch = epoch;
     return MER_OK;
 }

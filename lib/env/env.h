@@ -94,6 +94,9 @@ typedef struct merp_bytes_out merp_bytes_out;
 typedef struct merp_bytes_in merp_bytes_in;
 void merp_markers_save(const mer_markers *m, merp_bytes_out *out);
 mer_result merp_markers_load(mer_markers *m, merp_bytes_in *in, mer_error *err);
+/* The shadow grid's voxels, and back into a grid of the same size. */
+void merp_shadow_save(const mer_shadow *sh, merp_bytes_out *out);
+mer_result merp_shadow_load(mer_shadow *sh, merp_bytes_in *in, mer_error *err);
 
 /* obstacles.c */
 /* Whether p is inside obstacle o. */

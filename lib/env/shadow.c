@@ -9,6 +9,7 @@
 #include <meristem/shadow.h>
 
 #include "core/array.h"
+#include "core/bytes.h"
 #include "core/hash.h"
 #include "env/env.h"
 
@@ -277,5 +278,24 @@ mer_result merp_shadow_clone(const mer_shadow *sh, mer_shadow **out, mer_error *
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
     }
     *out = c;
+    return MER_OK;
+}
+
+void merp_shadow_save(const mer_shadow *sh, merp_bytes_out *out)
+{
+    merp_put_u64(out, sh->nvox);
+    merp_put(out, sh->s, sh->nvox * sizeof *sh->s);
+}
+
+mer_result merp_shadow_load(mer_shadow *sh, merp_bytes_in *in, mer_error *err)
+{
+    if (merp_get_u64(in) != sh->nvox)
+        in->bad = 1;
+    if (!in->bad && sh->nvox > (in->n - in->at) / sizeof *sh->s)
+        in->bad = 1;
+    if (in->bad)
+        return mer_error_set(err, MER_ERR_FORMAT, "shadow", "a damaged shadow grid");
+    /* Any value is a shade: the grid holds sums that wrap (mer_shadow_cast_at). */
+    merp_get(in, sh->s, sh->nvox * sizeof *sh->s);
     return MER_OK;
 }

@@ -114,14 +114,14 @@ mer_result mer_scene_clone(const mer_scene *s, mer_scene **out, mer_error *err);
  * of them, the caller frees them with free()). mer_scene_load of them gives a
  * scene that hashes, meshes and grows on exactly as `s`. Errors (nothing
  * made): MER_ERR_NOMEM, MER_ERR_INVALID for a growth model that cannot be
- * saved. Cost O(nodes + markers + mesh obstacles' triangles). */
+ * saved. Cost O(nodes + markers + voxels + mesh obstacles' triangles). */
 mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer_error *err);
 
 /* The scene of a checkpoint mer_scene_save wrote, in `*out` (owned by the
  * caller). Everything is checked before it is used: MER_ERR_FORMAT for bytes
  * that are not a checkpoint of this version and byte order, cut short, damaged
  * (the digest) or inconsistent (links, counts, parameters); MER_ERR_NOMEM.
- * Cost O(size + voxels + dormant buds' shadows): the shadow grid is recast. */
+ * Cost O(size + voxels). */
 mer_result mer_scene_load(const uint8_t *bytes, size_t size, mer_scene **out, mer_error *err);
 
 /* The scene's resolved parameters (borrowed; valid until the next set_params). */
