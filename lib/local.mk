@@ -5,6 +5,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/core/alloc.h \
 	lib/core/alloc.c \
 	lib/core/array.h \
+	lib/core/bytes.h \
 	lib/core/hash.h \
 	lib/core/vec.h \
 	lib/result.c \
@@ -33,6 +34,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/p09/shedding.c \
 	lib/models/p09/params_p09.c \
 	lib/scene.c \
+	lib/scene_clone.c \
+	lib/scene_io.c \
 	lib/scene_env.c \
 	lib/scene_read.c \
 	lib/edit.c \

@@ -61,6 +61,20 @@ typedef const char *(*merd_batch_stop_fn)(void *ctx, uint32_t done, uint32_t tot
 int merd_batch_apply(const merd_batch *b, mer_scene *scene, merd_batch_stop_fn stop, void *ctx,
                      merd_batch_outcome *outcome, json_t **applied, merd_refusal *why);
 
+/* How a refusal of `b` halfway is undone. */
+typedef enum merd_undo {
+    /* One edit, one library call: a refused call changes nothing. */
+    MERD_UNDO_NOTHING,
+    /* One step edit: a copy would cost O(shadow voxels) before every step, and a
+     * step is refused only when out of memory or past the node limit; then the
+     * journal is replayed. */
+    MERD_UNDO_REPLAY,
+    /* Anything else: a copy of the scene (mer_scene_clone) taken before. */
+    MERD_UNDO_COPY
+} merd_undo;
+
+merd_undo merd_batch_undo(const merd_batch *b);
+
 /* Decodes and applies a journaled `applied` array (replay): the same edits,
  * never stopped. 0, or -1 with `why`. */
 int merd_batch_replay(const json_t *applied, mer_scene *scene, merd_refusal *why);

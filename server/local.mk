@@ -16,6 +16,7 @@ server_meristemd_SOURCES = \
 	server/edit_ops.c server/edit_ops.h \
 	server/edits.c server/edits.h \
 	server/journal.c server/journal.h \
+	server/checkpoint.c server/checkpoint.h \
 	server/session.c server/session.h server/session_private.h \
 	server/session_summary.c server/session_snapshot.c \
 	server/snapshot.c server/snapshot.h \

@@ -33,6 +33,7 @@ static merd_session_config session_config(const merd_settings *config)
                    .max_markers = (uint32_t)config->max_markers},
         .max_internodes = (uint32_t)config->max_internodes,
         .max_seconds = (double)config->max_seconds,
+        .checkpoint_every = (uint32_t)config->checkpoint_every,
     };
 }
 

@@ -5,7 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "server/checkpoint.h"
 #include "server/clock.h"
 #include "server/session_private.h"
 #include "server/spec.h"
@@ -19,6 +21,7 @@ static merd_session *session_new(const merd_session_config *cfg, const char *id)
     atomic_init(&s->cancel, 0);
     snprintf(s->id, sizeof s->id, "%s", id);
     snprintf(s->path, sizeof s->path, "%s/%s.journal", cfg->data_dir, id);
+    snprintf(s->checkpoint, sizeof s->checkpoint, "%s/%s.checkpoint", cfg->data_dir, id);
     s->cfg = cfg;
     pthread_mutex_init(&s->work, NULL);
     pthread_mutex_init(&s->state, NULL);
@@ -28,6 +31,8 @@ static merd_session *session_new(const merd_session_config *cfg, const char *id)
 static void session_free(merd_session *s, bool remove)
 {
     merd_journal_close(s->journal, remove);
+    if (remove)
+        unlink(s->checkpoint);
     mer_scene_free(s->scene);
     json_decref(s->spec);
     json_decref(s->summary);
@@ -72,6 +77,9 @@ typedef struct replay_ctx {
     merd_session *s;
     uint64_t revision;
     char *error;
+    mer_scene *base;      /* a checkpoint's scene, taken at record 0, or NULL */
+    uint64_t base_revision;
+    size_t replayed;      /* records applied after the checkpoint */
 } replay_ctx;
 
 static int replay_record(void *ctx, size_t index, const char *payload, size_t size)
@@ -90,7 +98,8 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
             goto done;
         // Replay builds what was accepted once, whatever today's limits say.
         const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
-        r->s->scene = merd_scene_from_spec(create, &unlimited, &why);
+        r->s->scene = r->base ? r->base : merd_scene_from_spec(create, &unlimited, &why);
+        r->base = NULL;
         r->s->spec = json_deep_copy(create);
         rc = r->s->scene != NULL ? 0 : -1;
     } else {
@@ -98,8 +107,10 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         const json_t *edits = json_object_get(doc, "edits");
         if (r->s->scene == NULL || !json_is_integer(rev) || !json_is_array(edits))
             goto done;
-        rc = merd_batch_replay(edits, r->s->scene, &why);
         r->revision = (uint64_t)json_integer_value(rev);
+        // The checkpoint holds the records up to its revision.
+        rc = r->revision <= r->base_revision ? 0 : merd_batch_replay(edits, r->s->scene, &why);
+        r->replayed += r->revision > r->base_revision;
     }
 done:
     if (rc != 0)
@@ -109,8 +120,9 @@ done:
     return rc;
 }
 
-/* Builds the session's scene afresh from its journal (caller holds `work`). */
-static int rebuild(merd_session *s, char *error)
+/* Builds the session's scene afresh from its journal, the whole of it (caller
+ * holds `work`); `r` is fresh and is filled as replay_record does. */
+static int rebuild(merd_session *s, replay_ctx *r, size_t *dropped)
 {
     merd_journal_close(s->journal, false);
     s->journal = NULL;
@@ -118,9 +130,38 @@ static int rebuild(merd_session *s, char *error)
     s->scene = NULL;
     json_decref(s->spec);
     s->spec = NULL;
-    replay_ctx r = {s, 0, error};
-    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, &r, NULL, error);
+    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, dropped, r->error);
     return s->journal != NULL && s->scene != NULL ? 0 : -1;
+}
+
+/* Opens the journal of `s` and replays it onto its checkpoint's scene when
+ * there is one that the journal reaches; `r` is filled as replay_record does. */
+static void replay_from_checkpoint(merd_session *s, replay_ctx *r, size_t *dropped)
+{
+    char why[MERD_JOURNAL_ERROR_MAX] = "";
+    r->base = merd_checkpoint_read(s->checkpoint, s->id, &r->base_revision, why);
+    if (r->base == NULL)
+        r->base_revision = 0; /* replay every record */
+    if (r->base == NULL && access(s->checkpoint, F_OK) == 0)
+        fprintf(stderr, "meristemd: session %s: the checkpoint is not used: %s\n", s->id, why);
+    bool from_checkpoint = r->base != NULL;
+    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, dropped, r->error);
+    mer_scene_free(r->base); /* not taken: the journal has no first record */
+    r->base = NULL;
+    if (s->journal == NULL || !from_checkpoint)
+        return;
+    if (r->revision >= r->base_revision) {
+        fprintf(stderr, "meristemd: session %s: restored from its checkpoint at revision %llu "
+                "and %zu journal records after it\n", s->id,
+                (unsigned long long)r->base_revision, r->replayed);
+        return;
+    }
+    // A journal shorter than its checkpoint (its tail was dropped): trust the journal.
+    fprintf(stderr, "meristemd: session %s: the checkpoint (revision %llu) is past the journal "
+            "(revision %llu): replaying it all\n", s->id, (unsigned long long)r->base_revision,
+            (unsigned long long)r->revision);
+    *r = (replay_ctx){.s = s, .error = r->error};
+    rebuild(s, r, dropped);
 }
 
 merd_session *merd_session_restore(const merd_session_config *cfg, const char *path, size_t *dropped,
@@ -138,8 +179,8 @@ merd_session *merd_session_restore(const merd_session_config *cfg, const char *p
     merd_session *s = session_new(cfg, id);
     if (s == NULL)
         return NULL;
-    replay_ctx r = {s, 0, error};
-    s->journal = merd_journal_open(s->path, cfg->fsync, replay_record, &r, dropped, error);
+    replay_ctx r = {.s = s, .error = error};
+    replay_from_checkpoint(s, &r, dropped);
     if (s->journal == NULL || s->scene == NULL) {
         session_free(s, false);
         return NULL;
@@ -217,6 +258,32 @@ static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
     return NULL;
 }
 
+/* Writes a checkpoint every cfg->checkpoint_every revisions (caller holds
+ * `work`). A failure costs only restore time: the journal has every record. */
+static void checkpoint(merd_session *s, uint64_t revision)
+{
+    uint32_t every = s->cfg->checkpoint_every;
+    char error[MERD_JOURNAL_ERROR_MAX] = "";
+    if (every > 0 && revision % every == 0 &&
+        merd_checkpoint_write(s->checkpoint, s->id, revision, s->scene,
+                              s->cfg->fsync == MERD_FSYNC_ALWAYS, error) != 0)
+        fprintf(stderr, "meristemd: session %s: no checkpoint at revision %llu: %s\n", s->id,
+                (unsigned long long)revision, error);
+}
+
+/* Puts back the scene as it was before a refused batch (caller holds `work`):
+ * the copy taken then, or the journal replayed, or nothing (see merd_undo). */
+static void undo(merd_session *s, merd_undo how, mer_scene *before)
+{
+    char error[MERD_JOURNAL_ERROR_MAX] = "";
+    if (how == MERD_UNDO_COPY) {
+        mer_scene_free(s->scene);
+        s->scene = before;
+    } else if (how == MERD_UNDO_REPLAY && rebuild(s, &(replay_ctx){.s = s, .error = error}, NULL) != 0) {
+        fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
+    }
+}
+
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
                        merd_refusal *why)
 {
@@ -234,13 +301,18 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     pthread_mutex_unlock(&s->state);
     atomic_store(&s->cancel, 0);
 
+    merd_undo how = merd_batch_undo(batch);
+    mer_scene *before = NULL;
+    mer_error err = {0};
+    if (how == MERD_UNDO_COPY && mer_scene_clone(s->scene, &before, &err) != MER_OK) {
+        merd_refuse_lib(why, err.code, &err, "");
+        goto done;
+    }
     stop_ctx sc = {s, merd_now()};
     json_t *applied = NULL;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
     if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
-        // Refused halfway: undo what was applied by rebuilding from the journal.
-        if (rebuild(s, error) != 0)
-            fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
+        undo(s, how, before);
         goto done;
     }
     uint64_t revision = merd_session_revision(s);
@@ -253,14 +325,15 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
                         "undone: %s", text ? error : "out of memory");
             free(text);
             json_decref(applied);
-            if (rebuild(s, error) != 0)
-                fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
+            undo(s, how == MERD_UNDO_NOTHING ? MERD_UNDO_REPLAY : how, before);
             goto done;
         }
         free(text);
         merd_session_publish(s, revision + 1);
+        checkpoint(s, revision + 1);
     }
     json_decref(applied);
+    mer_scene_free(before);
     rc = 0;
 done:
     pthread_mutex_lock(&s->state);

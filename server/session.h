@@ -37,6 +37,7 @@ typedef struct merd_session_config {
     double max_seconds;          /* per request: a batch stops at the step that passes it */
     size_t max_obstacle_triangles;
     const atomic_int *stopping;  /* when set and non-zero: batches stop at the next whole step */
+    uint32_t checkpoint_every;   /* revisions between checkpoints; 0: none */
 } merd_session_config;
 
 /* Creates a session with id `id` (32 hex digits) from a create request `spec`
@@ -45,7 +46,8 @@ typedef struct merd_session_config {
 merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
                                   merd_refusal *why);
 
-/* Restores the session journaled at `path` by replaying it. NULL with a reason
+/* Restores the session journaled at `path`: from its checkpoint and the records
+ * after it, or, without a checkpoint that fits, by replaying it all. NULL with a reason
  * in `error` (MERD_JOURNAL_ERROR_MAX bytes). `*dropped` gets a torn tail's bytes. */
 merd_session *merd_session_restore(const merd_session_config *cfg, const char *path,
                                    size_t *dropped, char *error);

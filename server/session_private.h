@@ -15,6 +15,7 @@ struct merd_session {
     atomic_int refs;
     char id[33];
     char path[PATH_MAX];
+    char checkpoint[PATH_MAX]; /* beside the journal: <id>.checkpoint */
     const merd_session_config *cfg;
     json_t *spec;            /* the create request, as journaled */
 

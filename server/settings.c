@@ -63,6 +63,9 @@ static const opt_spec specs[] = {
     {"max-steps", OPT_LONG, 1, 100000, "1000", NUM(max_steps), "steps one request may ask for"},
     {"max-request-seconds", OPT_LONG, 1, 86400, "300", NUM(max_seconds),
      "seconds an edit batch may run; it then stops at the last whole step"},
+    {"checkpoint-every", OPT_LONG, 0, 1000000, "50", NUM(checkpoint_every),
+     "write a session's checkpoint every this many revisions (0: never), so that restore "
+     "replays only the journal after it"},
     {"fsync", OPT_STRING, 0, 0, "always", STR(fsync),
      "always: flush the journal before every reply; interval: every --fsync-interval ms "
      "(a power cut may lose that long)"},

@@ -30,6 +30,8 @@ TESTS += tests/api/static.test.js
 TESTS += tests/api/cli.test.js
 TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
+TESTS += tests/api/undo.test.js
+TESTS += tests/api/checkpoint.test.js
 TESTS += tests/api/security.test.js
 TESTS += tests/api/limits.test.js
 TESTS += tests/api/shutdown.test.js
@@ -54,6 +56,8 @@ EXTRA_DIST += \
 	tests/api/cli.test.js \
 	tests/api/sessions.test.js \
 	tests/api/durability.test.js \
+	tests/api/undo.test.js \
+	tests/api/checkpoint.test.js \
 	tests/api/security.test.js \
 	tests/api/limits.test.js \
 	tests/api/shutdown.test.js \

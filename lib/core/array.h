@@ -29,4 +29,24 @@ static inline int merp_array_resize(void *pp, size_t count, size_t size)
 /* merp_array_resize for a typed pointer variable `ptr`: `count` elements of *ptr. */
 #define MERP_RESIZE(ptr, count) merp_array_resize(&(ptr), (count), sizeof *(ptr))
 
+/* A copy of the first `count` elements of `size` bytes at `src` into a new block
+ * at `*pp` (NULL when src is NULL or count is 0). Returns 0 when out of memory
+ * (`*pp` is NULL then), else 1. */
+static inline int merp_array_dup(void *pp, const void *src, size_t count, size_t size)
+{
+    assert(pp != NULL && size > 0);
+    void *q = NULL;
+    if (src != NULL && count > 0) {
+        if (count > SIZE_MAX / size || (q = merp_malloc(count * size)) == NULL) {
+            memcpy(pp, &q, sizeof q);
+            return 0;
+        }
+        memcpy(q, src, count * size);
+    }
+    memcpy(pp, &q, sizeof q);
+    return 1;
+}
+/* merp_array_dup into a typed pointer `dst` from the array `src` of the same type. */
+#define MERP_DUP(dst, src, count) merp_array_dup(&(dst), (src), (count), sizeof *(src))
+
 #endif

@@ -49,6 +49,34 @@ void merp_env_free(merp_env *e)
     memset(e, 0, sizeof *e);
 }
 
+mer_result merp_env_clone(const merp_env *src, merp_env *dst, mer_error *err)
+{
+    assert(src != NULL && dst != NULL);
+    memset(dst, 0, sizeof *dst);
+    dst->p = src->p;
+    dst->epoch = src->epoch;
+    mer_result rc = MER_OK;
+    if (src->markers != NULL)
+        rc = merp_markers_clone(src->markers, &dst->markers, err);
+    if (rc == MER_OK && src->shadow != NULL)
+        rc = merp_shadow_clone(src->shadow, &dst->shadow, err);
+    if (rc == MER_OK && src->nobs > 0) {
+        dst->obs = merp_calloc(src->nobs, sizeof *dst->obs);
+        if (dst->obs == NULL)
+            rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for obstacles");
+    }
+    for (uint32_t o = 0; rc == MER_OK && o < src->nobs; o++) {
+        dst->obs[o] = src->obs[o];
+        dst->obs[o].solid = NULL;
+        dst->nobs = o + 1;
+        if (src->obs[o].solid != NULL)
+            rc = merp_solid_clone(src->obs[o].solid, &dst->obs[o].solid, err);
+    }
+    if (rc != MER_OK)
+        merp_env_free(dst);
+    return rc;
+}
+
 static int same_grid(const mer_params *a, const mer_params *b)
 {
     return memcmp(a->bounds_min, b->bounds_min, sizeof a->bounds_min) == 0 &&

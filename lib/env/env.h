@@ -48,6 +48,10 @@ typedef struct merp_env_change {
 /* Builds the grids of resolved parameters `p`. MER_ERR_NOMEM. */
 mer_result merp_env_init(merp_env *e, const mer_params *p, mer_error *err);
 void merp_env_free(merp_env *e);
+/* A deep copy of `src` into `dst` (whose old contents are ignored): markers,
+ * shadow grid and obstacles, bit for bit. MER_ERR_NOMEM (dst is empty then).
+ * O(markers + voxels + mesh obstacles' triangles and cells). */
+mer_result merp_env_clone(const merp_env *src, merp_env *dst, mer_error *err);
 /* Prepares the grids `p` needs (O(markers) when the marker grid changes); nothing
  * of `e` changes. Then merp_env_commit, which cannot fail, swaps them in; when it
  * returns 1 the shadow grid is new and empty: the caller casts its buds and then
@@ -81,6 +85,19 @@ mer_result merp_env_add_markers(merp_env *e, const float *xyz, size_t count, mer
 /* Folds obstacles (only when there are some) and marker positions into `h`. */
 uint64_t merp_env_hash(const merp_env *e, uint64_t h);
 
+/* markers.c, shadow.c: deep copies, grids and scratch included. MER_ERR_NOMEM. */
+mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error *err);
+mer_result merp_shadow_clone(const mer_shadow *sh, mer_shadow **out, mer_error *err);
+/* The markers by index, dead ones too, for a checkpoint (scene_io.c), and back
+ * into an empty set `m`: MER_ERR_FORMAT for damaged input, MER_ERR_NOMEM. */
+typedef struct merp_bytes_out merp_bytes_out;
+typedef struct merp_bytes_in merp_bytes_in;
+void merp_markers_save(const mer_markers *m, merp_bytes_out *out);
+mer_result merp_markers_load(mer_markers *m, merp_bytes_in *in, mer_error *err);
+/* The shadow grid's voxels, and back into a grid of the same size. */
+void merp_shadow_save(const mer_shadow *sh, merp_bytes_out *out);
+mer_result merp_shadow_load(mer_shadow *sh, merp_bytes_in *in, mer_error *err);
+
 /* obstacles.c */
 /* Whether p is inside obstacle o. */
 int merp_inside_obstacle(const merp_obstacle *o, const float *p);
@@ -110,6 +127,10 @@ mer_result merp_env_fill_mesh(merp_env *e, mer_rng *rng, const float *xyz, size_
  * triangle-cell pairs), the pairs bounded there. */
 mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, mer_error *err);
 void merp_solid_free(merp_solid *s);
+/* A solid of the same triangles. As merp_solid_new. */
+mer_result merp_solid_clone(const merp_solid *s, merp_solid **out, mer_error *err);
+/* Its triangles (9 floats each), as given to merp_solid_new. */
+const float *merp_solid_triangles(const merp_solid *s, size_t *count);
 /* 1 inside, 0 outside. O(1) away from the surface, else O(the triangles listed
  * in the few cells each axis walks). */
 int merp_solid_inside(const merp_solid *s, const float p[3]);

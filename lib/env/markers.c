@@ -10,7 +10,10 @@
 #include <meristem/params.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
+#include "core/bytes.h"
 #include "core/vec.h"
+#include "env/env.h"
 
 #define NONE UINT32_MAX
 
@@ -435,5 +438,74 @@ mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, cons
     }
     /* 3. Q and V per bud. */
     sum_directions(m, nt, n, pos, q, v, count);
+    return MER_OK;
+}
+
+mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error *err)
+{
+    assert(m != NULL && out != NULL);
+    mer_markers *c = merp_calloc(1, sizeof *c);
+    *out = NULL;
+    if (c == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker set");
+    *c = *m;
+    c->p = NULL;
+    c->dead = NULL;
+    c->start = NULL;
+    c->items = NULL;
+    c->best = NULL;
+    c->best_d2 = NULL;
+    c->touched = NULL;
+    /* The grid and the scratch too: what the next query sees stays exactly as it was. */
+    int ok = MERP_DUP(c->p, m->p, 3 * m->cap) && MERP_DUP(c->dead, m->dead, m->cap) &&
+             MERP_DUP(c->start, m->start, m->ncells + 1) &&
+             MERP_DUP(c->items, m->items, m->items_cap) &&
+             MERP_DUP(c->best, m->best, m->scratch_cap) &&
+             MERP_DUP(c->best_d2, m->best_d2, m->scratch_cap) &&
+             MERP_DUP(c->touched, m->touched, m->touched_cap);
+    if (!ok) {
+        mer_markers_free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a copy of the markers");
+    }
+    *out = c;
+    return MER_OK;
+}
+
+void merp_markers_save(const mer_markers *m, merp_bytes_out *out)
+{
+    /* Positions and deaths by index; the grid is rebuilt from them on the first
+     * query, in index order within a cell, as it always is. */
+    merp_put_u64(out, m->n);
+    merp_put(out, m->p, 3 * m->n * sizeof *m->p);
+    merp_put(out, m->dead, m->n);
+}
+
+mer_result merp_markers_load(mer_markers *m, merp_bytes_in *in, mer_error *err)
+{
+    assert(m != NULL && m->n == 0);
+    uint64_t n = merp_get_u64(in);
+    if (n > DEAD_BIT - 1)
+        in->bad = 1;
+    float *p = NULL;
+    uint8_t *dead = NULL;
+    if (MERP_GET_ARRAY(in, p, 3 * (size_t)n))
+        MERP_GET_ARRAY(in, dead, (size_t)n);
+    size_t alive = 0;
+    for (size_t i = 0; !in->bad && i < n; i++) {
+        if (dead[i] > 1)
+            in->bad = 1;
+        alive += !dead[i];
+    }
+    if (in->bad) {
+        merp_free(p);
+        merp_free(dead);
+        return in->bad == 2 ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers")
+                            : mer_error_set(err, MER_ERR_FORMAT, "markers", "damaged markers");
+    }
+    m->p = p;
+    m->dead = dead;
+    m->n = m->cap = (size_t)n;
+    m->alive = alive;
+    m->dirty = 1;
     return MER_OK;
 }

@@ -9,7 +9,10 @@
 #include <meristem/shadow.h>
 
 #include "core/alloc.h"
+#include "core/array.h"
+#include "core/bytes.h"
 #include "core/hash.h"
+#include "env/env.h"
 
 #define FIX 4096.0f   /* fixed-point units per a */
 #define QMAX_LIMIT 32
@@ -261,4 +264,39 @@ uint64_t mer_shadow_hash(const mer_shadow *sh)
     for (size_t i = 0; i < sh->nvox; i++)
         h = merp_fnv_u32le(h, sh->s[i]);
     return h;
+}
+
+mer_result merp_shadow_clone(const mer_shadow *sh, mer_shadow **out, mer_error *err)
+{
+    assert(sh != NULL && out != NULL);
+    mer_shadow *c = merp_malloc(sizeof *c);
+    *out = NULL;
+    if (c == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
+    *c = *sh;
+    if (!MERP_DUP(c->s, sh->s, sh->nvox)) {
+        merp_free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
+    }
+    *out = c;
+    return MER_OK;
+}
+
+void merp_shadow_save(const mer_shadow *sh, merp_bytes_out *out)
+{
+    merp_put_u64(out, sh->nvox);
+    merp_put(out, sh->s, sh->nvox * sizeof *sh->s);
+}
+
+mer_result merp_shadow_load(mer_shadow *sh, merp_bytes_in *in, mer_error *err)
+{
+    if (merp_get_u64(in) != sh->nvox)
+        in->bad = 1;
+    if (!in->bad && sh->nvox > (in->n - in->at) / sizeof *sh->s)
+        in->bad = 1;
+    if (in->bad)
+        return mer_error_set(err, MER_ERR_FORMAT, "shadow", "a damaged shadow grid");
+    /* Any value is a shade: the grid holds sums that wrap (mer_shadow_cast_at). */
+    merp_get(in, sh->s, sh->nvox * sizeof *sh->s);
+    return MER_OK;
 }

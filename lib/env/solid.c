@@ -426,3 +426,15 @@ void merp_solid_cell_point(const merp_solid *s, uint32_t cell, const float f[3],
     for (int a = 0; a < 3; a++)
         out[a] = s->org[a] + ((float)ijk[a] + f[a]) * s->h;
 }
+
+mer_result merp_solid_clone(const merp_solid *s, merp_solid **out, mer_error *err)
+{
+    /* Voxelizing again is deterministic: the same triangles give the same cells. */
+    return merp_solid_new(s->tri, s->ntri, out, err);
+}
+
+const float *merp_solid_triangles(const merp_solid *s, size_t *count)
+{
+    *count = s->ntri;
+    return s->tri;
+}

@@ -103,6 +103,29 @@ mer_result mer_scene_new(const mer_params *params, uint64_t seed, mer_scene **ou
 /* Frees `s` and everything it owns (NULL is fine). */
 void mer_scene_free(mer_scene *s);
 
+/* A deep copy of `s` into `*out` (owned by the caller): it hashes, meshes and
+ * grows on exactly as `s` does, and shares nothing with it, so a caller can keep
+ * one to undo a sequence of calls. Errors (nothing made): MER_ERR_NOMEM,
+ * MER_ERR_INVALID for a growth model that cannot be copied. Cost O(nodes + markers +
+ * shadow voxels + mesh obstacles' triangles and cells), far below regrowing. */
+mer_result mer_scene_clone(const mer_scene *s, mer_scene **out, mer_error *err);
+
+/* A checkpoint: the whole of `s` as versioned bytes (a magic, a version, the
+ * byte order, the length and a digest, then the state) in `*bytes` (`*size`
+ * of them; the caller frees them with the free function of meristem/alloc.h,
+ * free() unless mer_set_alloc_funcs changed it). mer_scene_load of them gives a
+ * scene that hashes, meshes and grows on exactly as `s`. Errors (nothing
+ * made): MER_ERR_NOMEM, MER_ERR_INVALID for a growth model that cannot be
+ * saved. Cost O(nodes + markers + voxels + mesh obstacles' triangles). */
+mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer_error *err);
+
+/* The scene of a checkpoint mer_scene_save wrote, in `*out` (owned by the
+ * caller). Everything is checked before it is used: MER_ERR_FORMAT for bytes
+ * that are not a checkpoint of this version and byte order, cut short, damaged
+ * (the digest) or inconsistent (links, counts, parameters); MER_ERR_NOMEM.
+ * Cost O(size + voxels). */
+mer_result mer_scene_load(const uint8_t *bytes, size_t size, mer_scene **out, mer_error *err);
+
 /* The scene's resolved parameters (borrowed; valid until the next set_params). */
 const mer_params *mer_scene_params(const mer_scene *s);
 

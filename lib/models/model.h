@@ -52,6 +52,14 @@ typedef struct merp_model_ops {
     void (*nodes_changed)(merp_model *m, const merp_world *w);
     /* Folds the model's own state into the scene hash `h`. */
     uint64_t (*hash)(const merp_model *m, uint64_t h);
+    /* A deep copy of its state that grows on exactly as `m` would. MER_ERR_NOMEM.
+     * May be NULL: scenes of the model cannot be cloned (MER_ERR_INVALID). */
+    mer_result (*clone)(const merp_model *m, merp_model **out, mer_error *err);
+    /* Its state into a checkpoint (scene_io.c), and a new state read back from
+     * one, for a skeleton of `nodes` nodes: MER_ERR_FORMAT for damaged input,
+     * MER_ERR_NOMEM. Both may be NULL: the model's scenes cannot be saved. */
+    void (*save)(const merp_model *m, merp_bytes_out *out);
+    mer_result (*load)(merp_bytes_in *in, uint32_t nodes, merp_model **out, mer_error *err);
     void (*free)(merp_model *m);
 } merp_model_ops;
 

@@ -42,6 +42,39 @@ void merp_skel_free(merp_skeleton *sk)
     memset(sk, 0, sizeof *sk);
 }
 
+mer_result merp_skel_clone(const merp_skeleton *src, merp_skeleton *dst, merp_bud_fn on_bud,
+                           void *ctx, mer_error *err)
+{
+    assert(src != NULL && dst != NULL);
+    memset(dst, 0, sizeof *dst);
+    /* Whole capacities, so that growth reallocates exactly when the original would. */
+    size_t c1 = src->cap, c3 = 3 * (size_t)src->cap;
+    int ok = MERP_DUP(dst->parent, src->parent, c1) && MERP_DUP(dst->child, src->child, c3) &&
+             MERP_DUP(dst->bud, src->bud, c3) && MERP_DUP(dst->slot, src->slot, c1) &&
+             MERP_DUP(dst->alive, src->alive, c1) && MERP_DUP(dst->plant, src->plant, c1) &&
+             MERP_DUP(dst->order, src->order, c1) && MERP_DUP(dst->born, src->born, c1) &&
+             MERP_DUP(dst->pos, src->pos, c3) && MERP_DUP(dst->dir, src->dir, c3) &&
+             MERP_DUP(dst->side, src->side, c3) && MERP_DUP(dst->len, src->len, c1) &&
+             MERP_DUP(dst->q, src->q, c1) && MERP_DUP(dst->dn, src->dn, c1) &&
+             MERP_DUP(dst->roots, src->roots, src->cap_plants);
+    if (!ok) {
+        merp_skel_free(dst);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a copy of the nodes");
+    }
+    dst->n = src->n;
+    dst->cap = src->cap;
+    dst->pipe_n = src->pipe_n;
+    dst->cos_beta = src->cos_beta;
+    dst->sin_beta = src->sin_beta;
+    dst->nplants = src->nplants;
+    dst->cap_plants = src->cap_plants;
+    dst->con_node = src->con_node;
+    dst->con_slot = src->con_slot;
+    dst->on_bud = on_bud; /* the stack is scratch: it starts empty */
+    dst->on_bud_ctx = ctx;
+    return MER_OK;
+}
+
 static mer_result reserve(merp_skeleton *sk, uint32_t want, mer_error *err)
 {
     if (want <= sk->cap)

@@ -50,6 +50,10 @@ typedef struct merp_skeleton {
 /* An empty skeleton with the branch angle and pipe exponent of `p` (resolved). */
 void merp_skel_init(merp_skeleton *sk, const mer_params *p, merp_bud_fn on_bud, void *ctx);
 void merp_skel_free(merp_skeleton *sk);
+/* A deep copy of `src` into `dst` (whose old contents are ignored) that tells
+ * `on_bud`/`ctx` of its buds. MER_ERR_NOMEM (dst is empty then). O(nodes). */
+mer_result merp_skel_clone(const merp_skeleton *src, merp_skeleton *dst, merp_bud_fn on_bud,
+                           void *ctx, mer_error *err);
 /* Takes the branch angle of `p` (resolved) for the lateral bud directions. */
 void merp_skel_init_angles(merp_skeleton *sk, const mer_params *p);
 /* A new node born at `step`, unlinked, zeroed, with no buds. MER_ERR_LIMIT past

@@ -16,7 +16,7 @@ tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
 CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
-EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js
+EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js
 
 BENCH_WORKLOADS = table1-fig10-left table1-fig10-center table1-fig10-right colonization-1M-markers
 

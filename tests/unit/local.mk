@@ -106,3 +106,10 @@ tests_unit_test_chaos_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_chaos_LDADD = $(UNIT_LDADD)
 
 TESTS += $(check_PROGRAMS)
+
+check_PROGRAMS += tests/unit/test_clone
+tests_unit_test_clone_SOURCES = tests/unit/test_clone.c tests/unit/scene_helpers.h
+# GLB bytes are freed by the glTF writer's (C++) free: link with the C++ driver.
+nodist_EXTRA_tests_unit_test_clone_SOURCES = lib/link-as-cxx.cc
+tests_unit_test_clone_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_clone_LDADD = $(UNIT_LDADD)

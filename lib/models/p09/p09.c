@@ -12,6 +12,7 @@
 
 #include "core/alloc.h"
 #include "core/array.h"
+#include "core/bytes.h"
 #include "models/p09/p09.h"
 
 static mer_result p09_create(const mer_params *p, merp_model **out, mer_error *err)
@@ -34,6 +35,66 @@ static void p09_free(merp_model *m)
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
         merp_free(arrays[i]);
     merp_free(m);
+}
+
+static mer_result p09_clone(const merp_model *m, merp_model **out, mer_error *err)
+{
+    assert(m != NULL && out != NULL);
+    merp_model *c = merp_calloc(1, sizeof *c);
+    *out = NULL;
+    if (c == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
+    /* The per-node state; the per-round scratch starts empty, as in a new model. */
+    size_t c1 = m->cap, c3 = 3 * (size_t)m->cap;
+    int ok = MERP_DUP(c->nbuds, m->nbuds, c1) && MERP_DUP(c->nint, m->nint, c1) &&
+             MERP_DUP(c->vin, m->vin, c1) && MERP_DUP(c->qb, m->qb, c3) &&
+             MERP_DUP(c->vb, m->vb, c3) && MERP_DUP(c->quiet, m->quiet, c3) &&
+             MERP_DUP(c->mark, m->mark, c1);
+    if (!ok) {
+        p09_free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
+    }
+    c->n = m->n;
+    c->cap = m->cap;
+    *out = c;
+    return MER_OK;
+}
+
+static void p09_save(const merp_model *m, merp_bytes_out *out)
+{
+    size_t n1 = m->n, n3 = 3 * (size_t)m->n;
+    merp_put_u32(out, m->n);
+    merp_put(out, m->nbuds, n1 * sizeof *m->nbuds);
+    merp_put(out, m->nint, n1 * sizeof *m->nint);
+    merp_put(out, m->vin, n1 * sizeof *m->vin);
+    merp_put(out, m->qb, n3 * sizeof *m->qb);
+    merp_put(out, m->vb, n3 * sizeof *m->vb);
+    merp_put(out, m->quiet, n3 * sizeof *m->quiet);
+    merp_put(out, m->mark, n1 * sizeof *m->mark);
+}
+
+static mer_result p09_load(merp_bytes_in *in, uint32_t nodes, merp_model **out, mer_error *err)
+{
+    *out = NULL;
+    merp_model *m = merp_calloc(1, sizeof *m);
+    if (m == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
+    uint32_t n = merp_get_u32(in);
+    if (n > nodes) /* it has seen at most the skeleton's nodes */
+        in->bad = 1;
+    size_t n1 = n, n3 = 3 * (size_t)n;
+    (void)(MERP_GET_ARRAY(in, m->nbuds, n1) && MERP_GET_ARRAY(in, m->nint, n1) &&
+           MERP_GET_ARRAY(in, m->vin, n1) && MERP_GET_ARRAY(in, m->qb, n3) &&
+           MERP_GET_ARRAY(in, m->vb, n3) && MERP_GET_ARRAY(in, m->quiet, n3) &&
+           MERP_GET_ARRAY(in, m->mark, n1));
+    if (in->bad) {
+        p09_free(m);
+        return in->bad == 2 ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model")
+                            : mer_error_set(err, MER_ERR_FORMAT, "model", "damaged P09 state");
+    }
+    m->n = m->cap = n;
+    *out = m;
+    return MER_OK;
 }
 
 /* Gives the nodes made since the last round (by the model's shoots, new plants)
@@ -181,4 +242,7 @@ const merp_model_ops merp_p09_ops = {
     .nodes_changed = p09_nodes_changed,
     .hash = p09_hash,
     .free = p09_free,
+    .clone = p09_clone,
+    .save = p09_save,
+    .load = p09_load,
 };

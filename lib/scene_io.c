@@ -1,0 +1,302 @@
+/* meristem — checkpoints: a whole scene as versioned bytes and back (see
+ * mer_scene_save). The layout, in host byte order:
+ *   header   "MERSCENE", u32 version, u32 0x01020304 (byte order), u64 payload
+ *            size, u64 FNV-1a of the payload
+ *   payload  params (u32 size, then the scene's and the environment's), rng,
+ *            step, skeleton (nodes by id, plants, constraint), environment
+ *            (epoch, markers by index, the shadow grid's voxels, obstacles with
+ *            mesh triangles), the model's state (its ops' save)
+ * The shadow grid could be recast from the buds and obstacles exactly (its sums
+ * are of integers), but reading it back is O(voxels) where recasting costs
+ * O(buds · q_max²), most of a load on a large tree. */
+#include "config.h"
+
+#include <assert.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/bytes.h"
+#include "core/hash.h"
+#include "scene_private.h"
+
+#define MAGIC "MERSCENE"
+#define CHECKPOINT_VERSION 1u
+#define BYTE_ORDER_MARK UINT32_C(0x01020304)
+#define HEADER (8 + 4 + 4 + 8 + 8)
+
+static void save_skeleton(const merp_skeleton *sk, merp_bytes_out *o)
+{
+    size_t n1 = sk->n, n3 = 3 * (size_t)sk->n;
+    merp_put_u32(o, sk->n);
+    merp_put(o, sk->parent, n1 * sizeof *sk->parent);
+    merp_put(o, sk->child, n3 * sizeof *sk->child);
+    merp_put(o, sk->bud, n3);
+    merp_put(o, sk->slot, n1);
+    merp_put(o, sk->alive, n1);
+    merp_put(o, sk->plant, n1 * sizeof *sk->plant);
+    merp_put(o, sk->order, n1 * sizeof *sk->order);
+    merp_put(o, sk->born, n1 * sizeof *sk->born);
+    merp_put(o, sk->pos, n3 * sizeof *sk->pos);
+    merp_put(o, sk->dir, n3 * sizeof *sk->dir);
+    merp_put(o, sk->side, n3 * sizeof *sk->side);
+    merp_put(o, sk->len, n1 * sizeof *sk->len);
+    merp_put(o, sk->q, n1 * sizeof *sk->q);
+    merp_put(o, sk->dn, n1 * sizeof *sk->dn);
+    merp_put(o, &sk->pipe_n, sizeof sk->pipe_n);
+    merp_put(o, &sk->cos_beta, sizeof sk->cos_beta);
+    merp_put(o, &sk->sin_beta, sizeof sk->sin_beta);
+    merp_put_u32(o, sk->nplants);
+    merp_put(o, sk->roots, sk->nplants * sizeof *sk->roots);
+    merp_put_u32(o, sk->con_node);
+    merp_put_u32(o, sk->con_slot);
+}
+
+static void save_env(const merp_env *e, merp_bytes_out *o)
+{
+    merp_put_u32(o, e->epoch);
+    merp_markers_save(e->markers, o);
+    merp_put_u32(o, e->shadow != NULL);
+    if (e->shadow != NULL)
+        merp_shadow_save(e->shadow, o);
+    merp_put_u32(o, e->nobs);
+    for (uint32_t k = 0; k < e->nobs; k++) {
+        const merp_obstacle *ob = &e->obs[k];
+        merp_put_u32(o, ob->kind);
+        merp_put(o, ob->a, sizeof ob->a);
+        merp_put(o, ob->b, sizeof ob->b);
+        merp_put(o, &ob->r, sizeof ob->r);
+        size_t ntri = 0;
+        const float *tri = ob->solid != NULL ? merp_solid_triangles(ob->solid, &ntri) : NULL;
+        merp_put_u64(o, ntri);
+        merp_put(o, tri, 9 * ntri * sizeof *tri);
+    }
+}
+
+mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer_error *err)
+{
+    assert(s != NULL && bytes != NULL && size != NULL);
+    *bytes = NULL;
+    *size = 0;
+    if (s->ops->save == NULL)
+        return mer_error_set(err, MER_ERR_INVALID, "model",
+                             "scenes of the model '%s' cannot be saved", s->ops->name);
+    merp_bytes_out o = {0};
+    uint8_t header[HEADER] = {0};
+    merp_put(&o, header, sizeof header); /* filled in below */
+    merp_put_u32(&o, (uint32_t)sizeof s->p);
+    merp_put(&o, &s->p, sizeof s->p);
+    merp_put(&o, &s->env.p, sizeof s->env.p);
+    merp_put(&o, s->rng.s, sizeof s->rng.s);
+    merp_put_u32(&o, s->step);
+    save_skeleton(&s->sk, &o);
+    save_env(&s->env, &o);
+    s->ops->save(s->model, &o);
+    if (o.oom) {
+        merp_free(o.buf);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a checkpoint");
+    }
+    uint64_t payload = o.n - HEADER, digest = merp_fnv(MERP_FNV_OFFSET, o.buf + HEADER, payload);
+    uint32_t version = CHECKPOINT_VERSION, order = BYTE_ORDER_MARK;
+    memcpy(o.buf, MAGIC, 8);
+    memcpy(o.buf + 8, &version, 4);
+    memcpy(o.buf + 12, &order, 4);
+    memcpy(o.buf + 16, &payload, 8);
+    memcpy(o.buf + 24, &digest, 8);
+    *bytes = o.buf;
+    *size = o.n;
+    return MER_OK;
+}
+
+/* Ids grow from parent to child, so links that point backwards, or forwards
+ * from a child, would be cycles or strays: refused. */
+static int skeleton_valid(const merp_skeleton *sk)
+{
+    for (uint32_t i = 0; i < sk->n; i++) {
+        if (sk->parent[i] != MER_NO_NODE && sk->parent[i] >= i)
+            return 0;
+        if (sk->slot[i] > 2 || sk->alive[i] > 1 || sk->plant[i] >= sk->nplants)
+            return 0;
+        for (int k = 0; k < 3; k++) {
+            uint32_t c = sk->child[3 * i + k];
+            if ((c != MER_NO_NODE && (c <= i || c >= sk->n)) || sk->bud[3 * i + k] > MER_BUD_ABORTED)
+                return 0;
+        }
+    }
+    for (uint32_t j = 0; j < sk->nplants; j++)
+        if (sk->roots[j] >= sk->n)
+            return 0;
+    return sk->con_node == MER_NO_NODE || (sk->con_node < sk->n && sk->con_slot <= 2);
+}
+
+static void load_skeleton(merp_skeleton *sk, merp_bytes_in *in)
+{
+    uint32_t n = merp_get_u32(in);
+    if (n > MER_NODES_MAX)
+        in->bad = 1;
+    size_t n1 = n, n3 = 3 * (size_t)n;
+    (void)(MERP_GET_ARRAY(in, sk->parent, n1) && MERP_GET_ARRAY(in, sk->child, n3) &&
+           MERP_GET_ARRAY(in, sk->bud, n3) && MERP_GET_ARRAY(in, sk->slot, n1) &&
+           MERP_GET_ARRAY(in, sk->alive, n1) && MERP_GET_ARRAY(in, sk->plant, n1) &&
+           MERP_GET_ARRAY(in, sk->order, n1) && MERP_GET_ARRAY(in, sk->born, n1) &&
+           MERP_GET_ARRAY(in, sk->pos, n3) && MERP_GET_ARRAY(in, sk->dir, n3) &&
+           MERP_GET_ARRAY(in, sk->side, n3) && MERP_GET_ARRAY(in, sk->len, n1) &&
+           MERP_GET_ARRAY(in, sk->q, n1) && MERP_GET_ARRAY(in, sk->dn, n1));
+    if (in->bad)
+        return;
+    sk->n = sk->cap = n;
+    merp_get(in, &sk->pipe_n, sizeof sk->pipe_n);
+    merp_get(in, &sk->cos_beta, sizeof sk->cos_beta);
+    merp_get(in, &sk->sin_beta, sizeof sk->sin_beta);
+    uint32_t nplants = merp_get_u32(in);
+    if (nplants > n)
+        in->bad = 1;
+    if (!MERP_GET_ARRAY(in, sk->roots, nplants))
+        return;
+    sk->nplants = sk->cap_plants = nplants;
+    sk->con_node = merp_get_u32(in);
+    sk->con_slot = merp_get_u32(in);
+    if (!in->bad && !skeleton_valid(sk))
+        in->bad = 1;
+}
+
+static mer_result load_obstacle(merp_env *e, merp_bytes_in *in, mer_error *err)
+{
+    merp_obstacle ob = {.kind = merp_get_u32(in)};
+    merp_get(in, ob.a, sizeof ob.a);
+    merp_get(in, ob.b, sizeof ob.b);
+    merp_get(in, &ob.r, sizeof ob.r);
+    uint64_t ntri = merp_get_u64(in);
+    if (ob.kind < MERP_OBS_BOX || ob.kind > MERP_OBS_MESH || (ntri > 0) != (ob.kind == MERP_OBS_MESH) ||
+        ntri > MER_MESH_TRIANGLES_MAX)
+        in->bad = 1;
+    float *tri = NULL;
+    if (!MERP_GET_ARRAY(in, tri, 9 * (size_t)ntri))
+        return MER_OK; /* the caller reports `in` */
+    mer_result rc = MER_OK;
+    if (tri != NULL) {
+        rc = merp_check_mesh(tri, ntri, err);
+        if (rc == MER_OK)
+            rc = merp_solid_new(tri, ntri, &ob.solid, err);
+        merp_free(tri);
+        if (rc != MER_OK)
+            return rc == MER_ERR_NOMEM ? rc : mer_error_set(err, MER_ERR_FORMAT, "obstacles",
+                                                            "a damaged mesh obstacle");
+    }
+    e->obs[e->nobs++] = ob;
+    return MER_OK;
+}
+
+static mer_result load_env(merp_env *e, merp_bytes_in *in, uint32_t *epoch, mer_error *err)
+{
+    *epoch = merp_get_u32(in);
+    if (in->bad)
+        return MER_OK;
+    mer_result rc = merp_markers_load(e->markers, in, err);
+    if (rc == MER_OK && merp_get_u32(in) != (e->shadow != NULL))
+        in->bad = 1;
+    if (rc == MER_OK && !in->bad && e->shadow != NULL)
+        rc = merp_shadow_load(e->shadow, in, err);
+    uint32_t nobs = rc == MER_OK ? merp_get_u32(in) : 0;
+    if (nobs > MER_OBSTACLES_MAX)
+        in->bad = 1;
+    if (rc != MER_OK || in->bad || nobs == 0)
+        return rc;
+    e->obs = merp_calloc(nobs, sizeof *e->obs);
+    if (e->obs == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for obstacles");
+    for (uint32_t k = 0; k < nobs && rc == MER_OK && !in->bad; k++)
+        rc = load_obstacle(e, in, err);
+    return rc;
+}
+
+/* The header of `bytes`: MER_OK when it is ours, whole and undamaged. */
+static mer_result check_header(const uint8_t *bytes, size_t size, mer_error *err)
+{
+    if (size < HEADER || memcmp(bytes, MAGIC, 8) != 0)
+        return mer_error_set(err, MER_ERR_FORMAT, NULL, "not a meristem checkpoint");
+    uint32_t version, order;
+    uint64_t payload, digest;
+    memcpy(&version, bytes + 8, 4);
+    memcpy(&order, bytes + 12, 4);
+    memcpy(&payload, bytes + 16, 8);
+    memcpy(&digest, bytes + 24, 8);
+    if (version != CHECKPOINT_VERSION)
+        return mer_error_set(err, MER_ERR_FORMAT, "version",
+                             "a checkpoint of version %u, not %u", (unsigned)version, CHECKPOINT_VERSION);
+    if (order != BYTE_ORDER_MARK)
+        return mer_error_set(err, MER_ERR_FORMAT, NULL, "a checkpoint of the other byte order");
+    if (payload != size - HEADER)
+        return mer_error_set(err, MER_ERR_FORMAT, NULL, "a checkpoint cut short or overlong");
+    if (merp_fnv(MERP_FNV_OFFSET, bytes + HEADER, payload) != digest)
+        return mer_error_set(err, MER_ERR_FORMAT, NULL, "a damaged checkpoint (digest)");
+    return MER_OK;
+}
+
+/* The parameters of the payload, valid, and the model they name. */
+static mer_result load_params(merp_bytes_in *in, mer_params *p, mer_params *env_p,
+                              const merp_model_ops **ops, mer_error *err)
+{
+    if (merp_get_u32(in) != sizeof *p)
+        return mer_error_set(err, MER_ERR_FORMAT, "params", "parameters of another layout");
+    merp_get(in, p, sizeof *p);
+    merp_get(in, env_p, sizeof *env_p);
+    if (in->bad || mer_params_validate(p, NULL) != MER_OK || mer_params_validate(env_p, NULL) != MER_OK)
+        return mer_error_set(err, MER_ERR_FORMAT, "params", "damaged parameters");
+    *ops = merp_model_ops_of(p->model);
+    if (*ops == NULL || (*ops)->load == NULL)
+        return mer_error_set(err, MER_ERR_FORMAT, "model", "a model that cannot be loaded");
+    return MER_OK;
+}
+
+static mer_result load_body(mer_scene *s, merp_bytes_in *in, const mer_params *env_p,
+                            mer_error *err)
+{
+    merp_get(in, s->rng.s, sizeof s->rng.s);
+    s->step = merp_get_u32(in);
+    load_skeleton(&s->sk, in);
+    uint32_t epoch = 0;
+    mer_result rc = in->bad ? MER_OK : merp_env_init(&s->env, env_p, err);
+    if (rc == MER_OK && !in->bad)
+        rc = load_env(&s->env, in, &epoch, err);
+    if (rc == MER_OK && !in->bad)
+        rc = s->ops->load(in, s->sk.n, &s->model, err);
+    if (rc == MER_OK && !in->bad && in->at != in->n)
+        in->bad = 1;
+    if (rc == MER_OK && in->bad)
+        rc = in->bad == 2 ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a scene")
+                          : mer_error_set(err, MER_ERR_FORMAT, NULL, "a damaged checkpoint");
+    if (rc != MER_OK)
+        return rc;
+    s->env.epoch = epoch;
+    return MER_OK;
+}
+
+mer_result mer_scene_load(const uint8_t *bytes, size_t size, mer_scene **out, mer_error *err)
+{
+    assert(out != NULL && (bytes != NULL || size == 0));
+    *out = NULL;
+    mer_result rc = bytes != NULL ? check_header(bytes, size, err)
+                                  : mer_error_set(err, MER_ERR_FORMAT, NULL, "no checkpoint");
+    if (rc != MER_OK)
+        return rc;
+    merp_bytes_in in = {bytes + HEADER, size - HEADER, 0, 0};
+    mer_params p, env_p;
+    const merp_model_ops *ops = NULL;
+    rc = load_params(&in, &p, &env_p, &ops, err);
+    if (rc != MER_OK)
+        return rc;
+    mer_scene *s = merp_calloc(1, sizeof *s);
+    if (s == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a scene");
+    s->p = p;
+    s->ops = ops;
+    merp_skel_init(&s->sk, &s->p, merp_env_bud_changed, &s->env);
+    rc = load_body(s, &in, &env_p, err);
+    if (rc != MER_OK) {
+        mer_scene_free(s);
+        return rc;
+    }
+    *out = s;
+    return MER_OK;
+}

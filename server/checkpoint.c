@@ -1,0 +1,155 @@
+/* meristemd — checkpoints beside the journals (see checkpoint.h). */
+#include "config.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <libgen.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "server/checkpoint.h"
+#include "server/journal.h"
+
+#define MAGIC "MERDCKP1"
+#define ID_LEN 32
+#define HEAD (8 + ID_LEN + 8 + 8) /* magic, id, revision, digest of the three */
+
+static uint64_t fnv(const unsigned char *p, size_t n)
+{
+    uint64_t h = UINT64_C(1469598103934665603);
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * UINT64_C(1099511628211);
+    return h;
+}
+
+static int failed(char *error, const char *what, const char *path)
+{
+    snprintf(error, MERD_JOURNAL_ERROR_MAX, "%s %.180s: %s", what, path, strerror(errno));
+    return -1;
+}
+
+static int write_whole(int fd, const unsigned char *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return -1;
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+static int sync_folder_of(const char *path)
+{
+    char copy[PATH_MAX];
+    snprintf(copy, sizeof copy, "%s", path);
+    int fd = open(dirname(copy), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    int rc = fsync(fd);
+    close(fd);
+    return rc;
+}
+
+int merd_checkpoint_write(const char *path, const char *id, uint64_t revision,
+                          const mer_scene *scene, bool sync, char *error)
+{
+    uint8_t *bytes = NULL;
+    size_t size = 0;
+    mer_error err = {0};
+    if (strlen(id) != ID_LEN || mer_scene_save(scene, &bytes, &size, &err) != MER_OK) {
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "the scene could not be saved: %.200s", err.message);
+        return -1;
+    }
+    unsigned char head[HEAD];
+    memcpy(head, MAGIC, 8);
+    memcpy(head + 8, id, ID_LEN);
+    memcpy(head + 8 + ID_LEN, &revision, 8);
+    uint64_t digest = fnv(head, 8 + ID_LEN + 8);
+    memcpy(head + 8 + ID_LEN + 8, &digest, 8);
+    char tmp[PATH_MAX];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    int rc = -1;
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        failed(error, "cannot create", tmp);
+    } else {
+        if (write_whole(fd, head, sizeof head) != 0 || write_whole(fd, bytes, size) != 0)
+            failed(error, "cannot write", tmp);
+        else if (sync && fsync(fd) != 0)
+            failed(error, "cannot flush", tmp);
+        else
+            rc = 0;
+        if (close(fd) != 0 && rc == 0)
+            rc = failed(error, "cannot close", tmp);
+    }
+    if (rc == 0 && rename(tmp, path) != 0)
+        rc = failed(error, "cannot rename", tmp);
+    if (rc == 0 && sync && sync_folder_of(path) != 0)
+        rc = failed(error, "cannot sync the folder of", path);
+    if (rc != 0)
+        unlink(tmp);
+    free(bytes);
+    return rc;
+}
+
+static unsigned char *read_whole(const char *path, size_t *size, char *error)
+{
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        if (fd >= 0)
+            close(fd);
+        failed(error, "no checkpoint at", path);
+        return NULL;
+    }
+    unsigned char *buf = malloc(st.st_size > 0 ? (size_t)st.st_size : 1);
+    size_t n = 0;
+    while (buf != NULL && n < (size_t)st.st_size) {
+        ssize_t r = read(fd, buf + n, (size_t)st.st_size - n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            break;
+        n += (size_t)r;
+    }
+    close(fd);
+    if (buf == NULL || n != (size_t)st.st_size) {
+        free(buf);
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "cannot read %.200s", path);
+        return NULL;
+    }
+    *size = n;
+    return buf;
+}
+
+mer_scene *merd_checkpoint_read(const char *path, const char *id, uint64_t *revision, char *error)
+{
+    size_t size = 0;
+    unsigned char *buf = read_whole(path, &size, error);
+    if (buf == NULL)
+        return NULL;
+    mer_scene *scene = NULL;
+    uint64_t digest;
+    if (size >= HEAD)
+        memcpy(&digest, buf + 8 + ID_LEN + 8, 8);
+    if (size < HEAD || memcmp(buf, MAGIC, 8) != 0 || fnv(buf, 8 + ID_LEN + 8) != digest ||
+        strlen(id) != ID_LEN || memcmp(buf + 8, id, ID_LEN) != 0) {
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s is not a checkpoint of this session", path);
+    } else {
+        mer_error err = {0};
+        if (mer_scene_load(buf + HEAD, size - HEAD, &scene, &err) != MER_OK)
+            snprintf(error, MERD_JOURNAL_ERROR_MAX, "a damaged checkpoint: %.200s", err.message);
+        else
+            memcpy(revision, buf + 8 + ID_LEN, 8);
+    }
+    free(buf);
+    return scene;
+}
