@@ -123,8 +123,8 @@ static int rebuild(merd_session *s, char *error)
     return s->journal != NULL && s->scene != NULL ? 0 : -1;
 }
 
-merd_session *merd_session_restore(const merd_session_config *cfg, const char *path, size_t *dropped,
-                                   char *error)
+merd_session *merd_session_restore(const merd_session_config *cfg, const char *path,
+                                   merd_journal_report *report, char *error)
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
@@ -136,10 +136,12 @@ merd_session *merd_session_restore(const merd_session_config *cfg, const char *p
     memcpy(id, base, 32);
     id[32] = '\0';
     merd_session *s = session_new(cfg, id);
-    if (s == NULL)
+    if (s == NULL) {
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory for a session");
         return NULL;
+    }
     replay_ctx r = {s, 0, error};
-    s->journal = merd_journal_open(s->path, cfg->fsync, replay_record, &r, dropped, error);
+    s->journal = merd_journal_open(s->path, cfg->fsync, replay_record, &r, report, error);
     if (s->journal == NULL || s->scene == NULL) {
         session_free(s, false);
         return NULL;
@@ -159,12 +161,15 @@ void merd_session_unref(merd_session *s)
         session_free(s, s->discarded);
 }
 
-void merd_session_discard(merd_session *s)
+int merd_session_discard(merd_session *s, char *error)
 {
     pthread_mutex_lock(&s->state);
     s->discarded = true;
     pthread_mutex_unlock(&s->state);
     atomic_store(&s->cancel, 1);
+    // Gone now, not when the running batch lets go: that batch only appends
+    // through its open descriptor (to the unlinked file) and never reopens it.
+    return merd_journal_unlink(s->path, error);
 }
 
 const char *merd_session_id(const merd_session *s)
@@ -189,6 +194,14 @@ uint32_t merd_session_internodes(merd_session *s)
 }
 
 /* ---------------------------------------------------------------- applying */
+
+static bool discarded(merd_session *s)
+{
+    pthread_mutex_lock(&s->state);
+    bool gone = s->discarded;
+    pthread_mutex_unlock(&s->state);
+    return gone;
+}
 
 typedef struct stop_ctx {
     merd_session *s;
@@ -237,11 +250,16 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     char error[MERD_JOURNAL_ERROR_MAX] = "";
     if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
         // Refused halfway: undo what was applied by rebuilding from the journal.
-        if (rebuild(s, error) != 0)
+        if (!discarded(s) && rebuild(s, error) != 0)
             fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
         goto done;
     }
     uint64_t revision = merd_session_revision(s);
+    if (json_array_size(applied) > 0 && discarded(s)) {
+        json_decref(applied);
+        merd_refuse(why, 404, "unknown-session", "", "session %s was deleted while this batch ran", s->id);
+        goto done;
+    }
     if (json_array_size(applied) > 0) {
         json_t *record = json_pack("{s:i, s:O}", "revision", (json_int_t)(revision + 1), "edits", applied);
         char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);
