@@ -30,6 +30,7 @@ TESTS += tests/api/static.test.js
 TESTS += tests/api/cli.test.js
 TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
+TESTS += tests/api/crashloop.test.js
 TESTS += tests/api/security.test.js
 TESTS += tests/api/proto.test.js
 TESTS += tests/api/smoke.sh
@@ -51,6 +52,7 @@ EXTRA_DIST += \
 	tests/api/cli.test.js \
 	tests/api/sessions.test.js \
 	tests/api/durability.test.js \
+	tests/api/crashloop.test.js \
 	tests/api/security.test.js \
 	tests/api/proto.test.js \
 	tests/api/smoke.sh \
@@ -59,6 +61,12 @@ EXTRA_DIST += \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
 	tests/conformance/validate.test.js
+
+# A thousand kill -9 cycles (make check runs a few dozen); CRASH_SEED=N replays one.
+crash-loop: all
+	@$(AM_TESTS_ENVIRONMENT) CRASH_CYCLES=$${CRASH_CYCLES:-1000} \
+	  $(SHELL) $(top_srcdir)/tests/support/run-node.sh $(top_srcdir)/tests/api/crashloop.test.js
+.PHONY: crash-loop
 
 clean-local: clean-artifacts
 clean-artifacts:
