@@ -123,6 +123,18 @@ static int cmp_names(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
+/* `error` with the journal's full path put as its bare name: the reason is
+ * shown to clients, who need not learn where the data folder is. */
+static void bare_names(char *error, const char *path, const char *name)
+{
+    char *at = strstr(error, path);
+    if (at == NULL)
+        return;
+    size_t plen = strlen(path), nlen = strlen(name);
+    memmove(at + nlen, at + plen, strlen(at + plen) + 1);
+    memcpy(at, name, nlen);
+}
+
 /* Restores the journal <data-dir>/name, or quarantines it. 1 if restored. */
 static int restore_one(merd_registry *r, const char *name, FILE *log)
 {
@@ -138,6 +150,7 @@ static int restore_one(merd_registry *r, const char *name, FILE *log)
         return 0;
     }
     if (s == NULL) {
+        bare_names(error, path, name);
         merd_quarantine_add(r->quarantine, name, id, error, report.fault == MERD_JOURNAL_DAMAGED, log);
         return 0;
     }

@@ -182,7 +182,8 @@ for (const [what, damage] of Object.entries(damages)) {
     const list = (await api(d.url, 'GET', '/v1/sessions')).body.sessions;
     const item = list.find((s) => s.id === bad.id);
     assert.equal(item.state, 'quarantined');
-    assert.ok(item.reason.length > 0);
+    assert.match(item.reason, new RegExp(`^record 2 \\(byte \\d+\\) of ${bad.id}\\.journal is damaged`));
+    assert.ok(!item.reason.includes(dataDir), 'the data folder is not shown to clients');
     assert.ok(list.some((s) => s.id === good.id && s.state === undefined));
     // Still quarantined after another restart, without a second alarm.
     await d.stop();
@@ -265,4 +266,24 @@ test('an edit that ends after its session was deleted does not write the journal
   assert.equal(r.status, 404);
   assert.ok(!fs.existsSync(file));
   assert.equal(fs.readdirSync(d.dataDir).filter((f) => f.endsWith('.journal')).length, 0);
+});
+
+test('a journal cut short in its creation record is dropped: it was never acknowledged', async (t) => {
+  const dataDir = freshDir();
+  t.after(() => fs.rmSync(dataDir, { recursive: true, force: true }));
+  let d = await startDaemon([], { dataDir });
+  const { id } = await journaled(d.url, 7, 0);
+  await d.stop();
+  const file = path.join(dataDir, `${id}.journal`);
+  const whole = fs.readFileSync(file);
+  const empty = path.join(dataDir, `${'e'.repeat(32)}.journal`);
+  fs.writeFileSync(empty, '');
+  fs.writeFileSync(file, whole.subarray(0, whole.length - 3));
+  d = await startDaemon([], { dataDir });
+  t.after(() => d.stop());
+  assert.equal(d.log().match(/dropped a torn first record/g).length, 2, d.log());
+  assert.doesNotMatch(d.log(), /QUARANTINED/);
+  assert.ok(!fs.existsSync(file) && !fs.existsSync(empty));
+  assert.equal((await api(d.url, 'GET', `/v1/sessions/${id}`)).status, 404);
+  assert.deepEqual((await api(d.url, 'GET', '/v1/sessions')).body.sessions, []);
 });
