@@ -144,27 +144,53 @@ merd_journal *merd_journal_create(const char *path, const char *first, size_t si
     return j;
 }
 
-static int read_file(const char *path, unsigned char **out, size_t *size, char *error)
+/* Opens `path` for reading and appending only if it is a regular file: never
+ * follows a link, never blocks on a FIFO. -1 with `fault` set otherwise. */
+static int open_regular(const char *path, merd_journal_fault *fault, char *error)
 {
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return fail(error, "cannot open", path);
+    int fd = open(path, O_RDWR | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
     struct stat st;
-    if (fstat(fd, &st) != 0) {
-        close(fd);
-        return fail(error, "cannot stat", path);
+    if (fd < 0) {
+        bool odd = errno == ELOOP || errno == EISDIR || errno == ENXIO || errno == EWOULDBLOCK;
+        *fault = odd ? MERD_JOURNAL_DAMAGED : MERD_JOURNAL_IO;
+        return odd ? (snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s is not a regular file", path), -1)
+                   : fail(error, "cannot open", path);
     }
+    if (fstat(fd, &st) != 0) {
+        *fault = MERD_JOURNAL_IO;
+        fail(error, "cannot stat", path);
+    } else if (!S_ISREG(st.st_mode)) {
+        *fault = MERD_JOURNAL_DAMAGED;
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s is not a regular file", path);
+    } else if (fcntl(fd, F_SETFL, O_APPEND) != 0) {
+        *fault = MERD_JOURNAL_IO;
+        fail(error, "cannot set up", path);
+    } else {
+        return fd;
+    }
+    close(fd);
+    return -1;
+}
+
+static int read_all(int fd, const char *path, unsigned char **out, size_t *size, char *error)
+{
+    struct stat st;
+    if (fstat(fd, &st) != 0)
+        return fail(error, "cannot stat", path);
     unsigned char *buf = malloc((size_t)st.st_size + 1);
     size_t have = 0;
     while (buf != NULL && have < (size_t)st.st_size) {
-        ssize_t r = read(fd, buf + have, (size_t)st.st_size - have);
+        ssize_t r = pread(fd, buf + have, (size_t)st.st_size - have, (off_t)have);
         if (r < 0 && errno == EINTR)
             continue;
-        if (r <= 0)
+        if (r < 0) {
+            free(buf);
+            return fail(error, "cannot read", path);
+        }
+        if (r == 0)
             break;
         have += (size_t)r;
     }
-    close(fd);
     if (buf == NULL) {
         snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory reading %.200s", path);
         return -1;
@@ -174,49 +200,106 @@ static int read_file(const char *path, unsigned char **out, size_t *size, char *
     return 0;
 }
 
-merd_journal *merd_journal_open(const char *path, merd_fsync_mode mode, merd_journal_record_fn fn,
-                                void *ctx, size_t *dropped, char *error)
+/* Whether a record we could have written starts at `at`: a non-empty JSON
+ * payload that fits in the file and matches its checksum. */
+static bool whole_record_at(const unsigned char *data, size_t size, size_t at)
 {
-    unsigned char *data = NULL;
-    size_t size = 0;
-    if (read_file(path, &data, &size, error) != 0)
-        return NULL;
+    if (size - at < HEADER + 2)
+        return false;
+    uint32_t len = get_u32(data + at);
+    return len >= 2 && len <= MERD_JOURNAL_RECORD_MAX && len <= size - at - HEADER &&
+           data[at + HEADER] == '{' &&
+           get_u32(data + at + 4) == checksum((const char *)data + at + HEADER, len);
+}
+
+/* Whether the bytes from `at` (where no whole record starts) to the end are a
+ * torn tail, as journal.h defines it. */
+static bool torn_tail(const unsigned char *data, size_t size, size_t at)
+{
+    for (size_t p = at + 1; p + HEADER < size; p++)
+        if (whole_record_at(data, size, p))
+            return false;
+    if (size - at < HEADER)
+        return true;
+    uint32_t len = get_u32(data + at);
+    if (len > size - at - HEADER)
+        return true;  // runs past the end of the file: cut short
+    return len == 0 || memchr(data + at + HEADER, 0, len) != NULL;
+}
+
+/* Hands every whole record to `fn`; *end gets where the whole records end. */
+static int replay(const unsigned char *data, size_t size, const char *path, merd_journal_record_fn fn,
+                  void *ctx, size_t *end, size_t *records, merd_journal_report *report, char *error)
+{
     size_t at = 0, index = 0;
-    while (size - at >= HEADER) {
+    while (at < size && whole_record_at(data, size, at)) {
         uint32_t len = get_u32(data + at);
-        if (len > MERD_JOURNAL_RECORD_MAX || len > size - at - HEADER ||
-            get_u32(data + at + 4) != checksum((const char *)data + at + HEADER, len))
-            break;  // torn or corrupt: the journal ends at the last whole record
         if (fn != NULL && fn(ctx, index, (const char *)data + at + HEADER, len) != 0) {
             snprintf(error, MERD_JOURNAL_ERROR_MAX, "record %zu of %.180s could not be replayed", index, path);
-            free(data);
-            return NULL;
+            report->fault = MERD_JOURNAL_DAMAGED;
+            return -1;
         }
         at += HEADER + len;
         index++;
     }
-    free(data);
+    if (at < size && !torn_tail(data, size, at)) {
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "record %zu (byte %zu) of %.140s is damaged and "
+                 "whole records follow it", index, at, path);
+        report->fault = MERD_JOURNAL_DAMAGED;
+        return -1;
+    }
     if (index == 0) {
         snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s has no whole record", path);
+        report->fault = MERD_JOURNAL_TORN_CREATION;
+        return -1;
+    }
+    report->dropped = size - at;
+    *end = at;
+    *records = index;
+    return 0;
+}
+
+merd_journal *merd_journal_open(const char *path, merd_fsync_mode mode, merd_journal_record_fn fn,
+                                void *ctx, merd_journal_report *report, char *error)
+{
+    merd_journal_report ignored;
+    report = report != NULL ? report : &ignored;
+    *report = (merd_journal_report){MERD_JOURNAL_IO, 0};
+    int fd = open_regular(path, &report->fault, error);
+    if (fd < 0)
+        return NULL;
+    unsigned char *data = NULL;
+    size_t size = 0, at = 0, records = 0;
+    int rc = read_all(fd, path, &data, &size, error);
+    if (rc == 0)
+        rc = replay(data, size, path, fn, ctx, &at, &records, report, error);
+    free(data);
+    merd_journal *j = rc == 0 ? journal_new(path, mode, error) : NULL;
+    if (j == NULL) {
+        close(fd);
         return NULL;
     }
-    if (dropped != NULL)
-        *dropped = size - at;
-
-    merd_journal *j = journal_new(path, mode, error);
-    if (j == NULL)
-        return NULL;
+    j->fd = fd;
     j->size = (off_t)at;
-    j->records = index;
-    j->fd = open(path, O_WRONLY | O_APPEND | O_CLOEXEC);
-    if (j->fd < 0 || (at < size && (ftruncate(j->fd, (off_t)at) != 0 || fsync(j->fd) != 0))) {
-        fail(error, "cannot reopen", path);
-        if (j->fd >= 0)
-            close(j->fd);
+    j->records = records;
+    if (at < size && (ftruncate(fd, (off_t)at) != 0 || fsync(fd) != 0)) {
+        report->fault = MERD_JOURNAL_IO;
+        fail(error, "cannot cut the torn tail of", path);
+        close(fd);
         free(j);
         return NULL;
     }
+    report->fault = MERD_JOURNAL_SOUND;
     return j;
+}
+
+int merd_journal_unlink(const char *path, char *error)
+{
+    if (unlink(path) != 0 && errno != ENOENT)
+        return fail(error, "cannot remove", path);
+    if (sync_folder(path) != 0)
+        return fail(error, "cannot sync the folder of", path);
+    return 0;
 }
 
 int merd_journal_sync(merd_journal *j)
@@ -241,9 +324,7 @@ void merd_journal_close(merd_journal *j, bool remove)
     if (!remove)
         merd_journal_sync(j);
     close(j->fd);
-    if (remove) {
-        unlink(j->path);
+    if (remove && unlink(j->path) == 0)
         sync_folder(j->path);
-    }
     free(j);
 }

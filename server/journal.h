@@ -11,10 +11,20 @@
  * a crash of the daemon: written data is in the kernel) may lose the records
  * of the last interval.
  *
- * Torn tails: a record whose length runs past the end of the file or whose
- * checksum does not match (a write cut short) ends the journal; replay drops it
- * and everything after it, and truncates the file there so appends go on from
- * the last whole record. A torn record is never replayed in part.
+ * Torn tails and damage: a record that does not read whole (its header or
+ * payload runs past the end of the file, or its checksum does not match) is a
+ * torn tail only when nothing after it could have been written by us (no
+ * whole record starts at any later byte) and it looks cut short: it runs past
+ * the end of the file, or it holds NUL bytes (blocks a power cut left
+ * unwritten; our payloads are JSON and never hold one). Replay drops a torn
+ * tail and truncates the file there, so appends go on from the last whole
+ * record. Anything else is damage: the file is left byte for byte as it is
+ * and the open fails with MERD_JOURNAL_DAMAGED, so that no acknowledged record
+ * after the damage is ever cut away. A torn record is never replayed in part.
+ *
+ * Only regular files are journals: a symbolic link (O_NOFOLLOW), a FIFO, a
+ * device or a folder at the path is refused as MERD_JOURNAL_DAMAGED without
+ * blocking and without touching what a link points to.
  */
 #ifndef MERISTEMD_JOURNAL_H
 #define MERISTEMD_JOURNAL_H
@@ -41,11 +51,32 @@ merd_journal *merd_journal_create(const char *path, const char *first, size_t si
  * (then merd_journal_open fails with that record's number in `error`). */
 typedef int (*merd_journal_record_fn)(void *ctx, size_t index, const char *payload, size_t size);
 
+/* Why merd_journal_open failed, or that it did not. */
+typedef enum merd_journal_fault {
+    MERD_JOURNAL_SOUND = 0,        /* opened */
+    MERD_JOURNAL_IO,               /* cannot read or write it now (errno, memory) */
+    MERD_JOURNAL_DAMAGED,          /* not ours to cut: damage before a whole record,
+                                      not a regular file, or a record `fn` refused */
+    MERD_JOURNAL_TORN_CREATION     /* the whole file is a torn first record: a creation
+                                      that was never acknowledged */
+} merd_journal_fault;
+
+typedef struct merd_journal_report {
+    merd_journal_fault fault;
+    size_t dropped;                /* bytes of a torn tail dropped */
+} merd_journal_report;
+
 /* Opens an existing journal, hands every whole record to `fn`, drops a torn
- * tail (reporting the bytes dropped in *dropped, may be NULL) and returns the
- * journal ready for appends. NULL on failure with the reason in `error`. */
+ * tail and returns the journal ready for appends. NULL on failure with the
+ * reason in `error`. `report` (may be NULL) says what was dropped, or why the
+ * open failed; a damaged file is left unchanged. Cost: reads the file once;
+ * after damage, one look (and at most one CRC) per later byte. */
 merd_journal *merd_journal_open(const char *path, merd_fsync_mode mode, merd_journal_record_fn fn,
-                                void *ctx, size_t *dropped, char *error);
+                                void *ctx, merd_journal_report *report, char *error);
+
+/* Removes the journal file at `path` durably: unlinks it and syncs its folder.
+ * 0 (also when there was no file), or -1 with `error` filled. */
+int merd_journal_unlink(const char *path, char *error);
 
 /* Appends one record. 0 on success; -1 with `error` filled, and then the file
  * is cut back to where it was, so a failed append leaves no partial record. */

@@ -23,6 +23,7 @@ server_meristemd_SOURCES = \
 	server/export.c server/export.h \
 	server/clock.h \
 	server/registry.c server/registry.h \
+	server/quarantine.c server/quarantine.h \
 	server/jobs.c server/jobs.h \
 	server/metrics.c server/metrics.h \
 	server/api.h server/api/private.h \

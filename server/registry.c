@@ -10,6 +10,7 @@
 #include <sys/random.h>
 #include <sys/stat.h>
 
+#include "server/quarantine.h"
 #include "server/registry.h"
 
 struct merd_registry {
@@ -21,6 +22,7 @@ struct merd_registry {
     merd_session **index;    /* open addressing by id; NULL empty, TOMBSTONE removed */
     size_t slots;           /* power of two */
     size_t used;            /* live + tombstones */
+    merd_quarantine *quarantine;
 };
 
 static merd_session *const TOMBSTONE = (merd_session *)&TOMBSTONE;
@@ -107,7 +109,9 @@ merd_registry *merd_registry_new(const merd_session_config *cfg, uint32_t max_se
     pthread_rwlock_init(&r->lock, NULL);
     r->cfg = cfg;
     r->max_sessions = max_sessions;
-    if (grow_index(r) != 0) {
+    r->quarantine = merd_quarantine_new(cfg->data_dir);
+    if (r->quarantine == NULL || grow_index(r) != 0) {
+        merd_quarantine_free(r->quarantine);
         free(r);
         return NULL;
     }
@@ -117,6 +121,47 @@ merd_registry *merd_registry_new(const merd_session_config *cfg, uint32_t max_se
 static int cmp_names(const void *a, const void *b)
 {
     return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* `error` with the journal's full path put as its bare name: the reason is
+ * shown to clients, who need not learn where the data folder is. */
+static void bare_names(char *error, const char *path, const char *name)
+{
+    char *at = strstr(error, path);
+    if (at == NULL)
+        return;
+    size_t plen = strlen(path), nlen = strlen(name);
+    memmove(at + nlen, at + plen, strlen(at + plen) + 1);
+    memcpy(at, name, nlen);
+}
+
+/* Restores the journal <data-dir>/name, or quarantines it. 1 if restored. */
+static int restore_one(merd_registry *r, const char *name, FILE *log)
+{
+    char path[4200], error[MERD_JOURNAL_ERROR_MAX], id[33];
+    snprintf(path, sizeof path, "%s/%s", r->cfg->data_dir, name);
+    snprintf(id, sizeof id, "%.32s", name);
+    merd_journal_report report = {0};
+    merd_session *s = merd_session_restore(r->cfg, path, &report, error);
+    if (s == NULL && report.fault == MERD_JOURNAL_TORN_CREATION) {
+        // A creation cut short was never acknowledged: the file is all torn tail.
+        fprintf(log, "meristemd: %s: dropped a torn first record (a creation never acknowledged)\n", name);
+        merd_journal_unlink(path, error);
+        return 0;
+    }
+    if (s == NULL) {
+        bare_names(error, path, name);
+        merd_quarantine_add(r->quarantine, name, id, error, report.fault == MERD_JOURNAL_DAMAGED, log);
+        return 0;
+    }
+    if (report.dropped > 0)
+        fprintf(log, "meristemd: %s: dropped a torn last record (%zu bytes)\n", name, report.dropped);
+    pthread_rwlock_wrlock(&r->lock);
+    int rc = insert(r, s);
+    pthread_rwlock_unlock(&r->lock);
+    if (rc != 0)
+        merd_session_unref(s);
+    return rc == 0;
 }
 
 long merd_registry_restore(merd_registry *r, FILE *log)
@@ -150,24 +195,10 @@ long merd_registry_restore(merd_registry *r, FILE *log)
     closedir(dir);
     if (n > 1)
         qsort(names, n, sizeof *names, cmp_names);
+    merd_quarantine_load(r->quarantine, log);
     long restored = 0;
     for (size_t i = 0; i < n; i++) {
-        char path[4200], error[MERD_JOURNAL_ERROR_MAX];
-        snprintf(path, sizeof path, "%s/%s", r->cfg->data_dir, names[i]);
-        size_t dropped = 0;
-        merd_session *s = merd_session_restore(r->cfg, path, &dropped, error);
-        if (s == NULL) {
-            fprintf(log, "meristemd: not restored: %s\n", error);
-        } else {
-            if (dropped > 0)
-                fprintf(log, "meristemd: %s: dropped a torn last record (%zu bytes)\n", names[i], dropped);
-            pthread_rwlock_wrlock(&r->lock);
-            if (insert(r, s) == 0)
-                restored++;
-            else
-                merd_session_unref(s);
-            pthread_rwlock_unlock(&r->lock);
-        }
+        restored += restore_one(r, names[i], log);
         free(names[i]);
     }
     free(names);
@@ -214,7 +245,8 @@ int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **ou
     int rc = r->count >= r->max_sessions ? 1 : insert(r, s);
     pthread_rwlock_unlock(&r->lock);
     if (rc != 0) {
-        merd_session_discard(s);
+        char error[MERD_JOURNAL_ERROR_MAX];
+        merd_session_discard(s, error);
         merd_session_unref(s);
         return rc > 0 ? merd_refuse(why, 429, "too-many-sessions", "",
                                     "meristemd holds %u sessions, its limit (--max-sessions)",
@@ -237,7 +269,7 @@ merd_session *merd_registry_get(merd_registry *r, const char *id)
     return s;
 }
 
-int merd_registry_delete(merd_registry *r, const char *id)
+int merd_registry_delete(merd_registry *r, const char *id, merd_refusal *why)
 {
     pthread_rwlock_wrlock(&r->lock);
     merd_session **slot = find_slot(r, id, false);
@@ -253,10 +285,24 @@ int merd_registry_delete(merd_registry *r, const char *id)
     }
     pthread_rwlock_unlock(&r->lock);
     if (s == NULL)
-        return -1;
-    merd_session_discard(s);
+        return merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s", id);
+    char error[MERD_JOURNAL_ERROR_MAX];
+    int rc = merd_session_discard(s, error);
     merd_session_unref(s);
+    if (rc != 0)
+        return merd_refuse(why, 500, "journal", "", "session %s is stopped but its journal could not "
+                           "be removed, so it may come back after a restart: %s", id, error);
     return 0;
+}
+
+bool merd_registry_quarantined(merd_registry *r, const char *id, merd_refusal *why)
+{
+    char reason[MERD_QUARANTINE_REASON_MAX];
+    if (!merd_quarantine_find(r->quarantine, id, reason, sizeof reason))
+        return false;
+    merd_refuse(why, 503, "quarantined", "", "session %.32s is quarantined and not served: %.250s "
+                "(its journal is kept unchanged in the data folder's quarantine/)", id, reason);
+    return true;
 }
 
 json_t *merd_registry_list(merd_registry *r)
@@ -266,6 +312,7 @@ json_t *merd_registry_list(merd_registry *r)
     for (size_t i = 0; i < r->count; i++)
         json_array_append_new(list, merd_session_summary(r->list[i], false));
     pthread_rwlock_unlock(&r->lock);
+    merd_quarantine_list(r->quarantine, list);
     return json_pack("{s:o}", "sessions", list);
 }
 
@@ -295,6 +342,7 @@ void merd_registry_free(merd_registry *r)
         merd_session_unref(r->list[i]);
     free(r->list);
     free(r->index);
+    merd_quarantine_free(r->quarantine);
     pthread_rwlock_destroy(&r->lock);
     free(r);
 }

@@ -2,6 +2,7 @@
 #ifndef MERISTEMD_REGISTRY_H
 #define MERISTEMD_REGISTRY_H
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -15,8 +16,10 @@ typedef struct merd_registry merd_registry;
 merd_registry *merd_registry_new(const merd_session_config *cfg, uint32_t max_sessions);
 
 /* Restores every *.journal in the data folder (creating the folder if need be),
- * logging each to `log`. Returns the number restored, or -1 if the folder cannot
- * be made or read (the reason is logged). */
+ * logging each to `log`. A journal that cannot be restored is quarantined (see
+ * quarantine.h) and the others start; one that is wholly a torn creation is
+ * removed. Returns the number restored, or -1 if the folder cannot be made or
+ * read (the reason is logged). */
 long merd_registry_restore(merd_registry *r, FILE *log);
 
 /* A new session from a create request, with a fresh 128-bit id from the OS.
@@ -26,10 +29,16 @@ int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **ou
 /* The session `id` with a reference the caller releases, or NULL. */
 merd_session *merd_registry_get(merd_registry *r, const char *id);
 
-/* Removes `id`: it stops, and its journal goes with its last reference. 0, or -1 if unknown. */
-int merd_registry_delete(merd_registry *r, const char *id);
+/* Removes `id`: a running batch is cancelled and the journal is durably
+ * removed before this returns. 0, or -1 with `why`: 404 if unknown, 500 if the
+ * journal could not be removed. */
+int merd_registry_delete(merd_registry *r, const char *id, merd_refusal *why);
 
-/* {"sessions": [short summaries]} in creation order (new reference). */
+/* Whether `id` is quarantined; if so, `why` gets the 503 to answer with. */
+bool merd_registry_quarantined(merd_registry *r, const char *id, merd_refusal *why);
+
+/* {"sessions": [short summaries]} in creation order, then the quarantined
+ * sessions as {id, state: "quarantined", reason} (new reference). */
 json_t *merd_registry_list(merd_registry *r);
 
 /* Counts for metrics. */

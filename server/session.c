@@ -2,6 +2,7 @@
  * journaling batches (see session.h). */
 #include "config.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -122,7 +123,7 @@ done:
 
 /* Builds the session's scene afresh from its journal, the whole of it (caller
  * holds `work`); `r` is fresh and is filled as replay_record does. */
-static int rebuild(merd_session *s, replay_ctx *r, size_t *dropped)
+static int rebuild(merd_session *s, replay_ctx *r, merd_journal_report *report)
 {
     merd_journal_close(s->journal, false);
     s->journal = NULL;
@@ -130,13 +131,13 @@ static int rebuild(merd_session *s, replay_ctx *r, size_t *dropped)
     s->scene = NULL;
     json_decref(s->spec);
     s->spec = NULL;
-    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, dropped, r->error);
+    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, report, r->error);
     return s->journal != NULL && s->scene != NULL ? 0 : -1;
 }
 
 /* Opens the journal of `s` and replays it onto its checkpoint's scene when
  * there is one that the journal reaches; `r` is filled as replay_record does. */
-static void replay_from_checkpoint(merd_session *s, replay_ctx *r, size_t *dropped)
+static void replay_from_checkpoint(merd_session *s, replay_ctx *r, merd_journal_report *report)
 {
     char why[MERD_JOURNAL_ERROR_MAX] = "";
     r->base = merd_checkpoint_read(s->checkpoint, s->id, &r->base_revision, why);
@@ -145,7 +146,7 @@ static void replay_from_checkpoint(merd_session *s, replay_ctx *r, size_t *dropp
     if (r->base == NULL && access(s->checkpoint, F_OK) == 0)
         fprintf(stderr, "meristemd: session %s: the checkpoint is not used: %s\n", s->id, why);
     bool from_checkpoint = r->base != NULL;
-    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, dropped, r->error);
+    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, report, r->error);
     mer_scene_free(r->base); /* not taken: the journal has no first record */
     r->base = NULL;
     if (s->journal == NULL || !from_checkpoint)
@@ -161,11 +162,11 @@ static void replay_from_checkpoint(merd_session *s, replay_ctx *r, size_t *dropp
             "(revision %llu): replaying it all\n", s->id, (unsigned long long)r->base_revision,
             (unsigned long long)r->revision);
     *r = (replay_ctx){.s = s, .error = r->error};
-    rebuild(s, r, dropped);
+    rebuild(s, r, report);
 }
 
-merd_session *merd_session_restore(const merd_session_config *cfg, const char *path, size_t *dropped,
-                                   char *error)
+merd_session *merd_session_restore(const merd_session_config *cfg, const char *path,
+                                   merd_journal_report *report, char *error)
 {
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
@@ -177,10 +178,12 @@ merd_session *merd_session_restore(const merd_session_config *cfg, const char *p
     memcpy(id, base, 32);
     id[32] = '\0';
     merd_session *s = session_new(cfg, id);
-    if (s == NULL)
+    if (s == NULL) {
+        snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory for a session");
         return NULL;
+    }
     replay_ctx r = {.s = s, .error = error};
-    replay_from_checkpoint(s, &r, dropped);
+    replay_from_checkpoint(s, &r, report);
     if (s->journal == NULL || s->scene == NULL) {
         session_free(s, false);
         return NULL;
@@ -200,12 +203,19 @@ void merd_session_unref(merd_session *s)
         session_free(s, s->discarded);
 }
 
-void merd_session_discard(merd_session *s)
+int merd_session_discard(merd_session *s, char *error)
 {
     pthread_mutex_lock(&s->state);
     s->discarded = true;
     pthread_mutex_unlock(&s->state);
     atomic_store(&s->cancel, 1);
+    // Gone now, not when the running batch lets go: that batch only appends
+    // through its open descriptor (to the unlinked file) and never reopens it.
+    // The checkpoint first: a crash between the two leaves a journal that
+    // restores whole, never a checkpoint without its journal.
+    if (unlink(s->checkpoint) != 0 && errno != ENOENT)
+        fprintf(stderr, "meristemd: session %s: its checkpoint stays: %s\n", s->id, strerror(errno));
+    return merd_journal_unlink(s->path, error);
 }
 
 const char *merd_session_id(const merd_session *s)
@@ -230,6 +240,14 @@ uint32_t merd_session_internodes(merd_session *s)
 }
 
 /* ---------------------------------------------------------------- applying */
+
+static bool discarded(merd_session *s)
+{
+    pthread_mutex_lock(&s->state);
+    bool gone = s->discarded;
+    pthread_mutex_unlock(&s->state);
+    return gone;
+}
 
 typedef struct stop_ctx {
     merd_session *s;
@@ -263,6 +281,8 @@ static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
 static void checkpoint(merd_session *s, uint64_t revision)
 {
     uint32_t every = s->cfg->checkpoint_every;
+    if (discarded(s))
+        return;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
     if (every > 0 && revision % every == 0 &&
         merd_checkpoint_write(s->checkpoint, s->id, revision, s->scene,
@@ -312,10 +332,19 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     json_t *applied = NULL;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
     if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
-        undo(s, how, before);
+        if (discarded(s))
+            mer_scene_free(before); /* deleted meanwhile: nothing to put back */
+        else
+            undo(s, how, before);
         goto done;
     }
     uint64_t revision = merd_session_revision(s);
+    if (json_array_size(applied) > 0 && discarded(s)) {
+        json_decref(applied);
+        mer_scene_free(before);
+        merd_refuse(why, 404, "unknown-session", "", "session %s was deleted while this batch ran", s->id);
+        goto done;
+    }
     if (json_array_size(applied) > 0) {
         json_t *record = json_pack("{s:i, s:O}", "revision", (json_int_t)(revision + 1), "edits", applied);
         char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);

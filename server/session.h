@@ -47,10 +47,11 @@ merd_session *merd_session_create(const merd_session_config *cfg, const char *id
                                   merd_refusal *why);
 
 /* Restores the session journaled at `path`: from its checkpoint and the records
- * after it, or, without a checkpoint that fits, by replaying it all. NULL with a reason
- * in `error` (MERD_JOURNAL_ERROR_MAX bytes). `*dropped` gets a torn tail's bytes. */
+ * after it, or, without a checkpoint that fits, by replaying it all. NULL with a
+ * reason in `error` (MERD_JOURNAL_ERROR_MAX bytes). `report` (may be NULL) says what
+ * merd_journal_open says: a torn tail dropped, or why the journal was refused. */
 merd_session *merd_session_restore(const merd_session_config *cfg, const char *path,
-                                   size_t *dropped, char *error);
+                                   merd_journal_report *report, char *error);
 
 /* Reference counting: a session stays alive while a request uses it, even after
  * it is deleted from the registry. */
@@ -103,7 +104,10 @@ uint32_t merd_session_internodes(merd_session *s);
  * flushed on the next call). For --fsync=interval. */
 void merd_session_sync(merd_session *s);
 
-/* Marks the session deleted: its journal is removed when the last reference goes. */
-void merd_session_discard(merd_session *s);
+/* Marks the session deleted and removes its journal durably (unlinked, folder
+ * synced) before returning, even while a batch runs: that batch is cancelled
+ * and journals nothing more. 0, or -1 with `error` (MERD_JOURNAL_ERROR_MAX
+ * bytes) when the file could not be removed. */
+int merd_session_discard(merd_session *s, char *error);
 
 #endif

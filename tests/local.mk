@@ -32,6 +32,7 @@ TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
 TESTS += tests/api/undo.test.js
 TESTS += tests/api/checkpoint.test.js
+TESTS += tests/api/crashloop.test.js
 TESTS += tests/api/security.test.js
 TESTS += tests/api/limits.test.js
 TESTS += tests/api/shutdown.test.js
@@ -58,6 +59,7 @@ EXTRA_DIST += \
 	tests/api/durability.test.js \
 	tests/api/undo.test.js \
 	tests/api/checkpoint.test.js \
+	tests/api/crashloop.test.js \
 	tests/api/security.test.js \
 	tests/api/limits.test.js \
 	tests/api/shutdown.test.js \
@@ -69,6 +71,12 @@ EXTRA_DIST += \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
 	tests/conformance/validate.test.js
+
+# A thousand kill -9 cycles (make check runs a few dozen); CRASH_SEED=N replays one.
+crash-loop: all
+	@$(AM_TESTS_ENVIRONMENT) CRASH_CYCLES=$${CRASH_CYCLES:-1000} \
+	  $(SHELL) $(top_srcdir)/tests/support/run-node.sh $(top_srcdir)/tests/api/crashloop.test.js
+.PHONY: crash-loop
 
 clean-local: clean-artifacts
 clean-artifacts:

@@ -8,7 +8,7 @@
 merd_session *merd_api_find_session(merd_request *req, const char *id, merd_refusal *why)
 {
     merd_session *s = merd_registry_get(req->app->registry, id);
-    if (s == NULL)
+    if (s == NULL && !merd_registry_quarantined(req->app->registry, id, why))
         merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET /v1/sessions "
                     "lists them)", id);
     return s;
@@ -43,11 +43,10 @@ enum MHD_Result merd_api_delete(merd_request *req, const char *id)
         req->revision = (long long)merd_session_revision(s);
         merd_session_unref(s);
     }
-    if (merd_registry_delete(req->app->registry, id) != 0) {
-        merd_refusal why = {0};
-        merd_refuse(&why, 404, "unknown-session", "", "there is no session %.64s", id);
+    merd_refusal why = {0};
+    if (merd_registry_quarantined(req->app->registry, id, &why) ||
+        merd_registry_delete(req->app->registry, id, &why) != 0)
         return merd_reply_refusal(req, &why);
-    }
     struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
     return merd_reply(req, 204, r, 0);
 }

@@ -359,6 +359,14 @@ test('GET /v1/presets matches presets.json, and the examples use its names', asy
   assert.deepEqual(Object.keys(s.body.params).sort(), expected);
 });
 
+test('a quarantined session is a list item of its own', () => {
+  const q = { id: 'a'.repeat(32), state: 'quarantined', reason: 'record 2 is damaged' };
+  check('session-list.json', { sessions: [q] }, 'a quarantined item');
+  const validate = ajv.getSchema('session-list.json');
+  assert.ok(!validate({ sessions: [{ ...q, reason: undefined }] }), 'a reason is required');
+  assert.ok(!validate({ sessions: [{ ...q, revision: 3 }] }), 'no summary fields');
+});
+
 test('GET /v1/sessions matches session-list.json', async () => {
   const made = await grown(1);
   const r = await J('GET', '/v1/sessions');

@@ -9,6 +9,7 @@
  * lengths and checksums, so that inputs reach the replay of the records. */
 #include "config.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -78,6 +79,25 @@ static void write_framed(FILE *f, const uint8_t *data, size_t size)
     }
 }
 
+/* The whole of file `path` (NULL and 0 for an empty one). */
+static uint8_t *slurp(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        abort();
+    uint8_t *buf = NULL;
+    size_t n = 0, cap = 0, got;
+    do {
+        if (n == cap && (buf = realloc(buf, cap = cap ? 2 * cap : 4096)) == NULL)
+            abort();
+        got = fread(buf + n, 1, cap - n, f);
+        n += got;
+    } while (got > 0);
+    fclose(f);
+    *size = n;
+    return buf;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (size == 0)
@@ -95,10 +115,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (fclose(f) != 0)
         abort();
     char error[MERD_JOURNAL_ERROR_MAX] = "";
-    size_t dropped = 0;
-    merd_journal *j = merd_journal_open(path, MERD_FSYNC_INTERVAL, replay, NULL, &dropped, error);
+    size_t before_size = 0;
+    uint8_t *before = slurp(path, &before_size);
+    merd_journal_report report = {0};
+    merd_journal *j = merd_journal_open(path, MERD_FSYNC_INTERVAL, replay, NULL, &report, error);
     if (j != NULL && scene == NULL)
         abort(); // a journal opened without its creation record
+    if (j == NULL) {
+        // A journal that is refused is not ours to cut: it must be left byte for byte.
+        size_t after_size = 0;
+        uint8_t *after = slurp(path, &after_size);
+        if (after_size != before_size || (after_size > 0 && memcmp(before, after, after_size) != 0))
+            abort();
+        free(after);
+    }
+    free(before);
     merd_journal_close(j, false);
     mer_scene_free(scene);
     scene = NULL;
