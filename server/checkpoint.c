@@ -3,13 +3,13 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <libgen.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "server/checkpoint.h"
 #include "server/journal.h"
@@ -18,44 +18,16 @@
 #define ID_LEN 32
 #define HEAD (8 + ID_LEN + 8 + 8) /* magic, id, revision, digest of the three */
 
-static uint64_t fnv(const unsigned char *p, size_t n)
+/* The CRC-32 of a head's magic, id and revision, as the journal's records use. */
+static uint64_t digest_of(const unsigned char *head)
 {
-    uint64_t h = UINT64_C(1469598103934665603);
-    for (size_t i = 0; i < n; i++)
-        h = (h ^ p[i]) * UINT64_C(1099511628211);
-    return h;
+    return crc32(crc32(0L, Z_NULL, 0), head, 8 + ID_LEN + 8);
 }
 
 static int failed(char *error, const char *what, const char *path)
 {
     snprintf(error, MERD_JOURNAL_ERROR_MAX, "%s %.180s: %s", what, path, strerror(errno));
     return -1;
-}
-
-static int write_whole(int fd, const unsigned char *p, size_t n)
-{
-    while (n > 0) {
-        ssize_t w = write(fd, p, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return -1;
-        p += w;
-        n -= (size_t)w;
-    }
-    return 0;
-}
-
-static int sync_folder_of(const char *path)
-{
-    char copy[PATH_MAX];
-    snprintf(copy, sizeof copy, "%s", path);
-    int fd = open(dirname(copy), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0)
-        return -1;
-    int rc = fsync(fd);
-    close(fd);
-    return rc;
 }
 
 int merd_checkpoint_write(const char *path, const char *id, uint64_t revision,
@@ -72,7 +44,7 @@ int merd_checkpoint_write(const char *path, const char *id, uint64_t revision,
     memcpy(head, MAGIC, 8);
     memcpy(head + 8, id, ID_LEN);
     memcpy(head + 8 + ID_LEN, &revision, 8);
-    uint64_t digest = fnv(head, 8 + ID_LEN + 8);
+    uint64_t digest = digest_of(head);
     memcpy(head + 8 + ID_LEN + 8, &digest, 8);
     char tmp[PATH_MAX];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
@@ -81,7 +53,7 @@ int merd_checkpoint_write(const char *path, const char *id, uint64_t revision,
     if (fd < 0) {
         failed(error, "cannot create", tmp);
     } else {
-        if (write_whole(fd, head, sizeof head) != 0 || write_whole(fd, bytes, size) != 0)
+        if (merd_write_all(fd, head, sizeof head) != 0 || merd_write_all(fd, bytes, size) != 0)
             failed(error, "cannot write", tmp);
         else if (sync && fsync(fd) != 0)
             failed(error, "cannot flush", tmp);
@@ -92,7 +64,7 @@ int merd_checkpoint_write(const char *path, const char *id, uint64_t revision,
     }
     if (rc == 0 && rename(tmp, path) != 0)
         rc = failed(error, "cannot rename", tmp);
-    if (rc == 0 && sync && sync_folder_of(path) != 0)
+    if (rc == 0 && sync && merd_sync_folder(path) != 0)
         rc = failed(error, "cannot sync the folder of", path);
     if (rc != 0)
         unlink(tmp);
@@ -140,7 +112,7 @@ mer_scene *merd_checkpoint_read(const char *path, const char *id, uint64_t *revi
     uint64_t digest;
     if (size >= HEAD)
         memcpy(&digest, buf + 8 + ID_LEN + 8, 8);
-    if (size < HEAD || memcmp(buf, MAGIC, 8) != 0 || fnv(buf, 8 + ID_LEN + 8) != digest ||
+    if (size < HEAD || memcmp(buf, MAGIC, 8) != 0 || digest_of(buf) != digest ||
         strlen(id) != ID_LEN || memcmp(buf + 8, id, ID_LEN) != 0) {
         snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s is not a checkpoint of this session", path);
     } else {

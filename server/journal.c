@@ -50,8 +50,7 @@ static int fail(char *error, const char *what, const char *path)
     return -1;
 }
 
-/* A new file's name is durable only once its folder is synced. */
-static int sync_folder(const char *path)
+int merd_sync_folder(const char *path)
 {
     char copy[PATH_MAX];
     snprintf(copy, sizeof copy, "%s", path);
@@ -63,8 +62,9 @@ static int sync_folder(const char *path)
     return rc;
 }
 
-static int write_all(int fd, const unsigned char *p, size_t n)
+int merd_write_all(int fd, const void *bytes, size_t n)
 {
+    const unsigned char *p = bytes;
     while (n > 0) {
         ssize_t w = write(fd, p, n);
         if (w < 0 && errno == EINTR)
@@ -94,7 +94,7 @@ int merd_journal_append(merd_journal *j, const char *payload, size_t size, char 
     memcpy(buf + HEADER, payload, size);
     // One write of header and payload: a crash leaves a whole record or a torn
     // one that replay detects, never a record that reads as whole but is not.
-    int rc = write_all(j->fd, buf, HEADER + size);
+    int rc = merd_write_all(j->fd, buf, HEADER + size);
     free(buf);
     if (rc == 0 && j->mode == MERD_FSYNC_ALWAYS)
         rc = fdatasync(j->fd);
@@ -137,7 +137,7 @@ merd_journal *merd_journal_create(const char *path, const char *first, size_t si
         return NULL;
     }
     if (merd_journal_append(j, first, size, error) != 0 ||
-        (mode == MERD_FSYNC_ALWAYS && sync_folder(path) != 0 && fail(error, "cannot sync the folder of", path))) {
+        (mode == MERD_FSYNC_ALWAYS && merd_sync_folder(path) != 0 && fail(error, "cannot sync the folder of", path))) {
         merd_journal_close(j, true);
         return NULL;
     }
@@ -297,7 +297,7 @@ int merd_journal_unlink(const char *path, char *error)
 {
     if (unlink(path) != 0 && errno != ENOENT)
         return fail(error, "cannot remove", path);
-    if (sync_folder(path) != 0)
+    if (merd_sync_folder(path) != 0)
         return fail(error, "cannot sync the folder of", path);
     return 0;
 }
@@ -325,6 +325,6 @@ void merd_journal_close(merd_journal *j, bool remove)
         merd_journal_sync(j);
     close(j->fd);
     if (remove && unlink(j->path) == 0)
-        sync_folder(j->path);
+        merd_sync_folder(j->path);
     free(j);
 }

@@ -91,4 +91,12 @@ size_t merd_journal_records(const merd_journal *j);
 /* Closes the file. With `remove` true, also deletes it. NULL is fine. */
 void merd_journal_close(merd_journal *j, bool remove);
 
+/* Writes all `n` bytes to `fd`, retrying short writes and EINTR: 0, or -1 with
+ * errno set. Shared with the checkpoints. */
+int merd_write_all(int fd, const void *bytes, size_t n);
+
+/* fsyncs the folder that holds `path`: a new, renamed or removed name is durable
+ * only once its folder is. 0, or -1 with errno set. */
+int merd_sync_folder(const char *path);
+
 #endif
