@@ -17,6 +17,11 @@ export class PruneTool extends NodeTool {
   /** The gesture is a click: taken here, acted on in end. */
   begin() { return true; }
 
+  /** A click is under way until its prune is sent (the highlight is drawn first). */
+  busy() { return this.clicking > 0; }
+
+  clicking = 0;
+
   end(e, { moved }) {
     if (!moved && e.type === 'pointerup') this.click(e);
   }
@@ -25,13 +30,15 @@ export class PruneTool extends NodeTool {
   async click(e) {
     const hit = this.viewer.pick(e.clientX, e.clientY);
     if (!hit) return null;
-    this.viewer.setHighlight('hover', null);
-    this.viewer.setHighlight('picked', new Set([hit.node]), PICKED);
-    this.viewer.render();
-    await nextFrame();
+    this.clicking++;
     try {
+      this.viewer.setHighlight('hover', null);
+      this.viewer.setHighlight('picked', new Set([hit.node]), PICKED);
+      this.viewer.render();
+      await nextFrame();
       return await this.session.send([{ op: 'prune', node: hit.node }]);
     } finally {
+      this.clicking--;
       this.viewer.setHighlight('picked', null);
     }
   }
