@@ -42,11 +42,13 @@ TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
 TESTS += tests/browser/controls.test.js
+TESTS += tests/conformance/importers.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
 tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_mesh.log \
-	tests/api/cli.test.log tests/api/sessions.test.log tests/api/smoke.log
+	tests/api/cli.test.log tests/api/sessions.test.log tests/api/smoke.log \
+	tests/conformance/importers.test.log
 
 EXTRA_DIST += \
 	tests/check-exports.sh \
@@ -70,6 +72,7 @@ EXTRA_DIST += \
 	tests/browser/page.test.js \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
+	tests/conformance/importers.test.js \
 	tests/conformance/validate.test.js
 
 # A thousand kill -9 cycles (make check runs a few dozen); CRASH_SEED=N replays one.
