@@ -38,6 +38,7 @@ TESTS += tests/api/limits.test.js
 TESTS += tests/api/shutdown.test.js
 TESTS += tests/api/slow-clients.test.js
 TESTS += tests/api/proto.test.js
+TESTS += tests/api/stall-spread.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
@@ -67,6 +68,7 @@ EXTRA_DIST += \
 	tests/api/shutdown.test.js \
 	tests/api/slow-clients.test.js \
 	tests/api/proto.test.js \
+	tests/api/stall-spread.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
