@@ -43,6 +43,7 @@ TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
 TESTS += tests/browser/controls.test.js
+TESTS += tests/browser/modeller.test.js
 TESTS += tests/conformance/importers.test.js
 TESTS += tests/conformance/validate.test.js
 
@@ -74,6 +75,7 @@ EXTRA_DIST += \
 	tests/browser/page.test.js \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
+	tests/browser/modeller.test.js \
 	tests/conformance/importers.test.js \
 	tests/conformance/validate.test.js
 

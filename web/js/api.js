@@ -42,6 +42,11 @@ export function edit(id, edits) {
   return request('POST', `v1/sessions/${id}/edits`, body);
 }
 
+/** The session's living internodes: {revision, nodes: [{id, parent, order, base, tip, ...}]}. */
+export function skeleton(id) {
+  return request('GET', `v1/sessions/${id}/skeleton?alive=1`);
+}
+
 /**
  * The snapshot URL for the given view options. The viewer asks for `compact` ones:
  * KHR_mesh_quantization, EXT_meshopt_compression and no UVs, a third of the bytes; a
