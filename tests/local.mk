@@ -56,6 +56,7 @@ EXTRA_DIST += \
 	tests/check-exports.sh \
 	tests/support/run-node.sh \
 	tests/support/daemon.js \
+	tests/support/chromium.js \
 	tests/api/health.test.js \
 	tests/api/static.test.js \
 	tests/api/cli.test.js \

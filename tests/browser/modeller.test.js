@@ -7,12 +7,8 @@
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const path = require('node:path');
-const { chromium } = require('playwright-core');
 const { startDaemon, api } = require('../support/daemon.js');
-
-const CHROMIUM_ARGS = ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-  '--disable-background-networking', '--disable-component-update', '--disable-sync',
-  '--use-angle=swiftshader', '--enable-unsafe-swiftshader'];
+const { openPage } = require('../support/chromium.js');
 const ARTIFACTS = process.env.MER_ARTIFACTS || '/tmp';
 
 let d, browser, page, cdp, id;
@@ -43,11 +39,8 @@ const stem = () => page.evaluate(() => [...window.meristem.viewer.nodes()]
   .filter(([k, v]) => k < 12 && v.axis[1] > 0.85).sort((a, b) => a[0] - b[0]));
 
 before(async () => {
-  if (!process.env.CHROMIUM) throw new Error('CHROMIUM is not set; configure found no chromium');
   d = await startDaemon(['--quiet']);
-  browser = await chromium.launch({ executablePath: process.env.CHROMIUM, headless: true, args: CHROMIUM_ARGS });
-  page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
-  cdp = await page.context().newCDPSession(page);
+  ({ browser, page, cdp } = await openPage());
   page.on('pageerror', (e) => errors.push(String(e)));
   page.on('response', (r) => { if (r.status() >= 400) errors.push(`${r.status()} ${r.url()}`); });
   page.on('request', (r) => {
