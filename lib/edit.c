@@ -84,6 +84,23 @@ static void rotate_subtree(merp_skeleton *sk, uint32_t node, size_t cnt, const f
 mer_result mer_scene_bend(mer_scene *s, uint32_t node, const float axis[3], float angle,
                           mer_error *err)
 {
+    return mer_scene_bend_spread(s, node, axis, angle, 1, err);
+}
+
+/* The first `spread` internodes of the axis from `node` up (node, its terminal
+ * child, that one's, ...) into `chain`; returns how many there are. */
+static uint32_t axis_chain(const merp_skeleton *sk, uint32_t node, uint32_t spread,
+                           uint32_t *chain)
+{
+    uint32_t n = 0;
+    for (uint32_t i = node; n < spread && i != MER_NO_NODE && sk->alive[i]; i = sk->child[3 * i])
+        chain[n++] = i;
+    return n;
+}
+
+mer_result mer_scene_bend_spread(mer_scene *s, uint32_t node, const float axis[3], float angle,
+                                 uint32_t spread, mer_error *err)
+{
     assert(s != NULL && axis != NULL);
     mer_result rc = live_node(s, node, err);
     if (rc != MER_OK)
@@ -93,13 +110,25 @@ mer_result mer_scene_bend(mer_scene *s, uint32_t node, const float axis[3], floa
         return mer_error_set(err, MER_ERR_RANGE, "axis", "axis must not be the zero vector");
     if (!(angle == angle))
         return mer_error_set(err, MER_ERR_RANGE, "angle", "angle must be a number");
-    size_t cnt;
-    rc = merp_skel_subtree(&s->sk, node, &cnt, err);
-    if (rc != MER_OK)
-        return rc;
-    cast_subtree(s, cnt, -1);
-    rotate_subtree(&s->sk, node, cnt, ax, angle * MER_DEG2RAD);
-    cast_subtree(s, cnt, 1);
+    if (spread < 1 || spread > MER_BEND_SPREAD_MAX)
+        return mer_error_set(err, MER_ERR_RANGE, "spread", "spread must be from 1 to %u, got %u",
+                             (unsigned)MER_BEND_SPREAD_MAX, (unsigned)spread);
+    uint32_t chain[MER_BEND_SPREAD_MAX];
+    uint32_t n = axis_chain(&s->sk, node, spread, chain);
+    /* Each internode of the chain turns its own subtree about its own base by an
+     * equal share, lowest first: the axis curves, and its tip turns by `angle`. */
+    float share = angle / (float)n * MER_DEG2RAD;
+    for (uint32_t j = 0; j < n; j++) {
+        size_t cnt;
+        /* Only the first walk can fail (its buffer is sized by the node count,
+         * not the subtree): a refusal changes nothing. */
+        rc = merp_skel_subtree(&s->sk, chain[j], &cnt, err);
+        if (rc != MER_OK)
+            return rc;
+        cast_subtree(s, cnt, -1);
+        rotate_subtree(&s->sk, chain[j], cnt, ax, share);
+        cast_subtree(s, cnt, 1);
+    }
     merp_env_buds_moved(&s->env); /* moved buds see other markers */
     nodes_changed(s);
     return MER_OK;

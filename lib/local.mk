@@ -38,6 +38,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/scene_io.c \
 	lib/scene_env.c \
 	lib/scene_read.c \
+	lib/step_report.c \
 	lib/edit.c \
 	lib/brush.c \
 	lib/symmetry.c \

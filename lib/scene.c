@@ -134,12 +134,15 @@ mer_result mer_scene_set_schedule(mer_scene *s, const mer_schedule *schedule, me
 static mer_result one_step(mer_scene *s, mer_error *err)
 {
     merp_world w = merp_scene_world(s);
+    uint32_t before = s->sk.n;
     mer_result rc = s->ops->step(s->model, &w, err);
     merp_pipe_update(&s->sk, &s->p);
     /* mer_scene_step_index counts completed steps, as *done does: not a step
      * cut short by a failure. */
-    if (rc == MER_OK)
+    if (rc == MER_OK) {
         s->step++;
+        merp_scene_report_step(s, s->sk.n - before);
+    }
     return rc;
 }
 

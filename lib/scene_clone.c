@@ -21,6 +21,7 @@ mer_result mer_scene_clone(const mer_scene *s, mer_scene **out, mer_error *err)
     c->p = s->p;
     c->rng = s->rng;
     c->step = s->step;
+    c->last = s->last;
     c->ops = s->ops;
     mer_result rc = merp_env_clone(&s->env, &c->env, err);
     if (rc == MER_OK)

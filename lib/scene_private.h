@@ -24,6 +24,7 @@ struct mer_scene {
     merp_env env;
     const merp_model_ops *ops;
     merp_model *model;
+    mer_step_report last; /* the last step's report (step_report.c) */
 };
 
 /* A scene running the model `ops` rather than the one p->model names: the seam
@@ -32,6 +33,9 @@ mer_result merp_scene_new_with(const merp_model_ops *ops, const mer_params *para
                                uint64_t seed, mer_scene **out, mer_error *err);
 /* The world lent to the model for one call. */
 merp_world merp_scene_world(mer_scene *s);
+/* Records the report of the step just run, which made `grown` internodes
+ * (step_report.c). O(nodes) when it grew nothing, else O(1). */
+void merp_scene_report_step(mer_scene *s, uint32_t grown);
 /* Recasts the shadow grid from scratch: every dormant bud, then every obstacle.
  * O(nodes + obstacle voxels). */
 void merp_scene_rebuild_shadow(mer_scene *s);

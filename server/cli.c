@@ -31,7 +31,7 @@ typedef struct grow_args {
     size_t set_count;
     const char *output;
     mer_mesh_options mesh;
-    uint32_t unquantized;
+    uint32_t quantized;
     uint32_t compression;
 } grow_args;
 
@@ -50,7 +50,9 @@ static void usage(FILE *out)
             "  --leaves           add leaf cards\n"
             "  --markers          add the marker points\n"
             "  --color=MODE       vertex colours: none, order, light or age (default none)\n"
-            "  --unquantized      float positions and normals (no KHR_mesh_quantization)\n"
+            "  --quantize         quantized positions and normals (KHR_mesh_quantization;\n"
+            "                     three.js reads it, assimp does not); default float\n"
+            "  --unquantized      float positions and normals (the default)\n"
             "  --no-texcoords     leave out the UVs (for viewers that draw no texture)\n"
             "  --compress=MODE    none or meshopt (EXT_meshopt_compression; .glb only;\n"
             "                     three.js reads it, Blender does not)\n"
@@ -142,7 +144,7 @@ static int grow(const grow_args *a)
         mer_gltf_options gopt = {
             .format = n >= 5 && strcmp(a->output + n - 5, ".gltf") == 0 ? MER_GLTF_EMBEDDED
                                                                         : MER_GLTF_BINARY,
-            .unquantized = a->unquantized,
+            .unquantized = !a->quantized,
             .compression = a->compression};
         merd_origin origin = {.preset = a->preset, .seed = a->seed};
         uint8_t *bytes = NULL;
@@ -183,6 +185,7 @@ static int list_presets(void)
 
 /* grow's long options. */
 enum { O_MODEL = 999, O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
+       O_QUANTIZE,
        O_NO_TEXCOORDS, O_COMPRESS, O_TWIG_LINES };
 static const struct option longopts[] = {
     {"model", required_argument, NULL, O_MODEL},
@@ -191,6 +194,7 @@ static const struct option longopts[] = {
     {"output", required_argument, NULL, 'o'},      {"detail", required_argument, NULL, O_DETAIL},
     {"leaves", no_argument, NULL, O_LEAVES},       {"markers", no_argument, NULL, O_MARKERS},
     {"color", required_argument, NULL, O_COLOR},   {"unquantized", no_argument, NULL, O_UNQUANTIZED},
+    {"quantize", no_argument, NULL, O_QUANTIZE},
     {"no-texcoords", no_argument, NULL, O_NO_TEXCOORDS},
     {"twig-lines", no_argument, NULL, O_TWIG_LINES},
     {"compress", required_argument, NULL, O_COMPRESS},
@@ -237,7 +241,8 @@ static int parse_grow(int argc, char **argv, grow_args *a)
             break;
         case O_LEAVES: a->mesh.leaves = 1; break;
         case O_MARKERS: a->mesh.markers = 1; break;
-        case O_UNQUANTIZED: a->unquantized = 1; break;
+        case O_UNQUANTIZED: a->quantized = 0; break;
+        case O_QUANTIZE: a->quantized = 1; break;
         case O_NO_TEXCOORDS: a->mesh.no_uvs = 1; break;
         case O_TWIG_LINES: a->mesh.twig_lines = 1; break;
         case O_COMPRESS: {

@@ -10,8 +10,10 @@
 #include "server/decode.h"
 #include "server/edit_ops.h"
 
-/* A bend turns by at most a full turn either way, in degrees. */
+/* A bend turns by at most a full turn either way, in degrees, spread by default
+ * over the first three internodes of the bent axis (a curve, not an elbow). */
 #define ANGLE_MAX 360.0
+#define MERD_BEND_SPREAD_DEFAULT 3
 /* A keyframe's step and a schedule's η values. */
 #define KEY_STEP_MAX 1e6
 #define ETA_MAX 100.0
@@ -227,6 +229,15 @@ static int decode_bend(const json_t *o, const char *w, merd_decode_ctx *c, merd_
         return merd_refuse(why, 422, "out-of-range", f, "%s must not be the zero vector", f);
     }
     e->angle = (float)angle;
+    // A bend recorded before `spread` existed was an elbow; a new one without it
+    // gets the default, written into the edit so that its journal record says so.
+    uint64_t spread;
+    if (merd_get_uint(o, "spread", w, 1, MER_BEND_SPREAD_MAX, false,
+                      c->limits->journal ? 1 : MERD_BEND_SPREAD_DEFAULT, &spread, why))
+        return -1;
+    if (json_object_get(o, "spread") == NULL)
+        json_object_set_new((json_t *)o, "spread", json_integer((json_int_t)spread));
+    e->spread = (uint32_t)spread;
     return 0;
 }
 
@@ -405,7 +416,7 @@ static int apply_prune(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
 static int apply_bend(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
 {
     mer_error err = {0};
-    return lib(c, mer_scene_bend(c->scene, e->node, e->axis, e->angle, &err), &err, why);
+    return lib(c, mer_scene_bend_spread(c->scene, e->node, e->axis, e->angle, e->spread, &err), &err, why);
 }
 
 static int apply_schedule(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
@@ -451,7 +462,7 @@ static int apply_release(const merd_edit *e, merd_apply_ctx *c, merd_refusal *wh
 
 static const char *const step_fields[] = {"op", "count", NULL};
 static const char *const node_fields[] = {"op", "node", NULL};
-static const char *const bend_fields[] = {"op", "node", "axis", "angle", NULL};
+static const char *const bend_fields[] = {"op", "node", "axis", "angle", "spread", NULL};
 static const char *const schedule_fields[] = {"op", "apical_off", "eta_order_scale",
                                               "lambda_keys", "eta_keys", NULL};
 static const char *const params_fields[] = {"op", "params", NULL};

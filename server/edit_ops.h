@@ -27,6 +27,7 @@ typedef struct merd_edit {
     uint32_t count;        /* step */
     uint32_t node, bud;    /* prune, bend, brush constraint */
     float axis[3], angle;  /* bend */
+    uint32_t spread;       /* bend: internodes the turn is spread over */
     float *points;         /* add_markers points: 3 × npoints, owned; NULL for a dab */
     size_t npoints;
     mer_brush brush;

@@ -95,6 +95,7 @@ int merd_batch_apply(const merd_batch *b, mer_scene *scene, merd_batch_stop_fn s
 {
     *applied = json_array();
     memset(outcome, 0, sizeof *outcome);
+    outcome->last_step.node = MER_NO_NODE;
     bool batch = b->count > 1 || json_object_get(b->body, "edits") != NULL;
     // One context for the batch: a stop once asked for holds for later steps too.
     merd_apply_ctx c = {.scene = scene, .stop = stop, .stop_ctx = ctx};
@@ -112,6 +113,8 @@ int merd_batch_apply(const merd_batch *b, mer_scene *scene, merd_batch_stop_fn s
         if (e->op->flags & MERD_OP_STEPS) {
             outcome->steps_asked += e->count;
             outcome->steps_done += c.done;
+            if (c.done > 0)
+                mer_scene_step_report(scene, &outcome->last_step);
             if (c.done < e->count) {
                 // Stopped at a whole step: journal what was done, nothing after it.
                 if (c.done > 0)
@@ -136,7 +139,7 @@ merd_undo merd_batch_undo(const merd_batch *b)
 
 int merd_batch_replay(const json_t *applied, mer_scene *scene, merd_refusal *why)
 {
-    const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
+    const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX, true};
     json_t *body = json_pack("{s:O}", "edits", (json_t *)applied);
     merd_batch *b = NULL;
     int rc = merd_batch_decode(body, &unlimited, &b, why);

@@ -27,6 +27,10 @@
 typedef struct merd_edit_limits {
     uint32_t max_steps;      /* steps in one request */
     uint32_t max_markers;    /* markers one request may add (points, or a dab with its copies) */
+    /* Decoding a journal record rather than a request: a field left out means
+     * what it meant when the record was written (a bend's spread: 1), where a
+     * request gets today's default, which is then written into its record. */
+    bool journal;
 } merd_edit_limits;
 
 typedef struct merd_batch merd_batch;
@@ -47,6 +51,10 @@ typedef struct merd_batch_outcome {
     /* NULL, or why it stopped: what the stop function said ("cancelled",
      * "time limit", "internode limit"). */
     const char *interrupted;
+    /* The report of the last step the batch ran (mer_scene_step_report): its
+     * `stall` says why that step grew nothing; MER_STALL_NONE when it grew or
+     * the batch ran no step. */
+    mer_step_report last_step;
 } merd_batch_outcome;
 
 /* Called between steps: NULL to go on, or why to stop at this whole step (a

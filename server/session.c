@@ -98,7 +98,7 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         if (create == NULL || !json_is_string(id) || strcmp(json_string_value(id), r->s->id) != 0)
             goto done;
         // Replay builds what was accepted once, whatever today's limits say.
-        const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
+        const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX, true};
         r->s->scene = r->base ? r->base : merd_scene_from_spec(create, &unlimited, &why);
         r->base = NULL;
         r->s->spec = json_deep_copy(create);

@@ -38,20 +38,25 @@ TESTS += tests/api/limits.test.js
 TESTS += tests/api/shutdown.test.js
 TESTS += tests/api/slow-clients.test.js
 TESTS += tests/api/proto.test.js
+TESTS += tests/api/stall-spread.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
 TESTS += tests/browser/controls.test.js
+TESTS += tests/browser/modeller.test.js
+TESTS += tests/conformance/importers.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
 tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_mesh.log \
-	tests/api/cli.test.log tests/api/sessions.test.log tests/api/smoke.log
+	tests/api/cli.test.log tests/api/sessions.test.log tests/api/smoke.log \
+	tests/conformance/importers.test.log
 
 EXTRA_DIST += \
 	tests/check-exports.sh \
 	tests/support/run-node.sh \
 	tests/support/daemon.js \
+	tests/support/chromium.js \
 	tests/api/health.test.js \
 	tests/api/static.test.js \
 	tests/api/cli.test.js \
@@ -65,11 +70,14 @@ EXTRA_DIST += \
 	tests/api/shutdown.test.js \
 	tests/api/slow-clients.test.js \
 	tests/api/proto.test.js \
+	tests/api/stall-spread.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
+	tests/browser/modeller.test.js \
+	tests/conformance/importers.test.js \
 	tests/conformance/validate.test.js
 
 # A thousand kill -9 cycles (make check runs a few dozen); CRASH_SEED=N replays one.

@@ -6,6 +6,7 @@
 #include "gltf/gltf_private.h"
 
 #include <cfloat>
+#include <cmath>
 
 namespace merp_gltf {
 
@@ -150,6 +151,14 @@ void add_extras(tinygltf::Model &model, const mer_gltf_meta *meta)
     static const char *const colors[] = {"none", "order", "light", "age"};
     options["color"] = tinygltf::Value(std::string(meta->color < 4 ? colors[meta->color] : "none"));
     o["mesh_options"] = tinygltf::Value(options);
+    tinygltf::Value::Object units;
+    units["length"] = tinygltf::Value(std::string("metre"));
+    units["up"] = tinygltf::Value(std::string("+Y"));
+    if (meta->internode_length > 0)
+        // Parameters are floats: six significant digits say what was asked for.
+        units["internode_length"] =
+            tinygltf::Value(std::round(meta->internode_length * 1e6) / 1e6);
+    o["units"] = tinygltf::Value(units);
     model.asset.extras = tinygltf::Value(o);
 }
 

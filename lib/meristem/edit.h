@@ -6,8 +6,9 @@
  *    gone too (a cut does not regrow), so growth passes to the buds below. Node
  *    ids of the removed nodes are never reused. Diameters below keep their size
  *    (pipe-model memory, P09 §4.5).
- *  - Bending rotates a node's subtree rigidly about the node's base point; it is
- *    not blocked by obstacles (the user moves the branch).
+ *  - Bending rotates a node's subtree rigidly about the node's base point (or, with
+ *    a spread, curves the first internodes of its axis); it is not blocked by
+ *    obstacles (the user moves the branch).
  *  - A brush dab at pressure p in (0, 1] scatters round(1 + (max_count − 1)·p²)
  *    markers uniformly in a ball of radius radius·(0.1 + 0.9·p): light pressure
  *    gives a few markers on a tight line (a limb sketch), heavy pressure a wide
@@ -39,10 +40,23 @@ extern "C" {
 mer_result mer_scene_prune(mer_scene *s, uint32_t node, mer_error *err);
 
 /* Rotates the subtree of `node` about its base by `angle` degrees about `axis`
- * (need not be unit; must not be zero). Errors as prune, MER_ERR_RANGE for a zero
- * axis. O(subtree + buds·q_max²). */
+ * (need not be unit; must not be zero): an elbow at the node's base. Errors as
+ * prune, MER_ERR_RANGE for a zero axis. O(subtree + buds·q_max²). Same as
+ * mer_scene_bend_spread with spread 1. */
 mer_result mer_scene_bend(mer_scene *s, uint32_t node, const float axis[3], float angle,
                           mer_error *err);
+
+#define MER_BEND_SPREAD_MAX 64u
+
+/* Bends the axis from `node` up as a curve rather than an elbow: the first
+ * `spread` internodes of the axis (node, its terminal child, ...; fewer where
+ * the axis ends sooner, say n) each turn their own subtree about their own base
+ * by angle / n, lowest first, so the axis's tip turns by `angle` in all and the
+ * lateral branches on the way ride along. spread 1 is mer_scene_bend. Errors as
+ * mer_scene_bend, MER_ERR_RANGE ("spread") outside 1..MER_BEND_SPREAD_MAX.
+ * O(n · (subtree + buds·q_max²)). */
+mer_result mer_scene_bend_spread(mer_scene *s, uint32_t node, const float axis[3], float angle,
+                                 uint32_t spread, mer_error *err);
 
 typedef struct mer_brush {
     float center[3];

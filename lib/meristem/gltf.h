@@ -37,7 +37,11 @@ typedef enum mer_gltf_format {
 } mer_gltf_format;
 
 /* What a snapshot says about its own origin, written to asset.extras so that a
- * GLB tells how to grow it again. Strings may be NULL (then left out). */
+ * GLB tells how to grow it again. Strings may be NULL (then left out). Every
+ * written meta also has asset.extras.units: {"length": "metre", "up": "+Y",
+ * "internode_length": l0}: one unit of the file is one metre (glTF's own unit),
+ * the plants stand on y = 0 with their first internode's base at their seed
+ * point (the origin for one plant), and an internode grows l0 units long. */
 typedef struct mer_gltf_meta {
     const char *session;  /* session id */
     uint64_t revision;
@@ -48,6 +52,7 @@ typedef struct mer_gltf_meta {
     uint32_t leaves;
     uint32_t markers;
     uint32_t color;
+    double internode_length; /* the tree's l0 in units, for asset.extras.units; 0: left out */
 } mer_gltf_meta;
 
 typedef enum mer_gltf_compression {
@@ -55,7 +60,10 @@ typedef enum mer_gltf_compression {
     MER_GLTF_MESHOPT = 1   /* EXT_meshopt_compression (GLB only); see mer_gltf_write_tree */
 } mer_gltf_compression;
 
-/* How to write. All-zero: GLB with quantized vertices, uncompressed. */
+/* How to write. All-zero: GLB with quantized vertices, uncompressed. The
+ * daemon's and the offline command's default is unquantized (every importer
+ * reads float positions at an identity node transform; assimp and Blender
+ * versions without KHR_mesh_quantization do not read the quantized form). */
 typedef struct mer_gltf_options {
     uint32_t format;      /* mer_gltf_format; default MER_GLTF_BINARY */
     uint32_t unquantized; /* 1: float positions and normals, no extension; 0: quantized */
@@ -76,7 +84,11 @@ typedef struct mer_gltf_options {
  * "meristem VERSION"; `meta` (may be NULL) goes to asset.extras. `options` may
  * be NULL (defaults).
  *
- * Quantized (the default, KHR_mesh_quantization, listed as required): bark and
+ * Unquantized: FLOAT positions and normals in world units, and the "tree" node
+ * has no transform (the identity), so an importer places the tree at unit scale
+ * with its base at the origin.
+ *
+ * Quantized (the all-zero options, KHR_mesh_quantization, listed as required): bark and
  * leaf positions are SHORT integers on a uniform grid over the tree's bounding
  * box, with the "tree" node's translation and uniform scale mapping them back
  * (a step of the largest half-extent / 32767: 0.3 mm on a 20 m tree), and

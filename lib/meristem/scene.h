@@ -246,6 +246,34 @@ mer_result mer_scene_step(mer_scene *s, uint32_t count, mer_progress_fn progress
 /* Steps completed so far. */
 uint32_t mer_scene_step_index(const mer_scene *s);
 
+/* Why a step grew nothing (mer_step_report.stall), most telling first: a user
+ * can lift a constraint, but not bring dead buds back. */
+typedef enum mer_stall {
+    MER_STALL_NONE = 0,         /* it grew, or no step has run */
+    MER_STALL_CONSTRAINED = 1,  /* growth is constrained to a bud (mer_scene_constrain)
+                                   and nothing at or above it grew */
+    MER_STALL_ALL_BUDS_DEAD = 2, /* no dormant bud is left on any plant */
+    MER_STALL_NO_MARKERS = 3,   /* space colonization: no bud had a free marker in reach */
+    MER_STALL_NO_LIGHT = 4      /* shadow propagation: no bud got light enough for an internode */
+} mer_stall;
+
+/* What the scene's last step did. */
+typedef struct mer_step_report {
+    uint32_t step;  /* mer_scene_step_index after that step; 0: no step has run */
+    uint32_t grown; /* internodes it made (shed ones not subtracted) */
+    uint32_t stall; /* mer_stall: why `grown` is 0; MER_STALL_NONE when it is not */
+    uint32_t node;  /* the constrained node for MER_STALL_CONSTRAINED, else MER_NO_NODE */
+} mer_step_report;
+
+/* Fills `*out` (not NULL) with the report of the last completed step of this
+ * scene (or of the scene it was cloned from). The report is not part of the
+ * scene's state: not hashed, not in a checkpoint (a loaded scene has none). O(1). */
+void mer_scene_step_report(const mer_scene *s, mer_step_report *out);
+
+/* "constrained", "all-buds-dead", "no-markers", "no-light"; NULL for
+ * MER_STALL_NONE or an unknown value. */
+const char *mer_stall_name(uint32_t stall);
+
 typedef struct mer_summary {
     uint32_t step;
     uint32_t plants;

@@ -13,6 +13,13 @@ static struct MHD_Response *summary_response(merd_api_job *j, const merd_batch_o
     if (outcome->interrupted != NULL)
         json_object_set_new(body, "interrupted", json_string(outcome->interrupted));
     json_object_set_new(body, "steps_done", json_integer(outcome->steps_done));
+    const mer_step_report *last = &outcome->last_step;
+    // Only a stalled step says so: a summary that grew is as it always was.
+    if (last->stall != MER_STALL_NONE)
+        json_object_set_new(body, "stalled",
+                            json_pack("{s:s, s:o}", "reason", mer_stall_name(last->stall), "node",
+                                      last->node == MER_NO_NODE ? json_null()
+                                                                : json_integer(last->node)));
     struct MHD_Response *r = merd_json_response(body, size);
     json_decref(body);
     return r;

@@ -66,7 +66,12 @@ static void build_presets(void)
                                                 "max", merd_json_param(hi), "default",
                                                 merd_json_param(v)));
     }
-    json_t *body = json_pack("{s:o, s:o}", "presets", presets, "parameters", fields);
+    // What a length means, for every preset and every snapshot (asset.extras.units).
+    json_t *units = json_pack("{s:s, s:s, s:s}", "length", "metre", "up", "+Y", "internode_length",
+                              "the parameter internode_length (l0, default 1): one internode is "
+                              "l0 units long when it grows");
+    json_t *body = json_pack("{s:o, s:o, s:o}", "presets", presets, "parameters", fields, "units",
+                             units);
     presets_text = json_dumps(body, MERD_JSON_DUMP_FLAGS);
     json_decref(body);
 }

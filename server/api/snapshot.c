@@ -33,7 +33,7 @@ int merd_api_snapshot_options(merd_request *req, merd_snapshot_options *o, merd_
 {
     memset(o, 0, sizeof *o);
     o->mesh.detail = MER_MESH_DETAIL_DEFAULT;
-    uint32_t quantize = 1, texcoords = 1;
+    uint32_t quantize = 0, texcoords = 1; /* float: what every importer reads */
     if (query_uint(req, "detail", 1, MER_MESH_DETAIL_MAX, &o->mesh.detail, why) ||
         query_uint(req, "leaves", 0, 1, &o->mesh.leaves, why) ||
         query_uint(req, "markers", 0, 1, &o->mesh.markers, why) ||

@@ -43,10 +43,10 @@ test('--set overrides a parameter and --color, --markers, .gltf work', () => {
   assert.ok('COLOR_0' in doc.meshes[0].primitives[0].attributes);
 });
 
-test('--compress=meshopt --no-texcoords writes the compact GLB the brush client reads', () => {
+test('--quantize --compress=meshopt --no-texcoords writes the compact GLB the brush client reads', () => {
   const args = ['grow', '--preset', 'fig7-bh-0.54', '--steps', '12', '--seed', '3', '--leaves'];
   assert.equal(run([...args, '-o', out('cli-plain.tmp.glb')]).status, 0);
-  const r = run([...args, '--compress', 'meshopt', '--no-texcoords', '-o', out('cli-meshopt.glb')]);
+  const r = run([...args, '--quantize', '--compress', 'meshopt', '--no-texcoords', '-o', out('cli-meshopt.glb')]);
   assert.equal(r.status, 0, r.stderr);
   const glb = fs.readFileSync(out('cli-meshopt.glb'));
   const doc = JSON.parse(glb.subarray(20, 20 + glb.readUInt32LE(12)).toString('utf8'));
@@ -56,7 +56,7 @@ test('--compress=meshopt --no-texcoords writes the compact GLB the brush client 
   fs.rmSync(out('cli-plain.tmp.glb'));
   assert.ok(glb.length * 2.5 < plain.length, `${glb.length} vs ${plain.length} bytes`);
   // --twig-lines: as the brush client asks for them, a LINES primitive after each twig chunk.
-  assert.equal(run([...args, '--compress', 'meshopt', '--no-texcoords', '--twig-lines', '-o', out('cli-twig-lines.glb')]).status, 0);
+  assert.equal(run([...args, '--quantize', '--compress', 'meshopt', '--no-texcoords', '--twig-lines', '-o', out('cli-twig-lines.glb')]).status, 0);
   const lod = fs.readFileSync(out('cli-twig-lines.glb'));
   const lodDoc = JSON.parse(lod.subarray(20, 20 + lod.readUInt32LE(12)).toString('utf8'));
   assert.ok(lodDoc.meshes[0].primitives.some((p) => p.mode === 1 && lodDoc.materials[p.material].name === 'twig'));

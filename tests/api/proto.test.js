@@ -284,7 +284,7 @@ test('an edit with Accept: model/gltf-binary answers with the snapshot and its E
   assert.equal(r.status, 200);
   assert.equal(r.headers.get('content-type'), 'model/gltf-binary');
   assert.equal(r.raw.subarray(0, 4).toString('latin1'), 'glTF');
-  assert.match(r.headers.get('etag'), /^"r2-d2l0m0c1q1t1z0"$/);
+  assert.match(r.headers.get('etag'), /^"r2-d2l0m0c1q0t1z0"$/);
 });
 
 test('snapshots: ETag as documented, If-None-Match gives 304', async () => {

@@ -262,7 +262,7 @@ test('snapshots: GLB, ETag by revision and options, 304, options as query', asyn
   assert.equal(r.status, 200);
   assert.equal(r.headers.get('content-type'), 'model/gltf-binary');
   const etag = r.headers.get('etag');
-  assert.equal(etag, '"r1-d3l0m0c0q1t1z0"');
+  assert.equal(etag, '"r1-d3l0m0c0q0t1z0"');
   const glb = Buffer.from(await r.arrayBuffer());
   assert.equal(glb.subarray(0, 4).toString('latin1'), 'glTF');
   artifact('api-snapshot.glb', glb);
@@ -273,8 +273,9 @@ test('snapshots: GLB, ETag by revision and options, 304, options as query', asyn
   assert.ok(leafyBytes.length > glb.length);
   artifact('api-snapshot-leaves.glb', leafyBytes);
   problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?detail=9`), 422, 'out-of-range', /detail must be an integer from 1 to 5/, 'detail');
-  // The brush client's compact snapshot: meshopt-compressed, no UVs, a third of the bytes.
-  const compact = await fetch(`${url}?leaves=1&texcoords=0&compress=meshopt`);
+  // The brush client's compact snapshot: quantized, meshopt-compressed, no UVs, a third of
+  // the bytes of the default (float, for every importer).
+  const compact = await fetch(`${url}?leaves=1&quantize=1&texcoords=0&compress=meshopt`);
   assert.equal(compact.status, 200);
   assert.equal(compact.headers.get('etag'), '"r1-d3l1m0c0q1t0z1"');
   const compactBytes = Buffer.from(await compact.arrayBuffer());
@@ -289,7 +290,7 @@ test('snapshots: GLB, ETag by revision and options, 304, options as query', asyn
   problem(await J('GET', `/v1/sessions/${id}/snapshot.glb?texcoords=2`), 422, 'out-of-range', /texcoords must be an integer from 0 to 1/, 'texcoords');
   // Twig lines, for the brush client's level of detail: each twig chunk's triangles,
   // then a LINES primitive on the same positions, in the "twig" material.
-  const lod = await fetch(`${url}?leaves=1&texcoords=0&compress=meshopt&twig_lines=1`);
+  const lod = await fetch(`${url}?leaves=1&quantize=1&texcoords=0&compress=meshopt&twig_lines=1`);
   assert.equal(lod.headers.get('etag'), '"r1-d3l1m0c0q1t0z1w1"');
   const lodBytes = Buffer.from(await lod.arrayBuffer());
   const lodDoc = JSON.parse(lodBytes.subarray(20, 20 + lodBytes.readUInt32LE(12)).toString('utf8'));

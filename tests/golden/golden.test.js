@@ -31,7 +31,7 @@ const CLI = process.env.MERISTEMD ? path.join(path.dirname(process.env.MERISTEMD
 const SEEDS = [0, 7, 123456789];
 const SNAPSHOTS = {
   default: '',
-  compact: '?texcoords=0&compress=meshopt&twig_lines=1',
+  compact: '?quantize=1&texcoords=0&compress=meshopt&twig_lines=1',
   full: '?detail=4&leaves=1&markers=1&color=light&quantize=0',
 };
 
@@ -194,7 +194,7 @@ test('the offline command writes the same bytes', { skip: !CLI && 'no meristem C
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-golden-'));
   const runs = {
     default: ['--preset=default', '--steps=9', '--seed=3'],
-    compact: ['--preset=fig12b', '--steps=8', '--compress=meshopt', '--no-texcoords', '--twig-lines'],
+    compact: ['--preset=fig12b', '--steps=8', '--quantize', '--compress=meshopt', '--no-texcoords', '--twig-lines'],
     full: ['--preset=fig4-colonization', '--steps=12', '--detail=5', '--leaves', '--markers', '--color=age',
       '--unquantized', '--set', 'lambda=0.52'],
   };

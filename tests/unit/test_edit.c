@@ -184,6 +184,112 @@ static void test_bend_rotates_subtree(void **state)
     mer_scene_free(s);
 }
 
+/* The angle between a node's direction and straight up, in degrees. */
+static float tilt(const mer_scene *s, uint32_t id)
+{
+    return acosf(fminf(1.0f, node(s, id).dir[1])) * 57.29578f;
+}
+
+static mer_scene *copy_of(const mer_scene *s)
+{
+    mer_scene *c = NULL;
+    mer_error err;
+    assert_int_equal(mer_scene_clone(s, &c, &err), MER_OK);
+    return c;
+}
+
+/* A spread bend curves the first internodes of the axis, each by a share; spread 1
+ * is the elbow of mer_scene_bend, byte for byte. */
+static void test_bend_spread_curves_the_axis(void **state)
+{
+    (void)state;
+    mer_scene *s = make(NULL, 0);
+    step(s, 6);
+    uint32_t trunk[5] = {0};
+    for (int k = 1; k < 5; k++) {
+        trunk[k] = node(s, trunk[k - 1]).main_child;
+        assert_true(trunk[k] != MER_NO_NODE);
+    }
+    mer_error err;
+    const float x[3] = {1, 0, 0};
+    mer_scene *elbow = copy_of(s), *one = copy_of(s);
+    assert_int_equal(mer_scene_bend(elbow, 0, x, 30.0f, &err), MER_OK);
+    assert_int_equal(mer_scene_bend_spread(one, 0, x, 30.0f, 1, &err), MER_OK);
+    assert_true(mer_scene_hash(elbow) == mer_scene_hash(one));
+    assert_near(tilt(elbow, trunk[0]), 30.0f, 1e-2f);
+    assert_near(tilt(elbow, trunk[3]), 30.0f, 1e-2f);
+
+    mer_scene *curve = copy_of(s);
+    assert_int_equal(mer_scene_bend_spread(curve, 0, x, 30.0f, 3, &err), MER_OK);
+    assert_near(tilt(curve, trunk[0]), 10.0f, 1e-2f);
+    assert_near(tilt(curve, trunk[1]), 20.0f, 1e-2f);
+    assert_near(tilt(curve, trunk[2]), 30.0f, 1e-2f);
+    assert_near(tilt(curve, trunk[4]), 30.0f, 1e-2f); /* above the spread: rigid */
+    assert_close(node(curve, 0).base[1], node(s, 0).base[1]); /* the base stays */
+    /* The second internode turned about its own base, where the first now ends. */
+    mer_node n0 = node(curve, trunk[0]), n1 = node(curve, trunk[1]);
+    for (int a = 0; a < 3; a++)
+        assert_close(n1.base[a], n0.base[a] + n0.dir[a] * n0.length);
+    assert_true(mer_scene_hash(curve) != mer_scene_hash(elbow));
+
+    uint64_t h = mer_scene_hash(s);
+    assert_int_equal(mer_scene_bend_spread(s, 0, x, 30.0f, 0, &err), MER_ERR_RANGE);
+    assert_string_equal(err.field, "spread");
+    assert_int_equal(mer_scene_bend_spread(s, 0, x, 30.0f, MER_BEND_SPREAD_MAX + 1, &err),
+                     MER_ERR_RANGE);
+    assert_true(mer_scene_hash(s) == h);
+    mer_scene_free(curve);
+    mer_scene_free(one);
+    mer_scene_free(elbow);
+    mer_scene_free(s);
+}
+
+/* A step that grows nothing says why: the constraint first, then the environment. */
+static void test_step_report_says_why_nothing_grew(void **state)
+{
+    (void)state;
+    mer_params p = worked();
+    p.environment = MER_ENV_MARKERS;
+    p.marker_count = 0;
+    mer_scene *s = make(&p, 0);
+    mer_step_report r;
+    mer_scene_step_report(s, &r);
+    assert_int_equal(r.step, 0);
+    assert_int_equal(r.stall, MER_STALL_NONE);
+    step(s, 1);
+    mer_scene_step_report(s, &r);
+    assert_int_equal(r.step, 1);
+    assert_int_equal(r.grown, 0);
+    assert_int_equal(r.stall, MER_STALL_NO_MARKERS);
+    assert_int_equal(r.node, MER_NO_NODE);
+    assert_string_equal(mer_stall_name(r.stall), "no-markers");
+
+    mer_error err;
+    assert_int_equal(mer_scene_constrain(s, 0, 1, &err), MER_OK);
+    step(s, 1);
+    mer_scene_step_report(s, &r);
+    assert_int_equal(r.stall, MER_STALL_CONSTRAINED);
+    assert_int_equal(r.node, 0);
+    assert_string_equal(mer_stall_name(r.stall), "constrained");
+    mer_scene *c = copy_of(s); /* a copy keeps the report */
+    mer_step_report rc;
+    mer_scene_step_report(c, &rc);
+    assert_memory_equal(&rc, &r, sizeof r);
+    mer_scene_free(c);
+    mer_scene_free(s);
+
+    s = make(NULL, 0);
+    step(s, 2);
+    mer_scene_step_report(s, &r);
+    assert_int_equal(r.step, 2);
+    assert_true(r.grown > 0);
+    assert_int_equal(r.stall, MER_STALL_NONE);
+    assert_null(mer_stall_name(MER_STALL_NONE));
+    assert_string_equal(mer_stall_name(MER_STALL_NO_LIGHT), "no-light");
+    assert_string_equal(mer_stall_name(MER_STALL_ALL_BUDS_DEAD), "all-buds-dead");
+    mer_scene_free(s);
+}
+
 /* The incrementally kept shadow grid equals one rebuilt from the buds, after
  * growth, shedding, pruning and bending. */
 static void test_shadow_grid_stays_consistent(void **state)
@@ -215,6 +321,8 @@ int main(void)
         cmocka_unit_test(test_constraint_to_a_bud),
         cmocka_unit_test(test_bend_rotates_subtree),
         cmocka_unit_test(test_shadow_grid_stays_consistent),
+        cmocka_unit_test(test_bend_spread_curves_the_axis),
+        cmocka_unit_test(test_step_report_says_why_nothing_grew),
     };
     return cmocka_run_group_tests_name("edit", tests, NULL, NULL);
 }

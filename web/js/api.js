@@ -42,16 +42,23 @@ export function edit(id, edits) {
   return request('POST', `v1/sessions/${id}/edits`, body);
 }
 
+/** The session's living internodes: {revision, nodes: [{id, parent, order, base, tip, ...}]}. */
+export function skeleton(id) {
+  return request('GET', `v1/sessions/${id}/skeleton?alive=1`);
+}
+
 /**
  * The snapshot URL for the given view options. The viewer asks for `compact` ones:
- * EXT_meshopt_compression and no UVs, a third of the bytes; a download gets the
- * default, which Blender and every other glTF importer read.
+ * KHR_mesh_quantization, EXT_meshopt_compression and no UVs, a third of the bytes; a
+ * download gets the default (float, uncompressed, no node transform), which Blender,
+ * assimp and every other glTF importer read.
  */
 export function snapshotUrl(id, { detail = 3, leaves = false, markers = false, color = 'none',
   compact = false } = {}) {
   const q = new URLSearchParams({ detail: String(detail), leaves: leaves ? '1' : '0',
     markers: markers ? '1' : '0', color });
   if (compact) {
+    q.set('quantize', '1');
     q.set('texcoords', '0');
     q.set('compress', 'meshopt');
     q.set('twig_lines', '1');

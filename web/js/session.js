@@ -45,6 +45,7 @@ export class Session {
     for (const fn of this.summaryListeners) fn(s);
     if (s.constraint !== undefined) this.constraint.set(s.constraint);   // when meristemd reports it
     if (s.interrupted) setStatus(`step interrupted (${s.interrupted}) after ${s.steps_done} steps`, 'warn');
+    if (s.steps_done !== undefined) this.constraint.stalled(s);
     // Keep a growing tree in view.
     if (s.height > state.framedHeight * 1.25 + 2 && !this.gesture()) {
       this.viewer.frame(s.bounds);
@@ -119,6 +120,32 @@ export class Session {
     state.framedHeight = summary.height;
     await this.refresh();
     this.constraint.show();
+  }
+
+  /**
+   * The session's skeleton at its current revision (GET …/skeleton?alive=1), indexed:
+   * {byId: Map id → node, children: Map id → [ids]}; null when meristemd has none to
+   * give. Fetched once per revision.
+   */
+  skeleton() {
+    const { state } = this;
+    const rev = state.summary?.revision;
+    if (!state.id || rev === undefined || this.noSkeleton) return Promise.resolve(null);
+    if (this._skeleton?.rev === rev && this._skeleton.id === state.id) return this._skeleton.p;
+    const p = api.skeleton(state.id).then((body) => {
+      const byId = new Map(), children = new Map();
+      for (const n of body.nodes) {
+        byId.set(n.id, n);
+        if (n.parent !== null) (children.get(n.parent) || children.set(n.parent, []).get(n.parent)).push(n.id);
+      }
+      return { byId, children };
+    }).catch((e) => {
+      // A meristemd without the route: the tools go without it for this page's life.
+      if (e instanceof api.Problem && e.status === 404 && !e.type.includes('session')) this.noSkeleton = true;
+      return null;
+    });
+    this._skeleton = { id: state.id, rev, p };
+    return p;
   }
 
   /** Points the camera at the whole tree. */

@@ -2,8 +2,10 @@
 // lays marker points along its path in a working plane parallel to the screen, through
 // the point where the stroke began (the tree under the pointer, else the tree's
 // centre). Pen pressure (or the pressure slider, for a mouse) sets the dab's spread and
-// count on the server. A stroke that starts on the tree constrains growth to that bud's
-// descendants. Dabs are batched: one request per BATCH_MS, not one per pointer event.
+// count on the server. Constraining growth to a branch is deliberate: a stroke that
+// starts on the tree with Shift held (or with "grow only from here" ticked) constrains
+// growth to that bud's descendants (P09 §5); any other stroke only lays markers. Dabs
+// are batched: one request per BATCH_MS, not one per pointer event.
 import * as THREE from 'three';
 import { $, round3 } from '../util.js';
 import { CONSTRAINED } from '../constraint.js';
@@ -18,7 +20,7 @@ export class BrushTool {
   icon = '✎';
   label = 'Brush';
   title = 'Brush: lay markers of free space (B)';
-  hint = 'Drag to lay markers in a plane facing you · start on a branch to grow only from it · right-drag orbits';
+  hint = 'Drag: lay markers · Shift+drag from a branch: grow only from it · right-drag orbits';
 
   constructor({ viewer, session }) {
     this.viewer = viewer;
@@ -98,7 +100,7 @@ export class BrushTool {
     const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, anchor);
     this.stroke = {
       plane, last: null, queue: [], timer: null, pending: Promise.resolve(),
-      constrain: hit && s.constrain ? { node: hit.node, bud: 0 } : null,
+      constrain: hit && (s.constrain || e.shiftKey) ? { node: hit.node, bud: 0 } : null,
       startNode: hit ? hit.node : null, anchor, dabs: 0, pointerId: e.pointerId,
     };
     this.stroke.timer = setInterval(() => this._flush(), BATCH_MS);

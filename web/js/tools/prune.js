@@ -1,5 +1,6 @@
 // The Prune tool (Palubicki et al. 2009, §5): a click on a branch cuts it and
-// everything above; the picked node is highlighted before the edit is sent.
+// everything above; hovering shows the node and the size of what would go, and the
+// picked node is highlighted before the edit is sent.
 import { NodeTool } from './hover.js';
 
 const PICKED = 0xd23c2c;
@@ -13,6 +14,8 @@ export class PruneTool extends NodeTool {
   label = 'Prune';
   title = 'Prune: click a branch to cut it (P)';
   hint = 'Click a branch to cut it and everything above · right-drag orbits';
+
+  get subtreeVerb() { return 'would go'; }
 
   /** The gesture is a click: taken here, acted on in end. */
   begin() { return true; }
@@ -32,7 +35,7 @@ export class PruneTool extends NodeTool {
     if (!hit) return null;
     this.clicking++;
     try {
-      this.viewer.setHighlight('hover', null);
+      this.leave();
       this.viewer.setHighlight('picked', new Set([hit.node]), PICKED);
       this.viewer.render();
       await nextFrame();
