@@ -103,6 +103,17 @@ static void test_bud_directions(void **state)
     merp_skel_free(&sk);
 }
 
+/* A new node in lateral slot 1 of node `on`: a leaf-bearing tip. */
+static uint32_t lateral_tip(merp_skeleton *sk, uint32_t on)
+{
+    uint32_t c;
+    assert_int_equal(merp_skel_node_new(sk, 2, &c, NULL), MER_OK);
+    sk->parent[c] = on;
+    sk->slot[c] = 1;
+    sk->child[3 * on + 1] = c;
+    return c;
+}
+
 static void test_pipe_model(void **state)
 {
     (void)state;
@@ -116,11 +127,7 @@ static void test_pipe_model(void **state)
         assert_close(sk.dn[i], leaf); /* one tip: d^n is the leaf's all the way down */
     assert_close(merp_pipe_diameter(&sk, 0), p.leaf_diameter);
     /* Memory (P09 §4.5): a lateral tip on node 1 adds its pipes down to the base... */
-    uint32_t lat;
-    assert_int_equal(merp_skel_node_new(&sk, 2, &lat, NULL), MER_OK);
-    sk.parent[lat] = 1;
-    sk.slot[lat] = 1;
-    sk.child[3 * 1 + 1] = lat;
+    uint32_t lat = lateral_tip(&sk, 1);
     merp_pipe_update(&sk, &p);
     assert_close(sk.dn[0], 2.0f * leaf);
     float d = merp_pipe_diameter(&sk, 0);
@@ -136,11 +143,7 @@ static void test_pipe_model(void **state)
     assert_close(merp_pipe_diameter(&sk, 0), d);
     /* The remembered term stays in the sum when the survivors grow: a second
      * tip on node 2 adds its own pipe on top of the removed one's. */
-    uint32_t lat2;
-    assert_int_equal(merp_skel_node_new(&sk, 3, &lat2, NULL), MER_OK);
-    sk.parent[lat2] = 2;
-    sk.slot[lat2] = 1;
-    sk.child[3 * 2 + 1] = lat2;
+    lateral_tip(&sk, 2);
     merp_pipe_update(&sk, &p);
     assert_close(sk.dn[0], 3.0f * leaf);
     d = merp_pipe_diameter(&sk, 0);
