@@ -33,16 +33,33 @@ static void fig7_050(mer_params *p) { bh(p, 0.50f); }
 static void fig7_052(mer_params *p) { bh(p, 0.52f); }
 static void fig7_054(mer_params *p) { bh(p, 0.54f); }
 
+/* The priority model at the paper's scale, calibrated on Table 1 (P09 §6: Fig. 10's
+ * three trees reach 700,000, 642,000 and 225,000 internodes in 106, 90 and 68
+ * steps on a 200³ shadow grid whose cells are "approximately the same length as an
+ * internode"). What bounds one step's growth in P09:
+ *  - A step is one season, and v = αQ_base is shared out so that a bud given v
+ *    makes n = ⌊v⌋ metamers of length l = v/n (§4.2). A bud's light is at most
+ *    C = 1, so under BH at λ = 0.5 each bud gets v = αQ ≤ α: with the paper's
+ *    α = 2 (Fig. 7), at most 2 metamers a season. The priority model pours the
+ *    resource of a whole axis into the head of its list (the leader under apical
+ *    control), where v has no such bound; the paper gives no α for it. We carry
+ *    BH's bound over as a cap: max_shoot = 2 metamers a season, and take α = 1
+ *    (α = 2 grows the crown about 20 % faster per step; see below).
+ *  - l = v/n puts internodes between l0 and 2·l0: l0 = 0.7 makes the mean internode
+ *    about one voxel (voxel 1 on the paper's 200³ grid, below).
+ * Measured with these values (fig10-left, -center, -right; seeds 1, 2): 700,000
+ * internodes in 103 steps, 642,000 in 98–101, 225,000 in 74–76, every tree inside
+ * the grid (at most 180 wide, 172 tall); growth falls from about 1.6× a step while
+ * the seedling is fully lit to 1.19× (steps 10–30) and 1.04× at the end, as light,
+ * not shoot length, becomes the limit. Before (max_shoot 16, l0 1): 29, 29 and 25
+ * steps, trees up to 250 wide. `make table1` grows the three at full size. */
 static void priority(mer_params *p, float kappa)
 {
     p->fate = MER_FATE_PRIORITY;
-    /* The paper gives no α for the priority model. It concentrates the resource on
-     * the best-lit buds, so little is lost to ⌊v⌋ and α = 2 makes it grow several
-     * times faster than BH; α = 1 gives a comparable pace. */
     p->alpha = 1.0f;
-    /* These trees outgrow the default 100-high box within 25 steps (the shadow
-     * grid then reuses its top layer and the crown flattens): give them the
-     * paper's 200³ grid (§6). */
+    p->max_shoot = 2;
+    p->internode_length = 0.7f;
+    /* The paper's 200³ grid (§6), voxel 1. */
     p->bounds_min[0] = p->bounds_min[2] = -100.0f;
     p->bounds_max[0] = p->bounds_max[2] = 100.0f;
     p->bounds_max[1] = 200.0f;
@@ -157,6 +174,9 @@ static const preset presets[] = {
     {"fig10-left", "Fig. 10 left: apical control removed early from stem and laterals (step 8)", fig10_left},
     {"fig10-center", "Fig. 10 centre: apical control on the main stem only, removed late (step 40)", fig10_center},
     {"fig10-right", "Fig. 10 right: removed early on the main stem, kept on first-order laterals", fig10_right},
+    {"table1-left", "Table 1 (Fig. 10 left at full size): about 700,000 internodes in 106 steps", fig10_left},
+    {"table1-center", "Table 1 (Fig. 10 centre at full size): about 642,000 internodes in 90 steps", fig10_center},
+    {"table1-right", "Table 1 (Fig. 10 right at full size): about 225,000 internodes in 68 steps", fig10_right},
     {"fig11-animation", "Fig. 11: apical control everywhere until step 25, then removed", fig11_animation},
     {"fig6-sylleptic", "Fig. 6 left: sylleptic development, a decurrent shrub", fig6_sylleptic},
     {"fig6-sympodial", "Fig. 6 right: proleptic, sympodial (terminal buds flower)", fig6_sympodial},

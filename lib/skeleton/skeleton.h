@@ -31,7 +31,7 @@ typedef struct merp_skeleton {
     float *pos, *dir, *side; /* 3 per node: base, unit direction, phyllotactic side */
     float *len;
     float *q;          /* light Q of the subtree as the model last saw it (mer_node.q) */
-    float *dn;         /* d^n of the pipe model, never decreasing (memory) */
+    float *dn;         /* d^n of the pipe model; a dead subtree root keeps its own (memory) */
     float pipe_n;      /* the n that dn was computed with */
     float cos_beta, sin_beta; /* of the branch angle: lateral bud directions */
 
@@ -92,8 +92,10 @@ uint64_t merp_skel_hash(const merp_skeleton *sk, uint64_t h);
 /* pipe.c: the pipe model with memory (P09 §4.5), d^n = d1^n + d2^n. */
 /* d^n of a leaf-bearing tip. */
 float merp_pipe_leaf(const merp_skeleton *sk, const mer_params *p);
-/* Basipetal update after a step: each node's d^n becomes the sum of its children's
- * (a tip's: the leaf's), never shrinking. O(nodes). */
+/* Basipetal update after a step: each living node's d^n becomes the sum of its
+ * living children's, plus the leaf's at a tip, plus the d^n its removed (pruned or
+ * shed) children had when they were removed: the memory of P09 §4.5, so d^n never
+ * shrinks while leaf_diameter and n stay. O(nodes). */
 void merp_pipe_update(merp_skeleton *sk, const mer_params *p);
 /* Re-expresses the stored d^n under a new exponent n. O(nodes). */
 void merp_pipe_set_n(merp_skeleton *sk, float n);

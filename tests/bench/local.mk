@@ -5,17 +5,20 @@
 #    its peak memory is its own.
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
 #    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
+# `make table1`: see below.
 # `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
 # `make bench-page`: the brush client loading and drawing 10,000-internode
 # snapshots in headless Chromium (needs node, the npm test tools, chromium).
-EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh
+EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh tests/bench/table1
 tests_bench_bench_SOURCES = tests/bench/bench.c
 tests_bench_bench_LDADD = lib/libmeristem-core.la
 tests_bench_bench_mesh_SOURCES = tests/bench/bench_mesh.c
+tests_bench_table1_SOURCES = tests/bench/table1.c
+tests_bench_table1_LDADD = lib/libmeristem-core.la
 tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
-CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
+CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/table1$(EXEEXT)
 EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js
 
 BENCH_WORKLOADS = table1-fig10-left table1-fig10-center table1-fig10-right colonization-1M-markers
@@ -32,4 +35,11 @@ bench-http: server/meristemd$(EXEEXT)
 bench-page: server/meristemd$(EXEEXT) webroot/.stamp
 	@MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_builddir)/webroot' \
 	  NODE_PATH='$(NODE_MODULES_DIR)' CHROMIUM='$(CHROMIUM)' '$(NODE)' $(srcdir)/tests/bench/page-load.js
-.PHONY: bench bench-http bench-page
+# `make table1`: P09 Table 1's trees at full size, judged on step counts (within
+# 25 % of the paper's) and on staying inside the 200³ grid, never on time.
+# TABLE1_SEEDS seeds each (default 2).
+TABLE1_SEEDS = 2
+table1: tests/bench/table1$(EXEEXT)
+	@./tests/bench/table1$(EXEEXT) $(TABLE1_SEEDS)
+
+.PHONY: bench bench-http bench-page table1

@@ -105,6 +105,16 @@ nodist_EXTRA_tests_unit_test_chaos_SOURCES = tests/unit/link-as-cxx.cc
 tests_unit_test_chaos_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_chaos_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_table1
+tests_unit_test_table1_SOURCES = tests/unit/test_table1.c tests/unit/scene_helpers.h
+tests_unit_test_table1_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_table1_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_forms
+tests_unit_test_forms_SOURCES = tests/unit/test_forms.c tests/unit/forms.h tests/unit/scene_helpers.h
+tests_unit_test_forms_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_forms_LDADD = $(UNIT_LDADD)
+
 TESTS += $(check_PROGRAMS)
 
 check_PROGRAMS += tests/unit/test_clone

@@ -58,6 +58,54 @@ static void test_pipe_memory_after_prune_and_stable_ids(void **state)
     mer_scene_free(s);
 }
 
+/* d^n at the root of plant 0 as live tips alone would give it: every living node
+ * without a main child bears the leaves (P09 §4.5). */
+static double live_only_dn(const mer_scene *s, float leaf, float n)
+{
+    double sum = 0.0;
+    for (uint32_t id = 0; id < mer_scene_node_bound(s); id++) {
+        mer_node nd = node(s, id);
+        if (nd.alive && nd.main_child == MER_NO_NODE)
+            sum += pow(leaf, n);
+    }
+    return sum;
+}
+
+/* The pipe model's memory (P09 §4.5: "branch width is not decreased when leaves
+ * and branches are shed or pruned"): prune the biggest lateral of a young tree,
+ * grow 10 more steps, and the root's d^n is the living tips' plus the pruned
+ * branch's d^n at its cut, over several seeds. */
+static void test_pipe_memory_outlasts_regrowth(void **state)
+{
+    (void)state;
+    mer_params p = mer_params_default();
+    for (uint64_t seed = 1; seed <= 4; seed++) {
+        mer_scene *s = make(&p, seed);
+        step(s, 8);
+        uint32_t big = MER_NO_NODE;
+        float d_big = 0.0f;
+        for (uint32_t id = 0; id < mer_scene_node_bound(s); id++) {
+            mer_node nd = node(s, id);
+            if (nd.alive && nd.parent != MER_NO_NODE && node(s, nd.parent).main_child != id &&
+                nd.diameter > d_big) {
+                big = id;
+                d_big = nd.diameter;
+            }
+        }
+        assert_true(big != MER_NO_NODE);
+        mer_error err;
+        assert_int_equal(mer_scene_prune(s, big, &err), MER_OK);
+        step(s, 10);
+        double n = p.pipe_n;
+        double live = live_only_dn(s, p.leaf_diameter, p.pipe_n);
+        double root = pow(node(s, 0).diameter, n);
+        double kept = pow(d_big, n);
+        assert_true(live > kept); /* the survivors have outgrown the cut branch */
+        assert_true(fabs(root - (live + kept)) < 1e-3 * root);
+        mer_scene_free(s);
+    }
+}
+
 static void test_brush_pressure_and_symmetry(void **state)
 {
     (void)state;
@@ -317,6 +365,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pipe_memory_after_prune_and_stable_ids),
+        cmocka_unit_test(test_pipe_memory_outlasts_regrowth),
         cmocka_unit_test(test_brush_pressure_and_symmetry),
         cmocka_unit_test(test_constraint_to_a_bud),
         cmocka_unit_test(test_bend_rotates_subtree),

@@ -103,6 +103,17 @@ static void test_bud_directions(void **state)
     merp_skel_free(&sk);
 }
 
+/* A new node in lateral slot 1 of node `on`: a leaf-bearing tip. */
+static uint32_t lateral_tip(merp_skeleton *sk, uint32_t on)
+{
+    uint32_t c;
+    assert_int_equal(merp_skel_node_new(sk, 2, &c, NULL), MER_OK);
+    sk->parent[c] = on;
+    sk->slot[c] = 1;
+    sk->child[3 * on + 1] = c;
+    return c;
+}
+
 static void test_pipe_model(void **state)
 {
     (void)state;
@@ -115,15 +126,27 @@ static void test_pipe_model(void **state)
     for (uint32_t i = 0; i < 3; i++)
         assert_close(sk.dn[i], leaf); /* one tip: d^n is the leaf's all the way down */
     assert_close(merp_pipe_diameter(&sk, 0), p.leaf_diameter);
-    /* Memory: the diameter does not shrink when the tip goes. */
-    float before = sk.dn[0];
-    sk.dn[2] = 2.0f * leaf;
+    /* Memory (P09 §4.5): a lateral tip on node 1 adds its pipes down to the base... */
+    uint32_t lat = lateral_tip(&sk, 1);
     merp_pipe_update(&sk, &p);
-    assert_true(sk.dn[0] > before);
+    assert_close(sk.dn[0], 2.0f * leaf);
     float d = merp_pipe_diameter(&sk, 0);
-    assert_int_equal(merp_skel_kill(&sk, 2, NULL), MER_OK);
-    merp_pipe_update(&sk, &p);
+    /* ...and keeps them there once it is removed, at every ancestor, through
+     * later updates, while the remaining tip's pipe goes on alone above it. */
+    assert_int_equal(merp_skel_kill(&sk, lat, NULL), MER_OK);
+    for (int round = 0; round < 3; round++) {
+        merp_pipe_update(&sk, &p);
+        assert_close(sk.dn[0], 2.0f * leaf);
+        assert_close(sk.dn[1], 2.0f * leaf);
+        assert_close(sk.dn[2], leaf);
+    }
     assert_close(merp_pipe_diameter(&sk, 0), d);
+    /* The remembered term stays in the sum when the survivors grow: a second
+     * tip on node 2 adds its own pipe on top of the removed one's. */
+    lateral_tip(&sk, 2);
+    merp_pipe_update(&sk, &p);
+    assert_close(sk.dn[0], 3.0f * leaf);
+    d = merp_pipe_diameter(&sk, 0);
     /* A new exponent keeps the diameters. */
     merp_pipe_set_n(&sk, 3.0f);
     assert_close(sk.pipe_n, 3.0f);
