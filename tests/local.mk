@@ -38,6 +38,9 @@ TESTS += tests/api/limits.test.js
 TESTS += tests/api/shutdown.test.js
 TESTS += tests/api/slow-clients.test.js
 TESTS += tests/api/proto.test.js
+TESTS += tests/api/history.test.js
+TESTS += tests/api/skeleton.test.js
+TESTS += tests/api/hygiene.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
@@ -65,6 +68,9 @@ EXTRA_DIST += \
 	tests/api/shutdown.test.js \
 	tests/api/slow-clients.test.js \
 	tests/api/proto.test.js \
+	tests/api/history.test.js \
+	tests/api/skeleton.test.js \
+	tests/api/hygiene.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
