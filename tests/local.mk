@@ -45,6 +45,7 @@ TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
 TESTS += tests/browser/controls.test.js
+TESTS += tests/browser/history.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
@@ -76,6 +77,7 @@ EXTRA_DIST += \
 	tests/browser/page.test.js \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
+	tests/browser/history.test.js \
 	tests/conformance/validate.test.js
 
 # A thousand kill -9 cycles (make check runs a few dozen); CRASH_SEED=N replays one.
