@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "server/checkpoint.h"
 #include "server/edits.h"
@@ -36,6 +37,12 @@ struct merd_revisions {
     kept_glb *glb;
     size_t glbs, glb_cap, glb_bytes;
     uint64_t clock;
+    struct {
+        struct timespec mtime; /* of the checkpoint file when last read */
+        off_t size;
+        uint64_t revision;     /* its revision then */
+        bool known;
+    } checkpoint;
 };
 
 merd_revisions *merd_revisions_new(void)
@@ -156,6 +163,31 @@ static mer_scene *nearest_state(merd_revisions *h, uint64_t revision, uint64_t *
     return copy;
 }
 
+/* Whether reading the checkpoint may help derive `revision`: not when the
+ * file, unchanged since it was last read, is of a later revision. */
+static bool useful_checkpoint(const merd_revisions *h, const merd_revision_origin *o,
+                              uint64_t revision)
+{
+    struct stat st;
+    if (o->checkpoint == NULL || stat(o->checkpoint, &st) != 0)
+        return false;
+    return !(h->checkpoint.known && h->checkpoint.revision > revision &&
+             h->checkpoint.size == st.st_size && h->checkpoint.mtime.tv_sec == st.st_mtim.tv_sec &&
+             h->checkpoint.mtime.tv_nsec == st.st_mtim.tv_nsec);
+}
+
+static void remember_checkpoint(merd_revisions *h, const merd_revision_origin *o, bool read,
+                                uint64_t revision)
+{
+    struct stat st;
+    if (!read || stat(o->checkpoint, &st) != 0)
+        return;
+    h->checkpoint.mtime = st.st_mtim;
+    h->checkpoint.size = st.st_size;
+    h->checkpoint.revision = revision;
+    h->checkpoint.known = true;
+}
+
 /* The scene a derivation of `revision` starts from and its revision: the
  * nearest kept state, or the checkpoint when it is nearer, or the creation. */
 static mer_scene *start_state(merd_revisions *h, const merd_revision_origin *o, uint64_t revision,
@@ -166,7 +198,10 @@ static mer_scene *start_state(merd_revisions *h, const merd_revision_origin *o, 
         return scene;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
     uint64_t cp = 0;
-    mer_scene *loaded = o->checkpoint ? merd_checkpoint_read(o->checkpoint, o->id, &cp, error) : NULL;
+    mer_scene *loaded = useful_checkpoint(h, o, revision)
+                            ? merd_checkpoint_read(o->checkpoint, o->id, &cp, error)
+                            : NULL;
+    remember_checkpoint(h, o, loaded != NULL, cp);
     if (loaded != NULL && cp <= revision && cp < h->count && (scene == NULL || cp > *at)) {
         mer_scene_free(scene);
         scene = loaded;

@@ -41,6 +41,29 @@ test('a session with ttl_seconds is removed with its journal and checkpoint', as
   }
 });
 
+test('a time to live holds across a restart', async () => {
+  const os = require('node:os');
+  const data = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-ttl-'));
+  let other = await startDaemon([], { dataDir: data });
+  try {
+    const c = await api(other.url, 'POST', '/v1/sessions', { ttl_seconds: 2 });
+    assert.equal(c.status, 201);
+    await other.stop();
+    await sleep(2500);
+    other = await startDaemon([], { dataDir: data });
+    let gone = false;
+    for (let i = 0; i < 50 && !gone; i++) {
+      gone = (await api(other.url, 'GET', `/v1/sessions/${c.body.id}`)).status === 404;
+      if (!gone) await sleep(100);
+    }
+    assert.ok(gone, 'removed after the restart');
+    assert.ok(!fs.existsSync(path.join(data, `${c.body.id}.journal`)));
+  } finally {
+    await other.stop();
+    fs.rmSync(data, { recursive: true, force: true });
+  }
+});
+
 test('GET /v1/sessions pages and filters', async () => {
   const made = [];
   for (const preset of ['default', 'fig12a', 'default', 'fig12a', 'default']) {
@@ -112,6 +135,35 @@ test('every reply body ends with a newline', async () => {
   for (const r of replies) {
     assert.ok(r.raw.length > 0);
     assert.equal(r.raw[r.raw.length - 1], 0x0a, `${r.status} ${r.raw.toString().slice(0, 80)}`);
+  }
+});
+
+test('run from its build tree without --web-root, meristemd serves the build\'s page', async () => {
+  const { spawn } = require('node:child_process');
+  const os = require('node:os');
+  const data = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-root-'));
+  const child = spawn(process.env.MERISTEMD, ['--port', '0', '--data-dir', data], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let out = '';
+  child.stdout.on('data', (b) => { out += b; });
+  child.stderr.on('data', (b) => { out += b; });
+  try {
+    for (let i = 0; i < 150 && !/listening on/.test(out); i++) await sleep(100);
+    const m = out.match(/listening on (http:\/\/[^/]+)\/ \(web root ([^)]*)\)/);
+    assert.ok(m, out);
+    // An installed page wins; otherwise the build tree's, never a failure to start.
+    const root = fs.realpathSync(process.env.MER_WEB_ROOT);
+    if (m[2] === root) {
+      const page = await fetch(`${m[1]}/`);
+      assert.equal(page.status, 200);
+      assert.match(await page.text(), /<title>meristem<\/title>/);
+    } else {
+      assert.ok(fs.existsSync(m[2]), `serves an existing web root: ${m[2]}`);
+    }
+    assert.match(out, new RegExp(`data dir ${fs.realpathSync(data)}\n`));
+  } finally {
+    child.kill('SIGTERM');
+    await new Promise((resolve) => child.on('exit', resolve));
+    fs.rmSync(data, { recursive: true, force: true });
   }
 });
 

@@ -152,8 +152,11 @@ export class HistoryPanel {
     return s;
   }
 
-  /** Any other edit makes a new future: there is nothing to redo. */
+  /** Any edit shows the current tree again; one that is not a revert makes a new
+   * future, with nothing to redo. */
   edited(edits) {
+    this.viewing = null;
+    this.wanted = null;
     if (!edits.some((e) => e.op === 'revert')) this.redo = [];
   }
 
