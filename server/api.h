@@ -17,5 +17,12 @@ enum MHD_Result merd_api_delete(merd_request *req, const char *id);
 enum MHD_Result merd_api_edits(merd_request *req, const char *id);
 enum MHD_Result merd_api_snapshot(merd_request *req, const char *id);
 enum MHD_Result merd_api_cancel(merd_request *req, const char *id);
+enum MHD_Result merd_api_revisions(merd_request *req, const char *id);
+enum MHD_Result merd_api_skeleton(merd_request *req, const char *id);
+
+/* The query parameters (NULL-terminated) of snapshot options, which a
+ * GLB-answered edit reads, and those of snapshot.glb: the options and revision. */
+extern const char *const merd_api_glb_option_keys[];
+extern const char *const merd_api_snapshot_keys[];
 
 #endif

@@ -1,4 +1,5 @@
-/* meristemd — the one clock for durations: monotonic seconds. */
+/* meristemd — the clocks: monotonic seconds for durations, Unix time for
+ * deadlines that outlive the process (a session's time to live). */
 #ifndef MERISTEMD_CLOCK_H
 #define MERISTEMD_CLOCK_H
 
@@ -9,6 +10,14 @@ static inline double merd_now(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Seconds since the Unix epoch (CLOCK_REALTIME). */
+static inline double merd_wall_clock(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_REALTIME, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 

@@ -139,3 +139,17 @@ int merd_base64_decode(const char *in, uint8_t **out, size_t *size)
     *size = o;
     return 0;
 }
+
+char *merd_json_body(const json_t *j)
+{
+    char *text = json_dumps(j, MERD_JSON_DUMP_FLAGS);
+    size_t n = text ? strlen(text) : 0;
+    char *body = text ? realloc(text, n + 2) : NULL;
+    if (body == NULL) {
+        free(text);
+        return NULL;
+    }
+    body[n] = '\n';
+    body[n + 1] = '\0';
+    return body;
+}

@@ -40,6 +40,10 @@ bool merd_param_in_schedule(const char *name);
  * (enough for every double that came from a float via merd_json_float). */
 #define MERD_JSON_DUMP_FLAGS (JSON_COMPACT | JSON_REAL_PRECISION(15))
 
+/* `j` as a reply body (caller frees): MERD_JSON_DUMP_FLAGS and a closing
+ * newline, so a body printed by curl ends its line. NULL when out of memory. */
+char *merd_json_body(const json_t *j);
+
 /* Decodes standard base64 (RFC 4648 §4, padding optional, no whitespace)
  * into *out (caller frees). 0, or -1 for a character outside the alphabet or a
  * bad length. */

@@ -216,6 +216,14 @@ static int decode_node(const json_t *o, const char *w, merd_decode_ctx *c, merd_
     return 0;
 }
 
+static int decode_revert(const json_t *o, const char *w, merd_decode_ctx *c, merd_edit *e,
+                         merd_refusal *why)
+{
+    (void)c;
+    // Any revision a journal can hold; whether the session has it is known when applied.
+    return merd_get_uint(o, "revision", w, 0, (uint64_t)INT64_MAX, true, 0, &e->revision, why);
+}
+
 static int decode_bend(const json_t *o, const char *w, merd_decode_ctx *c, merd_edit *e,
                        merd_refusal *why)
 {
@@ -458,6 +466,25 @@ static int apply_release(const merd_edit *e, merd_apply_ctx *c, merd_refusal *wh
     return 0;
 }
 
+/* The tree becomes the one of a past revision, derived anew (revisions.h): a
+ * revert journals as itself, and replaying it derives the same tree again. */
+static int apply_revert(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
+{
+    char f[MERD_FIELD_MAX];
+    merd_path(f, sizeof f, c->where, "revision");
+    if (c->past == NULL)
+        return merd_refuse(why, 422, "unknown-revision", f, "this scene has no past revisions");
+    mer_scene *past = NULL;
+    if (c->past->scene_at(c->past->ctx, e->revision, f, &past, why) != 0)
+        return -1;
+    if (c->first && c->past->retire != NULL)
+        c->past->retire(c->past->ctx, c->scene);
+    else
+        mer_scene_free(c->scene);
+    c->scene = past;
+    return 0;
+}
+
 /* ---------------------------------------------------------------- the table */
 
 static const char *const step_fields[] = {"op", "count", NULL};
@@ -467,6 +494,7 @@ static const char *const schedule_fields[] = {"op", "apical_off", "eta_order_sca
                                               "lambda_keys", "eta_keys", NULL};
 static const char *const params_fields[] = {"op", "params", NULL};
 static const char *const release_fields[] = {"op", NULL};
+static const char *const revert_fields[] = {"op", "revision", NULL};
 
 static const merd_edit_op ops[] = {
     {"step", step_fields, "a step edit", decode_step, apply_step, MERD_MODEL_P09, MERD_OP_STEPS},
@@ -478,6 +506,7 @@ static const merd_edit_op ops[] = {
     {"set_params", params_fields, "a set_params edit", decode_params, apply_params,
      MERD_MODEL_P09, 0},
     {"release", release_fields, "a release edit", NULL, apply_release, MERD_MODEL_P09, 0},
+    {"revert", revert_fields, "a revert edit", decode_revert, apply_revert, MERD_MODEL_P09, 0},
 };
 #define OPS (sizeof ops / sizeof ops[0])
 

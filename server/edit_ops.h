@@ -36,6 +36,7 @@ typedef struct merd_edit {
     mer_schedule schedule; /* set_apical_schedule: the parts named in sched_mask */
     unsigned sched_mask;
     const json_t *params;  /* set_params: the object */
+    uint64_t revision;     /* revert */
 } merd_edit;
 
 /* What decoding one request sums over its edits, against its limits. */
@@ -46,7 +47,9 @@ typedef struct merd_decode_ctx {
 
 /* Applying one edit: the scene, the edit's path, and the batch's stop check. */
 typedef struct merd_apply_ctx {
-    mer_scene *scene;
+    mer_scene *scene;           /* a revert replaces it */
+    const merd_past *past;      /* where a revert finds past revisions; may be NULL */
+    bool first;                 /* the batch's first edit: the scene is the last revision's */
     const char *where;          /* "edits[3]", or "" for a single edit */
     merd_batch_stop_fn stop;    /* may be NULL */
     void *stop_ctx;

@@ -90,22 +90,26 @@ void merd_batch_free(merd_batch *b)
     free(b);
 }
 
-int merd_batch_apply(const merd_batch *b, mer_scene *scene, merd_batch_stop_fn stop, void *ctx,
-                     merd_batch_outcome *outcome, json_t **applied, merd_refusal *why)
+int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *past,
+                     merd_batch_stop_fn stop, void *ctx, merd_batch_outcome *outcome,
+                     json_t **applied, merd_refusal *why)
 {
     *applied = json_array();
     memset(outcome, 0, sizeof *outcome);
     outcome->last_step.node = MER_NO_NODE;
     bool batch = b->count > 1 || json_object_get(b->body, "edits") != NULL;
     // One context for the batch: a stop once asked for holds for later steps too.
-    merd_apply_ctx c = {.scene = scene, .stop = stop, .stop_ctx = ctx};
+    merd_apply_ctx c = {.scene = *scene, .past = past, .stop = stop, .stop_ctx = ctx};
     for (size_t i = 0; i < b->count; i++) {
         const merd_edit *e = &b->edits[i];
         char w[32] = "";
         if (batch)
             snprintf(w, sizeof w, "edits[%zu]", i);
         c.where = w;
-        if (e->op->apply(e, &c, why) != 0) {
+        c.first = i == 0;
+        int rc = e->op->apply(e, &c, why);
+        *scene = c.scene; /* a revert replaces it */
+        if (rc != 0) {
             json_decref(*applied);
             *applied = NULL;
             return -1;
@@ -137,7 +141,8 @@ merd_undo merd_batch_undo(const merd_batch *b)
     return e->op->flags & MERD_OP_STEPS ? MERD_UNDO_REPLAY : MERD_UNDO_NOTHING;
 }
 
-int merd_batch_replay(const json_t *applied, mer_scene *scene, merd_refusal *why)
+int merd_batch_replay(const json_t *applied, mer_scene **scene, const merd_past *past,
+                      merd_refusal *why)
 {
     const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX, true};
     json_t *body = json_pack("{s:O}", "edits", (json_t *)applied);
@@ -148,7 +153,7 @@ int merd_batch_replay(const json_t *applied, mer_scene *scene, merd_refusal *why
         return -1;
     merd_batch_outcome outcome;
     json_t *again = NULL;
-    rc = merd_batch_apply(b, scene, NULL, NULL, &outcome, &again, why);
+    rc = merd_batch_apply(b, scene, past, NULL, NULL, &outcome, &again, why);
     json_decref(again);
     merd_batch_free(b);
     return rc;

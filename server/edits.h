@@ -35,6 +35,18 @@ typedef struct merd_edit_limits {
 
 typedef struct merd_batch merd_batch;
 
+/* Where a revert edit gets a past revision of the session (revisions.h). */
+typedef struct merd_past {
+    /* A new scene as it was at `revision`: 0, or -1 with `why` (422 naming
+     * `field` when the revision is not the session's). */
+    int (*scene_at)(void *ctx, uint64_t revision, const char *field, mer_scene **out,
+                    merd_refusal *why);
+    /* Takes over the scene a revert replaces when it is the session's last
+     * accepted revision (the revert is the batch's first edit); NULL: freed. */
+    void (*retire)(void *ctx, mer_scene *scene);
+    void *ctx;
+} merd_past;
+
 /* Decodes a request body: one edit object or {"edits": [...]}. On success
  * *out (caller frees with merd_batch_free) holds the checked edits; on failure
  * `why` says what and where (400 for an unknown op or field, 422 for a wrong
@@ -61,13 +73,15 @@ typedef struct merd_batch_outcome {
  * static string, which becomes the outcome's `interrupted`). */
 typedef const char *(*merd_batch_stop_fn)(void *ctx, uint32_t done, uint32_t total);
 
-/* Applies the edits in order. Stops early, keeping whole steps, when `stop`
+/* Applies the edits to `*scene` in order; a revert replaces `*scene` with the
+ * tree of a past revision taken from `past` (NULL: reverts are refused). Stops early, keeping whole steps, when `stop`
  * says so; later edits are then not applied. Returns 0, or -1 with `why` (the
  * scene may then be partly changed: the caller restores it). `*applied` (new
  * reference) is the JSON of what was applied, for the journal: the edits as
  * given, a stopped step with the count done, the edits after it left out. */
-int merd_batch_apply(const merd_batch *b, mer_scene *scene, merd_batch_stop_fn stop, void *ctx,
-                     merd_batch_outcome *outcome, json_t **applied, merd_refusal *why);
+int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *past,
+                     merd_batch_stop_fn stop, void *ctx, merd_batch_outcome *outcome,
+                     json_t **applied, merd_refusal *why);
 
 /* How a refusal of `b` halfway is undone. */
 typedef enum merd_undo {
@@ -83,8 +97,10 @@ typedef enum merd_undo {
 
 merd_undo merd_batch_undo(const merd_batch *b);
 
-/* Decodes and applies a journaled `applied` array (replay): the same edits,
- * never stopped. 0, or -1 with `why`. */
-int merd_batch_replay(const json_t *applied, mer_scene *scene, merd_refusal *why);
+/* Decodes and applies a journaled `applied` array (replay) to `*scene`: the
+ * same edits, never stopped; reverts derive their revision from `past`. 0, or
+ * -1 with `why`. */
+int merd_batch_replay(const json_t *applied, mer_scene **scene, const merd_past *past,
+                      merd_refusal *why);
 
 #endif

@@ -220,7 +220,7 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
     server->app = app;
     server->listener = MHD_INVALID_SOCKET;
     atomic_init(&server->requests, 0);
-    if (realpath(config->web_root, server->web_root) == NULL) {
+    if (config->web_root[0] != '\0' && realpath(config->web_root, server->web_root) == NULL) {
         fprintf(err, "meristemd: --web-root '%s' does not exist\n", config->web_root);
         free(server);
         return NULL;

@@ -18,7 +18,8 @@ server_meristemd_SOURCES = \
 	server/journal.c server/journal.h \
 	server/checkpoint.c server/checkpoint.h \
 	server/session.c server/session.h server/session_private.h \
-	server/session_summary.c server/session_snapshot.c \
+	server/session_summary.c server/session_snapshot.c server/session_history.c \
+	server/revisions.c server/revisions.h \
 	server/snapshot.c server/snapshot.h \
 	server/export.c server/export.h \
 	server/clock.h \
@@ -28,9 +29,9 @@ server_meristemd_SOURCES = \
 	server/metrics.c server/metrics.h \
 	server/api.h server/api/private.h \
 	server/api/async.c server/api/meta.c server/api/sessions.c \
-	server/api/edits.c server/api/snapshot.c \
+	server/api/edits.c server/api/snapshot.c server/api/history.c \
 	server/app.h
-server_meristemd_CPPFLAGS = $(AM_CPPFLAGS) -DMER_WEB_ROOT='"$(webdir)"' $(MHD_CFLAGS) $(JANSSON_CFLAGS) $(ZLIB_CFLAGS)
+server_meristemd_CPPFLAGS = $(AM_CPPFLAGS) -DMER_WEB_ROOT='"$(webdir)"' -DMER_BUILD_DIR='"$(abs_top_builddir)"' $(MHD_CFLAGS) $(JANSSON_CFLAGS) $(ZLIB_CFLAGS)
 server_meristemd_LDADD = lib/libmeristem.la $(MHD_LIBS) $(JANSSON_LIBS) $(ZLIB_LIBS)
 
 # meristem: the offline command line (grow from a preset, write a GLB).

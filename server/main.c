@@ -1,6 +1,7 @@
 /* meristemd — entry point: settings, signals, serve until SIGINT or SIGTERM. */
 #include "config.h"
 
+#include <limits.h>
 #include <malloc.h>
 #include <stdatomic.h>
 #include <sys/resource.h>
@@ -18,6 +19,7 @@
 #include "server/clock.h"
 #include "server/http.h"
 #include "server/settings.h"
+#include "server/static_files.h"
 
 /* Set on SIGINT or SIGTERM: running batches stop at their next whole step. */
 static atomic_int stopping;
@@ -37,20 +39,24 @@ static merd_session_config session_config(const merd_settings *config)
     };
 }
 
-/* The main thread waits for a stop signal in `stop` and returns it; with
- * --fsync=interval it also flushes the journals on every tick. */
+/* The main thread waits for a stop signal in `stop` and returns it. On every
+ * tick (a second, or the --fsync-interval when shorter) it removes the sessions
+ * whose time to live has passed and, with --fsync=interval, flushes the journals. */
 static int wait_for_stop(const sigset_t *stop, merd_app *app)
 {
-    int signo = 0;
     bool interval = app->session_config.fsync == MERD_FSYNC_INTERVAL;
-    long ms = app->settings->fsync_interval;
+    long ms = interval && app->settings->fsync_interval < 1000 ? app->settings->fsync_interval : 1000;
     struct timespec tick = {ms / 1000, (ms % 1000) * 1000000L};
+    double synced = merd_now();
     for (;;) {
-        signo = interval ? sigtimedwait(stop, NULL, &tick) : (sigwait(stop, &signo) == 0 ? signo : -1);
+        int signo = sigtimedwait(stop, NULL, &tick);
         if (signo == SIGINT || signo == SIGTERM)
             return signo;
-        if (interval)
+        merd_registry_expire(app->registry, merd_wall_clock(), stdout);
+        if (interval && merd_now() - synced >= 1e-3 * (double)app->settings->fsync_interval) {
             merd_registry_sync(app->registry);
+            synced = merd_now();
+        }
     }
 }
 
@@ -95,6 +101,9 @@ int main(int argc, char **argv)
     pthread_sigmask(SIG_BLOCK, &stop, NULL);
     signal(SIGPIPE, SIG_IGN);
 
+    if (merd_static_find_root(config.web_root, sizeof config.web_root, stderr) != 0)
+        return EXIT_FAILURE;
+    char data_dir[PATH_MAX];
     merd_app app = {.settings = &config, .session_config = session_config(&config)};
     app.metrics = merd_metrics_new();
     app.registry = merd_registry_new(&app.session_config, (uint32_t)config.max_sessions);
@@ -104,8 +113,12 @@ int main(int argc, char **argv)
     long restored = merd_registry_restore(app.registry, stderr);
     if (restored < 0)
         return EXIT_FAILURE;
+    // The folder exists now: say where it is, whatever the working directory.
+    if (realpath(config.data_dir, data_dir) == NULL)
+        snprintf(data_dir, sizeof data_dir, "%s", config.data_dir);
+    printf("meristemd: data dir %s\n", data_dir);
     if (restored > 0)
-        printf("meristemd: restored %ld sessions from %s in %.2f s\n", restored, config.data_dir,
+        printf("meristemd: restored %ld sessions from %s in %.2f s\n", restored, data_dir,
                merd_now() - t0);
     // Every connection is a descriptor: take all the kernel allows this process.
     struct rlimit files;
@@ -123,7 +136,7 @@ int main(int argc, char **argv)
     const char *host = config.bind;
     printf("meristemd %s listening on http://%s%s%s:%u/ (web root %s)\n", mer_version(),
            strchr(host, ':') ? "[" : "", host, strchr(host, ':') ? "]" : "",
-           merd_server_port(server), config.web_root);
+           merd_server_port(server), config.web_root[0] ? config.web_root : "none: the API only");
 
     int signo = wait_for_stop(&stop, &app);
     printf("meristemd: %s, shutting down\n", signo == SIGINT ? "SIGINT" : "SIGTERM");

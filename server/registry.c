@@ -10,6 +10,8 @@
 #include <sys/random.h>
 #include <sys/stat.h>
 
+#include "server/clock.h"
+#include "server/decode.h"
 #include "server/quarantine.h"
 #include "server/registry.h"
 
@@ -226,6 +228,29 @@ static int new_id(char id[33])
     return 0;
 }
 
+/* The longest time to live a session may ask for: a year. */
+#define TTL_MAX (366u * 24 * 3600)
+
+/* `spec` without its ttl_seconds (a new reference, the rest of the request is
+ * the scene's) and the Unix time it gives, 0 for none. NULL with `why`. */
+static json_t *take_ttl(const json_t *spec, double *expires_at, merd_refusal *why)
+{
+    *expires_at = 0;
+    if (!json_is_object(spec) || json_object_get(spec, "ttl_seconds") == NULL)
+        return json_incref((json_t *)spec);
+    uint64_t ttl;
+    if (merd_get_uint(spec, "ttl_seconds", "", 1, TTL_MAX, true, 0, &ttl, why) != 0)
+        return NULL;
+    json_t *rest = json_copy((json_t *)spec);
+    if (rest == NULL) {
+        merd_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
+        return NULL;
+    }
+    json_object_del(rest, "ttl_seconds");
+    *expires_at = merd_wall_clock() + (double)ttl;
+    return rest;
+}
+
 int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **out, merd_refusal *why)
 {
     pthread_rwlock_rdlock(&r->lock);
@@ -238,7 +263,10 @@ int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **ou
     char id[33];
     if (new_id(id) != 0)
         return merd_refuse(why, 503, "no-entropy", "", "the OS gave no random bytes for a session id");
-    merd_session *s = merd_session_create(r->cfg, id, spec, why);
+    double expires_at = 0;
+    json_t *scene_spec = take_ttl(spec, &expires_at, why);
+    merd_session *s = scene_spec ? merd_session_create(r->cfg, id, scene_spec, expires_at, why) : NULL;
+    json_decref(scene_spec);
     if (s == NULL)
         return -1;
     pthread_rwlock_wrlock(&r->lock);
@@ -305,15 +333,83 @@ bool merd_registry_quarantined(merd_registry *r, const char *id, merd_refusal *w
     return true;
 }
 
-json_t *merd_registry_list(merd_registry *r)
+/* The state a listing filters by: "running", "idle" or "quarantined". */
+static const char *state_of(const json_t *summary)
 {
-    json_t *list = json_array();
+    const json_t *state = json_object_get(summary, "state");
+    if (json_is_string(state))
+        return json_string_value(state);
+    const json_t *running = json_object_get(json_object_get(summary, "running"), "active");
+    return json_is_true(running) ? "running" : "idle";
+}
+
+static bool wanted(const json_t *summary, const merd_list_query *q)
+{
+    const json_t *preset = json_object_get(summary, "preset");
+    const char *state = state_of(summary);
+    if (q->preset != NULL && (!json_is_string(preset) || strcmp(json_string_value(preset), q->preset) != 0))
+        return false;
+    if (q->state == NULL || strcmp(q->state, state) == 0)
+        return true;
+    return strcmp(q->state, "live") == 0 && strcmp(state, "quarantined") != 0;
+}
+
+json_t *merd_registry_list(merd_registry *r, const merd_list_query *q)
+{
+    json_t *all = json_array();
     pthread_rwlock_rdlock(&r->lock);
     for (size_t i = 0; i < r->count; i++)
-        json_array_append_new(list, merd_session_summary(r->list[i], false));
+        json_array_append_new(all, merd_session_summary(r->list[i], false));
     pthread_rwlock_unlock(&r->lock);
-    merd_quarantine_list(r->quarantine, list);
-    return json_pack("{s:o}", "sessions", list);
+    merd_quarantine_list(r->quarantine, all);
+    // A page starts after the session named by `after`, in the order listed.
+    json_t *page = json_array();
+    size_t i = 0, n = json_array_size(all);
+    if (q->after != NULL)
+        while (i < n && strcmp(json_string_value(json_object_get(json_array_get(all, i++), "id")),
+                               q->after) != 0)
+            ;
+    const json_t *last = NULL;
+    for (; i < n; i++) {
+        json_t *one = json_array_get(all, i);
+        if (!wanted(one, q))
+            continue;
+        if (json_array_size(page) == q->limit)
+            break;
+        json_array_append(page, one);
+        last = one;
+    }
+    json_t *next = i < n && last != NULL ? json_incref(json_object_get(last, "id")) : json_null();
+    json_decref(all);
+    return json_pack("{s:o, s:o}", "sessions", page, "next_after", next);
+}
+
+size_t merd_registry_expire(merd_registry *r, double now, FILE *log)
+{
+    char (*gone)[33] = NULL;
+    size_t n = 0;
+    pthread_rwlock_rdlock(&r->lock);
+    for (size_t i = 0; i < r->count; i++) {
+        double at = merd_session_expires(r->list[i]);
+        if (at <= 0 || at > now)
+            continue;
+        if (gone == NULL && (gone = calloc(r->count, sizeof *gone)) == NULL)
+            break;
+        snprintf(gone[n++], sizeof gone[0], "%s", merd_session_id(r->list[i]));
+    }
+    pthread_rwlock_unlock(&r->lock);
+    size_t removed = 0;
+    for (size_t i = 0; i < n; i++) {
+        merd_refusal why = {0};
+        if (merd_registry_delete(r, gone[i], &why) == 0) {
+            removed++;
+            fprintf(log, "meristemd: session %s reached its ttl_seconds and was removed\n", gone[i]);
+        } else if (why.status != 404) {
+            fprintf(log, "meristemd: session %s reached its ttl_seconds: %s\n", gone[i], why.detail);
+        }
+    }
+    free(gone);
+    return removed;
 }
 
 void merd_registry_totals(merd_registry *r, uint32_t *sessions, uint64_t *internodes)

@@ -37,9 +37,24 @@ int merd_registry_delete(merd_registry *r, const char *id, merd_refusal *why);
 /* Whether `id` is quarantined; if so, `why` gets the 503 to answer with. */
 bool merd_registry_quarantined(merd_registry *r, const char *id, merd_refusal *why);
 
-/* {"sessions": [short summaries]} in creation order, then the quarantined
- * sessions as {id, state: "quarantined", reason} (new reference). */
-json_t *merd_registry_list(merd_registry *r);
+/* What GET /v1/sessions asks for (all borrowed; NULL: no filter). */
+typedef struct merd_list_query {
+    const char *after;   /* the id the previous page ended with */
+    size_t limit;        /* at most this many sessions */
+    const char *preset;  /* only sessions of this preset */
+    const char *state;   /* only "running", "idle", "live" (either) or "quarantined" */
+} merd_list_query;
+
+/* {"sessions": [short summaries], "next_after": id|null}: the sessions in
+ * creation order, then the quarantined ones as {id, state: "quarantined",
+ * reason}, filtered and paged by `q`; next_after is the `after` of the next
+ * page, null on the last. New reference. O(sessions). */
+json_t *merd_registry_list(merd_registry *r, const merd_list_query *q);
+
+/* Removes, as merd_registry_delete does, every session whose time to live
+ * (ttl_seconds at creation) has passed at Unix time `now`, logging each to
+ * `log`. Returns how many were removed. */
+size_t merd_registry_expire(merd_registry *r, double now, FILE *log);
 
 /* Counts for metrics. */
 void merd_registry_totals(merd_registry *r, uint32_t *sessions, uint64_t *internodes);

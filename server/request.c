@@ -40,7 +40,7 @@ enum MHD_Result merd_reply(merd_request *req, unsigned status, struct MHD_Respon
 
 struct MHD_Response *merd_json_response(const json_t *json, size_t *size)
 {
-    char *text = json_dumps(json, MERD_JSON_DUMP_FLAGS);
+    char *text = merd_json_body(json);
     if (text == NULL)
         return NULL;
     *size = strlen(text);
@@ -116,7 +116,7 @@ struct MHD_Response *merd_problem_response(unsigned status, const char *slug, co
                                 (int)status, "detail", detail);
     if (problem != NULL && field != NULL && field[0] != '\0')
         json_object_set_new(problem, "field", json_string(field));
-    char *text = problem != NULL ? json_dumps(problem, JSON_COMPACT) : NULL;
+    char *text = problem != NULL ? merd_json_body(problem) : NULL;
     json_decref(problem);
     if (text == NULL)
         return NULL;

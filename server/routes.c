@@ -17,21 +17,30 @@ typedef struct route {
     const char *pattern;  /* "{id}" matches one path segment */
     handler_fn handler;
     bool open;            /* answered without the token */
+    const char *const *query; /* the query parameters it reads (NULL-terminated) */
 } route;
 
+/* Query parameters: any other is refused with 400, so a typo is never ignored. */
+static const char *const no_query[] = {NULL};
+static const char *const list_query[] = {"after", "limit", "preset", "state", NULL};
+static const char *const revisions_query[] = {"after", "limit", NULL};
+static const char *const skeleton_query[] = {"alive", NULL};
+
 static const route routes[] = {
-    {"GET", "/v1/health", merd_api_health, true},
-    {"HEAD", "/v1/health", merd_api_health, true},
-    {"GET", "/v1/metrics", merd_api_metrics, false},
-    {"GET", "/v1/presets", merd_api_presets, false},
-    {"GET", "/v1/sessions", merd_api_list, false},
-    {"POST", "/v1/sessions", merd_api_create, false},
-    {"GET", "/v1/sessions/{id}", merd_api_get, false},
-    {"DELETE", "/v1/sessions/{id}", merd_api_delete, false},
-    {"POST", "/v1/sessions/{id}/edits", merd_api_edits, false},
-    {"GET", "/v1/sessions/{id}/snapshot.glb", merd_api_snapshot, false},
-    {"HEAD", "/v1/sessions/{id}/snapshot.glb", merd_api_snapshot, false},
-    {"POST", "/v1/sessions/{id}/cancel", merd_api_cancel, false},
+    {"GET", "/v1/health", merd_api_health, true, no_query},
+    {"HEAD", "/v1/health", merd_api_health, true, no_query},
+    {"GET", "/v1/metrics", merd_api_metrics, false, no_query},
+    {"GET", "/v1/presets", merd_api_presets, false, no_query},
+    {"GET", "/v1/sessions", merd_api_list, false, list_query},
+    {"POST", "/v1/sessions", merd_api_create, false, no_query},
+    {"GET", "/v1/sessions/{id}", merd_api_get, false, no_query},
+    {"DELETE", "/v1/sessions/{id}", merd_api_delete, false, no_query},
+    {"POST", "/v1/sessions/{id}/edits", merd_api_edits, false, merd_api_glb_option_keys},
+    {"GET", "/v1/sessions/{id}/snapshot.glb", merd_api_snapshot, false, merd_api_snapshot_keys},
+    {"HEAD", "/v1/sessions/{id}/snapshot.glb", merd_api_snapshot, false, merd_api_snapshot_keys},
+    {"POST", "/v1/sessions/{id}/cancel", merd_api_cancel, false, no_query},
+    {"GET", "/v1/sessions/{id}/revisions", merd_api_revisions, false, revisions_query},
+    {"GET", "/v1/sessions/{id}/skeleton", merd_api_skeleton, false, skeleton_query},
 };
 #define N_ROUTES (sizeof routes / sizeof routes[0])
 
@@ -83,6 +92,43 @@ static bool token_ok(merd_request *req)
     return diff == 0;
 }
 
+typedef struct query_check {
+    const char *const *allowed;
+    const char *unknown;  /* the first parameter not allowed, or NULL */
+} query_check;
+
+static enum MHD_Result check_key(void *ctx, enum MHD_ValueKind kind, const char *key,
+                                 const char *value)
+{
+    (void)kind;
+    (void)value;
+    query_check *c = ctx;
+    for (const char *const *k = c->allowed; *k != NULL; k++)
+        if (strcmp(*k, key) == 0)
+            return MHD_YES;
+    c->unknown = key;
+    return MHD_NO;
+}
+
+/* 400 naming the first query parameter `r` does not read, or MHD_YES in `*ok`. */
+static enum MHD_Result refuse_unknown_query(merd_request *req, const route *r, bool *ok)
+{
+    query_check c = {r->query, NULL};
+    MHD_get_connection_values(req->connection, MHD_GET_ARGUMENT_KIND, check_key, &c);
+    *ok = c.unknown == NULL;
+    if (*ok)
+        return MHD_YES;
+    char known[200] = "";
+    for (const char *const *k = r->query; *k != NULL; k++)
+        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s",
+                 k == r->query ? "" : ", ", *k);
+    merd_refusal why = {0};
+    merd_refuse(&why, 400, "unknown-parameter", c.unknown,
+                "unknown query parameter '%.60s' for %s %s; %s%s", c.unknown, r->method, r->pattern,
+                known[0] ? "it reads " : "it reads none", known);
+    return merd_reply_refusal(req, &why);
+}
+
 static enum MHD_Result preflight(merd_request *req)
 {
     const char *cors = req->app->settings->cors_origin;
@@ -125,7 +171,9 @@ enum MHD_Result merd_route(merd_request *req, const char *web_root)
                     MHD_add_response_header(r, MHD_HTTP_HEADER_WWW_AUTHENTICATE, "Bearer");
                 return merd_reply(req, 401, r, size);
             }
-            return routes[i].handler(req, id[0] ? id : NULL);
+            bool ok = true;
+            enum MHD_Result refused = refuse_unknown_query(req, &routes[i], &ok);
+            return ok ? routes[i].handler(req, id[0] ? id : NULL) : refused;
         }
         size_t used = strlen(allow);
         snprintf(allow + used, sizeof allow - used, "%s%s", used ? ", " : "", routes[i].method);

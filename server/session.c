@@ -24,6 +24,11 @@ static merd_session *session_new(const merd_session_config *cfg, const char *id)
     snprintf(s->path, sizeof s->path, "%s/%s.journal", cfg->data_dir, id);
     snprintf(s->checkpoint, sizeof s->checkpoint, "%s/%s.checkpoint", cfg->data_dir, id);
     s->cfg = cfg;
+    s->revs = merd_revisions_new();
+    if (s->revs == NULL) {
+        free(s);
+        return NULL;
+    }
     pthread_mutex_init(&s->work, NULL);
     pthread_mutex_init(&s->state, NULL);
     return s;
@@ -40,13 +45,23 @@ static void session_free(merd_session *s, bool remove)
     free(s->summary_text);
     free(s->short_text);
     merd_snapshot_cache_clear(&s->snaps);
+    merd_revisions_free(s->revs);
     pthread_mutex_destroy(&s->work);
     pthread_mutex_destroy(&s->state);
     free(s);
 }
 
+/* The step and living internodes of `scene`, as a journal record holds them. */
+static void record_counts(json_t *record, const mer_scene *scene)
+{
+    mer_summary sum;
+    mer_scene_summary(scene, &sum);
+    json_object_set_new(record, "step", json_integer(sum.step));
+    json_object_set_new(record, "internodes", json_integer(sum.internodes));
+}
+
 merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
-                                  merd_refusal *why)
+                                  double expires_at, merd_refusal *why)
 {
     merd_session *s = session_new(cfg, id);
     if (s == NULL) {
@@ -59,7 +74,11 @@ merd_session *merd_session_create(const merd_session_config *cfg, const char *id
         return NULL;
     }
     s->spec = json_deep_copy(spec);
+    s->expires_at = expires_at;
     json_t *record = json_pack("{s:i, s:s, s:O}", "version", 1, "id", id, "create", s->spec);
+    record_counts(record, s->scene);
+    if (expires_at > 0)
+        json_object_set_new(record, "expires_at", json_real(expires_at));
     char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);
     json_decref(record);
     char error[MERD_JOURNAL_ERROR_MAX] = "";
@@ -70,6 +89,9 @@ merd_session *merd_session_create(const merd_session_config *cfg, const char *id
         session_free(s, false);
         return NULL;
     }
+    json_t *none = json_array();
+    merd_session_record(s, 0, none, NULL);
+    json_decref(none);
     merd_session_publish(s, 0);
     return s;
 }
@@ -102,7 +124,13 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
         r->s->scene = r->base ? r->base : merd_scene_from_spec(create, &unlimited, &why);
         r->base = NULL;
         r->s->spec = json_deep_copy(create);
+        const json_t *expires = json_object_get(doc, "expires_at");
+        r->s->expires_at = json_is_number(expires) ? json_number_value(expires) : 0;
         rc = r->s->scene != NULL ? 0 : -1;
+        json_t *none = json_array();
+        if (rc == 0)
+            merd_session_record(r->s, 0, none, r->base_revision > 0 ? doc : NULL);
+        json_decref(none);
     } else {
         const json_t *rev = json_object_get(doc, "revision");
         const json_t *edits = json_object_get(doc, "edits");
@@ -110,8 +138,12 @@ static int replay_record(void *ctx, size_t index, const char *payload, size_t si
             goto done;
         r->revision = (uint64_t)json_integer_value(rev);
         // The checkpoint holds the records up to its revision.
-        rc = r->revision <= r->base_revision ? 0 : merd_batch_replay(edits, r->s->scene, &why);
-        r->replayed += r->revision > r->base_revision;
+        bool replay = r->revision > r->base_revision;
+        const merd_past past = merd_session_past(r->s);
+        rc = replay ? merd_batch_replay(edits, &r->s->scene, &past, &why) : 0;
+        r->replayed += replay;
+        if (rc == 0)
+            merd_session_record(r->s, r->revision, edits, replay ? NULL : doc);
     }
 done:
     if (rc != 0)
@@ -331,7 +363,8 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     stop_ctx sc = {s, merd_now()};
     json_t *applied = NULL;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
-    if (merd_batch_apply(batch, s->scene, should_stop, &sc, outcome, &applied, why) != 0) {
+    const merd_past past = merd_session_past(s);
+    if (merd_batch_apply(batch, &s->scene, &past, should_stop, &sc, outcome, &applied, why) != 0) {
         if (discarded(s))
             mer_scene_free(before); /* deleted meanwhile: nothing to put back */
         else
@@ -347,17 +380,20 @@ int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outc
     }
     if (json_array_size(applied) > 0) {
         json_t *record = json_pack("{s:i, s:O}", "revision", (json_int_t)(revision + 1), "edits", applied);
+        record_counts(record, s->scene);
         char *text = json_dumps(record, JSON_COMPACT | JSON_SORT_KEYS);
-        json_decref(record);
         if (text == NULL || merd_journal_append(s->journal, text, strlen(text), error) != 0) {
             merd_refuse(why, 503, "journal", "", "the edits could not be journaled, so they were "
                         "undone: %s", text ? error : "out of memory");
             free(text);
+            json_decref(record);
             json_decref(applied);
             undo(s, how == MERD_UNDO_NOTHING ? MERD_UNDO_REPLAY : how, before);
             goto done;
         }
         free(text);
+        merd_session_record(s, revision + 1, applied, record);
+        json_decref(record);
         merd_session_publish(s, revision + 1);
         checkpoint(s, revision + 1);
     }

@@ -44,7 +44,11 @@ typedef struct merd_session_config {
  * (borrowed): builds the scene and writes the journal's first record. NULL with
  * `why` filled on a refusal (as merd_scene_from_spec says, or 500 for the disk). */
 merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
-                                  merd_refusal *why);
+                                  double expires_at, merd_refusal *why);
+
+/* The Unix time after which the session should be removed (its creation's
+ * ttl_seconds, kept in the journal), or 0 for never. */
+double merd_session_expires(const merd_session *s);
 
 /* Restores the session journaled at `path`: from its checkpoint and the records
  * after it, or, without a checkpoint that fits, by replaying it all. NULL with a
@@ -96,6 +100,27 @@ int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
 
 /* The ETag a snapshot of `options` would have now (for If-None-Match without meshing). */
 void merd_session_etag(merd_session *s, const merd_snapshot_options *options, char *etag);
+
+/* The ETag of a snapshot of `revision` with `options`. */
+void merd_session_etag_at(uint64_t revision, const merd_snapshot_options *options, char *etag);
+
+/* The tree at past `revision` as GLB for `options`: derived (revisions.h) and
+ * meshed, or taken from the session's kept past snapshots (`*cached`). As
+ * merd_session_snapshot otherwise; 422 naming "revision" for a revision the
+ * session does not have. Blocks while a batch runs. */
+int merd_session_snapshot_at(merd_session *s, uint64_t revision,
+                             const merd_snapshot_options *options, merd_snapshot **out,
+                             char *etag, bool *cached, merd_refusal *why);
+
+/* {"revisions": [...], "next_after": N|null}: a page of the session's
+ * revisions after `after` (from 0 when `from_start`), at most `limit`, oldest
+ * first (see merd_revisions_page). New reference. Blocks while a batch runs. */
+json_t *merd_session_revisions(merd_session *s, uint64_t after, bool from_start, size_t limit);
+
+/* {"revision": R, "nodes": [...]}: the skeleton of the tree, one object per
+ * internode ever issued (only the living ones when `alive_only`). New
+ * reference, NULL when out of memory. Blocks while a batch runs. O(nodes). */
+json_t *merd_session_skeleton(merd_session *s, bool alive_only);
 
 /* Living internodes after the last accepted batch (for metrics). */
 uint32_t merd_session_internodes(merd_session *s);

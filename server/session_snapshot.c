@@ -18,21 +18,26 @@ static void options_key(const merd_snapshot_options *o, char *out, size_t n)
              o->compression, o->mesh.twig_lines ? "w1" : "");
 }
 
-void merd_session_etag(merd_session *s, const merd_snapshot_options *options, char *etag)
+void merd_session_etag_at(uint64_t revision, const merd_snapshot_options *options, char *etag)
 {
     char key[48];
     options_key(options, key, sizeof key);
-    snprintf(etag, MERD_ETAG_MAX, "\"r%" PRIu64 "-%s\"", merd_session_revision(s), key);
+    snprintf(etag, MERD_ETAG_MAX, "\"r%" PRIu64 "-%s\"", revision, key);
 }
 
-/* Meshes and encodes the tree as it is (caller holds `work`). */
-static int build(merd_session *s, const merd_snapshot_options *options, merd_snapshot **out,
-                 merd_refusal *why)
+void merd_session_etag(merd_session *s, const merd_snapshot_options *options, char *etag)
+{
+    merd_session_etag_at(merd_session_revision(s), options, etag);
+}
+
+int merd_session_build(merd_session *s, const mer_scene *scene, uint64_t revision,
+                       const merd_snapshot_options *options, merd_snapshot **out,
+                       merd_refusal *why)
 {
     const json_t *preset = json_object_get(s->spec, "preset");
     const json_t *seed = json_object_get(s->spec, "seed");
     merd_origin origin = {.session = s->id,
-                          .revision = merd_session_revision(s),
+                          .revision = merd_revisions_tree(s->revs, revision),
                           .preset = preset ? json_string_value(preset) : "default",
                           .seed = seed ? (uint64_t)json_integer_value(seed) : 0};
     mer_gltf_options gopt = {.format = MER_GLTF_BINARY,
@@ -41,7 +46,7 @@ static int build(merd_session *s, const merd_snapshot_options *options, merd_sna
     uint8_t *bytes = NULL;
     size_t size = 0;
     mer_error err = {0};
-    mer_result rc = merd_export_tree(s->scene, &options->mesh, &gopt, &origin, &bytes, &size,
+    mer_result rc = merd_export_tree(scene, &options->mesh, &gopt, &origin, &bytes, &size,
                                      NULL, &err);
     if (rc != MER_OK)
         return merd_refuse_lib(why, rc, &err, "");
@@ -59,7 +64,8 @@ int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
     *out = merd_snapshot_cache_get(&s->snaps, etag);
     *cached = *out != NULL;
     int rc = 0;
-    if (*out == NULL && (rc = build(s, options, out, why)) == 0)
+    if (*out == NULL &&
+        (rc = merd_session_build(s, s->scene, merd_session_revision(s), options, out, why)) == 0)
         merd_snapshot_cache_put(&s->snaps, merd_session_revision(s), etag, *out);
     pthread_mutex_unlock(&s->work);
     return rc;

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "server/codec.h"
 #include "server/session_private.h"
@@ -25,6 +26,14 @@ static json_t *build_summary(merd_session *s, uint64_t revision)
                                              ? json_pack("{s:i, s:i}", "node", (json_int_t)node,
                                                          "bud", (json_int_t)slot)
                                              : json_null());
+    if (s->expires_at > 0) {
+        // ttl_seconds at creation: when the session goes, as RFC 3339 UTC.
+        char when[32];
+        time_t t = (time_t)s->expires_at;
+        struct tm tm;
+        strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", gmtime_r(&t, &tm));
+        json_object_set_new(j, "expires_at", json_string(when));
+    }
     json_object_set_new(j, "params", merd_json_params(p));
     json_object_set_new(j, "schedule", merd_json_schedule(&p->schedule));
     return j;
@@ -68,7 +77,7 @@ char *merd_session_summary_text(merd_session *s, bool full, uint64_t *revision)
     const char *base = full ? s->summary_text : s->short_text;
     char *text = NULL;
     if (base != NULL &&
-        asprintf(&text, "%s,\"running\":{\"active\":%s,\"done\":%u,\"total\":%u}}", base,
+        asprintf(&text, "%s,\"running\":{\"active\":%s,\"done\":%u,\"total\":%u}}\n", base,
                  s->running ? "true" : "false", s->done, s->total) < 0)
         text = NULL;
     *revision = s->revision;

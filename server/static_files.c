@@ -110,6 +110,10 @@ static enum MHD_Result send_file(merd_request *req, const char *path, const char
 
 enum MHD_Result merd_static_serve(merd_request *req, const char *root)
 {
+    if (root[0] == '\0')
+        return merd_reply_problem(req, 404, "not-found", "Not Found",
+                                  "this meristemd serves the API only (/v1/...): it found no web "
+                                  "root; start it with --web-root=DIR to serve the brush client");
     if (!url_is_plain(req->url))
         return not_found(req);
     char path[PATH_MAX];
@@ -135,4 +139,43 @@ enum MHD_Result merd_static_serve(merd_request *req, const char *root)
             return not_found(req);
     }
     return send_file(req, path, root);
+}
+
+/* The build tree's webroot/ when this executable lies inside that tree (a
+ * libtool build keeps it in server/.libs/). */
+static bool build_tree_root(char *out, size_t size)
+{
+#ifdef MER_BUILD_DIR
+    char exe[PATH_MAX], built[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n <= 0 || realpath(MER_BUILD_DIR, built) == NULL)
+        return false;
+    exe[n] = '\0';
+    size_t len = strlen(built);
+    struct stat st;
+    int k = snprintf(out, size, "%s/webroot", built);
+    return strncmp(exe, built, len) == 0 && exe[len] == '/' && k > 0 && (size_t)k < size &&
+           stat(out, &st) == 0 && S_ISDIR(st.st_mode);
+#else
+    (void)out;
+    (void)size;
+    return false;
+#endif
+}
+
+int merd_static_find_root(char *web_root, size_t size, FILE *log)
+{
+    struct stat st;
+    if (stat(web_root, &st) == 0)
+        return 0;
+    if (strcmp(web_root, MER_WEB_ROOT) != 0) {
+        fprintf(log, "meristemd: --web-root '%s' does not exist\n", web_root);
+        return -1;
+    }
+    if (build_tree_root(web_root, size))
+        return 0;
+    fprintf(log, "meristemd: no web root (%s is not installed; pass --web-root=DIR): serving "
+            "the API only\n", MER_WEB_ROOT);
+    web_root[0] = '\0';
+    return 0;
 }

@@ -39,12 +39,16 @@ TESTS += tests/api/shutdown.test.js
 TESTS += tests/api/slow-clients.test.js
 TESTS += tests/api/proto.test.js
 TESTS += tests/api/stall-spread.test.js
+TESTS += tests/api/history.test.js
+TESTS += tests/api/skeleton.test.js
+TESTS += tests/api/hygiene.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
 TESTS += tests/browser/controls.test.js
 TESTS += tests/browser/modeller.test.js
 TESTS += tests/conformance/importers.test.js
+TESTS += tests/browser/history.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
@@ -71,6 +75,9 @@ EXTRA_DIST += \
 	tests/api/slow-clients.test.js \
 	tests/api/proto.test.js \
 	tests/api/stall-spread.test.js \
+	tests/api/history.test.js \
+	tests/api/skeleton.test.js \
+	tests/api/hygiene.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
@@ -78,6 +85,7 @@ EXTRA_DIST += \
 	tests/browser/controls.test.js \
 	tests/browser/modeller.test.js \
 	tests/conformance/importers.test.js \
+	tests/browser/history.test.js \
 	tests/conformance/validate.test.js
 
 # A thousand kill -9 cycles (make check runs a few dozen); CRASH_SEED=N replays one.

@@ -13,7 +13,7 @@ WEB_FILES = web/index.html web/style.css web/favicon.svg \
 	web/js/tools/symmetry.js web/js/tools/hover.js web/js/tools/prune.js \
 	web/js/tools/bend.js \
 	web/js/panels/index.js web/js/panels/growth.js web/js/panels/view.js \
-	web/js/panels/schedule.js web/js/panels/params.js \
+	web/js/panels/schedule.js web/js/panels/params.js web/js/panels/history.js \
 	web/js/viewer/viewer.js web/js/viewer/loader.js web/js/viewer/picking.js \
 	web/js/viewer/highlight.js web/js/viewer/lod.js web/js/viewer/probe.js
 THREE_PARTS = \

@@ -25,7 +25,7 @@ static size_t health_size;
 
 static void build_health(void)
 {
-    int n = snprintf(health_body, sizeof health_body, "{\"status\":\"ok\",\"version\":\"%s\"}",
+    int n = snprintf(health_body, sizeof health_body, "{\"status\":\"ok\",\"version\":\"%s\"}\n",
                      mer_version());
     health_size = n > 0 && (size_t)n < sizeof health_body ? (size_t)n : 0;
 }
@@ -72,7 +72,7 @@ static void build_presets(void)
                               "l0 units long when it grows");
     json_t *body = json_pack("{s:o, s:o, s:o}", "presets", presets, "parameters", fields, "units",
                              units);
-    presets_text = json_dumps(body, MERD_JSON_DUMP_FLAGS);
+    presets_text = merd_json_body(body);
     json_decref(body);
 }
 

@@ -35,8 +35,20 @@ typedef struct merd_api_job {
     merd_batch *batch;      /* edits */
     bool glb;               /* edits: answer with the snapshot */
     merd_snapshot_options snap;
+    bool past;              /* snapshot: of `revision`, not the current tree */
+    uint64_t revision;
+    bool alive_only;        /* skeleton */
+    uint64_t after;         /* revisions: the page after this one ... */
+    bool from_start;        /* ... or from revision 0 */
+    size_t limit;
     char etag[MERD_ETAG_MAX];
 } merd_api_job;
+
+/* The query parameter `key` as an integer from `lo` to `hi` into `*out`
+ * (left alone when absent; `*given` says whether it was, may be NULL): 0, or
+ * -1 with a 422 naming it. */
+int merd_api_query_uint(merd_request *req, const char *key, uint64_t lo, uint64_t hi,
+                        uint64_t *out, bool *given, merd_refusal *why);
 
 /* A job for `req` holding `session` (may be NULL), which it takes over: NULL
  * when out of memory, and then `session` is released. */

@@ -2,6 +2,7 @@
 #include "config.h"
 
 #include <stdio.h>
+#include <string.h>
 
 #include "server/api/private.h"
 
@@ -14,10 +15,31 @@ merd_session *merd_api_find_session(merd_request *req, const char *id, merd_refu
     return s;
 }
 
+/* Sessions per page of GET /v1/sessions when ?limit= is not given, and the most. */
+#define LIST_DEFAULT 1000
+#define LIST_MAX 10000
+
 enum MHD_Result merd_api_list(merd_request *req, const char *id)
 {
     (void)id;
-    json_t *body = merd_registry_list(req->app->registry);
+    merd_refusal why = {0};
+    uint64_t limit = LIST_DEFAULT;
+    merd_list_query q = {
+        .after = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "after"),
+        .preset = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "preset"),
+        .state = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "state"),
+    };
+    static const char *const states[] = {"live", "running", "idle", "quarantined"};
+    bool known = q.state == NULL;
+    for (size_t k = 0; !known && k < sizeof states / sizeof states[0]; k++)
+        known = strcmp(q.state, states[k]) == 0;
+    if (!known)
+        merd_refuse(&why, 422, "out-of-range", "state",
+                    "state must be live, running, idle or quarantined, got '%.40s'", q.state);
+    if (!known || merd_api_query_uint(req, "limit", 1, LIST_MAX, &limit, NULL, &why) != 0)
+        return merd_reply_refusal(req, &why);
+    q.limit = (size_t)limit;
+    json_t *body = merd_registry_list(req->app->registry, &q);
     enum MHD_Result ok = merd_reply_json(req, 200, body);
     json_decref(body);
     return ok;

@@ -9,24 +9,41 @@
 #include "server/api/private.h"
 #include "server/codec.h"
 
+#define GLB_OPTIONS "detail", "leaves", "markers", "quantize", "texcoords", "twig_lines", \
+    "compress", "color"
+const char *const merd_api_glb_option_keys[] = {GLB_OPTIONS, NULL};
+const char *const merd_api_snapshot_keys[] = {GLB_OPTIONS, "revision", NULL};
+
 static const char *query(merd_request *req, const char *key)
 {
     return MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, key);
 }
 
-static int query_uint(merd_request *req, const char *key, uint32_t lo, uint32_t hi, uint32_t *out,
-                      merd_refusal *why)
+int merd_api_query_uint(merd_request *req, const char *key, uint64_t lo, uint64_t hi,
+                        uint64_t *out, bool *given, merd_refusal *why)
 {
     const char *v = query(req, key);
+    if (given != NULL)
+        *given = v != NULL;
     if (v == NULL)
         return 0;
     char *end = NULL;
-    unsigned long x = strtoul(v, &end, 10);
-    if (end == v || *end != '\0' || x < lo || x > hi)
-        return merd_refuse(why, 422, "out-of-range", key, "%s must be an integer from %u to %u, got '%.40s'",
-                           key, lo, hi, v);
-    *out = (uint32_t)x;
+    unsigned long long x = v[0] >= '0' && v[0] <= '9' ? strtoull(v, &end, 10) : 0;
+    if (end == NULL || end == v || *end != '\0' || x < lo || x > hi)
+        return merd_refuse(why, 422, "out-of-range", key,
+                           "%s must be an integer from %llu to %llu, got '%.40s'", key,
+                           (unsigned long long)lo, (unsigned long long)hi, v);
+    *out = (uint64_t)x;
     return 0;
+}
+
+static int query_uint(merd_request *req, const char *key, uint32_t lo, uint32_t hi, uint32_t *out,
+                      merd_refusal *why)
+{
+    uint64_t x = *out;
+    int rc = merd_api_query_uint(req, key, lo, hi, &x, NULL, why);
+    *out = (uint32_t)x;
+    return rc;
 }
 
 int merd_api_snapshot_options(merd_request *req, merd_snapshot_options *o, merd_refusal *why)
@@ -91,7 +108,9 @@ int merd_api_job_snapshot(merd_api_job *j, struct MHD_Response **r, size_t *size
 {
     merd_snapshot *snap = NULL;
     bool cached = false;
-    if (merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &cached, why) != 0)
+    if (j->past ? merd_session_snapshot_at(j->session, j->revision, &j->snap, &snap, j->etag,
+                                           &cached, why)
+                : merd_session_snapshot(j->session, &j->snap, &snap, j->etag, &cached, why))
         return -1;
     merd_metrics_snapshot(j->app->metrics, cached);
     *r = merd_api_glb_response(snap, j->etag, size);
@@ -119,13 +138,19 @@ enum MHD_Result merd_api_snapshot(merd_request *req, const char *id)
         return merd_reply_refusal(req, &why);
     merd_snapshot_options snap;
     req->revision = (long long)merd_session_revision(s);
-    if (merd_api_snapshot_options(req, &snap, &why) != 0) {
+    uint64_t revision = 0;
+    bool past = false;
+    if (merd_api_snapshot_options(req, &snap, &why) != 0 ||
+        merd_api_query_uint(req, "revision", 0, INT64_MAX, &revision, &past, &why) != 0) {
         merd_session_unref(s);
         return merd_reply_refusal(req, &why);
     }
     // A client that has this revision with these options gets 304 without meshing.
     char etag[MERD_ETAG_MAX];
-    merd_session_etag(s, &snap, etag);
+    if (past)
+        merd_session_etag_at(revision, &snap, etag);
+    else
+        merd_session_etag(s, &snap, etag);
     const char *match = MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND,
                                                     MHD_HTTP_HEADER_IF_NONE_MATCH);
     if (match != NULL && (strstr(match, etag) != NULL || strcmp(match, "*") == 0)) {
@@ -140,5 +165,7 @@ enum MHD_Result merd_api_snapshot(merd_request *req, const char *id)
     if (j == NULL)
         return MHD_NO;
     j->snap = snap;
+    j->past = past;
+    j->revision = revision;
     return merd_api_job_submit(j, run_snapshot);
 }

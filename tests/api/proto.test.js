@@ -75,13 +75,13 @@ function rebased(file) {
 // The route table of server/routes.c: [{method, pattern, open}].
 function routeTable() {
   const text = fs.readFileSync(path.join(SRC, 'server', 'routes.c'), 'utf8');
-  const rows = [...text.matchAll(/\{"([A-Z]+)", "(\/v1[^"]*)", (\w+), (true|false)\}/g)];
+  const rows = [...text.matchAll(/\{"([A-Z]+)", "(\/v1[^"]*)", (\w+), (true|false)(?:, \w+)?\}/g)];
   return rows.map((m) => ({ method: m[1].toLowerCase(), pattern: m[2], open: m[4] === 'true' }));
 }
 
 const REQUIRED_SCHEMAS = ['cancel.json', 'edit-batch.json', 'edit.json', 'edits-request.json',
   'edits-response.json', 'health.json', 'presets.json', 'problem.json', 'session-create.json',
-  'session-list.json', 'session-summary.json'];
+  'session-list.json', 'session-summary.json', 'revisions.json', 'skeleton.json'];
 const OPS = ['step', 'add_markers', 'prune', 'bend', 'set_apical_schedule', 'set_params', 'release'];
 const METHODS = ['get', 'put', 'post', 'delete', 'options', 'head', 'patch', 'trace'];
 
@@ -168,6 +168,8 @@ test('every example validates against its request schema and is named in openapi
   const single = edits.map((f) => example(f));
   for (const op of OPS) assert.ok(single.some((e) => e.op === op), `no example of ${op}`);
   assert.ok(single.some((e) => e.op === 'add_markers' && e.points), 'no add_markers points example');
+  // A revert's example is a batch: the golden test replays every edit-*.json in one script.
+  assert.ok(batches.some((f) => example(f).edits.some((e) => e.op === 'revert')), 'no revert example');
   assert.ok(single.some((e) => e.op === 'add_markers' && e.center && e.symmetry && e.constrain),
     'no brush example with symmetry and constrain');
   const external = collect(YAML.parse(openapiText), 'externalValue');
@@ -377,6 +379,25 @@ test('GET /v1/sessions matches session-list.json', async () => {
   assert.ok(item, 'the new session is listed');
   assert.equal(item.params, undefined);
   assert.equal(item.schedule, undefined);
+});
+
+test('revisions, the skeleton and their refusals match their schemas', async () => {
+  const s = await grown(4);
+  assert.equal((await J('POST', `/v1/sessions/${s.id}/edits`, example('batch-undo.json'))).status, 200);
+  const revisions = await J('GET', `/v1/sessions/${s.id}/revisions?limit=2`);
+  assert.equal(revisions.status, 200);
+  check('revisions.json', revisions.body, 'a page of revisions');
+  check('revisions.json', (await J('GET', `/v1/sessions/${s.id}/revisions?after=1`)).body, 'the last page');
+  const skeleton = await J('GET', `/v1/sessions/${s.id}/skeleton`);
+  check('skeleton.json', skeleton.body, 'the skeleton');
+  check('skeleton.json', (await J('GET', `/v1/sessions/${s.id}/skeleton?alive=1`)).body, 'the living');
+  for (const r of [await J('POST', `/v1/sessions/${s.id}/edits`, { op: 'revert', revision: 9 }),
+    await J('GET', `/v1/sessions/${s.id}/skeleton?alive=1&x=2`)]) {
+    check('problem.json', r.body, `${r.status}`);
+  }
+  const ttl = await J('POST', '/v1/sessions', { ttl_seconds: 600 });
+  check('session-create.json', { ttl_seconds: 600 }, 'a create with ttl_seconds');
+  check('session-summary.json', ttl.body, 'a summary with expires_at');
 });
 
 test('POST .../cancel matches cancel.json (202), DELETE is 204', async () => {

@@ -26,10 +26,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     mer_scene *scene = fuzz_scene();
     merd_batch_outcome outcome;
     json_t *applied = NULL;
-    if (merd_batch_apply(b, scene, NULL, NULL, &outcome, &applied, &why) == 0) {
+    if (merd_batch_apply(b, &scene, NULL, NULL, NULL, &outcome, &applied, &why) == 0) {
         mer_scene *again = fuzz_scene();
         merd_refusal why2 = {0};
-        if (merd_batch_replay(applied, again, &why2) != 0 ||
+        if (merd_batch_replay(applied, &again, NULL, &why2) != 0 ||
             mer_scene_hash(again) != mer_scene_hash(scene))
             abort();
         mer_scene_free(again);

@@ -47,7 +47,7 @@ static int replay(void *ctx, size_t index, const char *payload, size_t size)
             merd_batch_decode(body, &fuzz_limits, &b, &why) == 0) {
             merd_batch_outcome outcome;
             json_t *applied = NULL;
-            rc = merd_batch_apply(b, scene, NULL, NULL, &outcome, &applied, &why);
+            rc = merd_batch_apply(b, &scene, NULL, NULL, NULL, &outcome, &applied, &why);
             json_decref(applied);
         }
         merd_batch_free(b);

@@ -36,6 +36,13 @@ export const createSession = (preset, seed) => request('POST', 'v1/sessions', { 
 export const getSession = (id) => request('GET', `v1/sessions/${id}`);
 export const cancel = (id) => request('POST', `v1/sessions/${id}/cancel`, {});
 
+/** A page of the session's revisions after `after` (null: from the first). */
+export function revisions(id, after = null, limit = 1000) {
+  const q = new URLSearchParams({ limit: String(limit) });
+  if (after !== null) q.set('after', String(after));
+  return request('GET', `v1/sessions/${id}/revisions?${q}`);
+}
+
 /** Sends one edit or a batch ({edits: [...]}); resolves to the new summary. */
 export function edit(id, edits) {
   const body = Array.isArray(edits) ? (edits.length === 1 ? edits[0] : { edits }) : edits;
@@ -54,7 +61,7 @@ export function skeleton(id) {
  * assimp and every other glTF importer read.
  */
 export function snapshotUrl(id, { detail = 3, leaves = false, markers = false, color = 'none',
-  compact = false } = {}) {
+  compact = false, revision = null } = {}) {
   const q = new URLSearchParams({ detail: String(detail), leaves: leaves ? '1' : '0',
     markers: markers ? '1' : '0', color });
   if (compact) {
@@ -63,6 +70,7 @@ export function snapshotUrl(id, { detail = 3, leaves = false, markers = false, c
     q.set('compress', 'meshopt');
     q.set('twig_lines', '1');
   }
+  if (revision !== null) q.set('revision', String(revision));   // a past tree
   return `v1/sessions/${id}/snapshot.glb?${q}`;
 }
 

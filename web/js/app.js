@@ -23,6 +23,7 @@ const panels = PANELS.map((P) => new P(ctx));
 const input = new Input({ viewer, session, tools, keys: Object.assign({}, ...panels.map((p) => p.keys)),
   frame: () => session.frame() });
 for (const p of panels) if (p.show) session.onSummary((s) => p.show(s));
+for (const p of panels) if (p.edited) session.onEdited((edits) => p.edited(edits));
 for (const part of [...panels, ...tools]) if (part.loaded) session.onLoaded((l) => part.loaded(l));
 
 const topbar = new TopBar({
@@ -106,6 +107,8 @@ window.meristem = {
   refresh: () => session.refresh(),
   setTool: (id) => input.setTool(id),
   stepN: (n) => panelsById.growth.stepN(n),
+  undo: () => panelsById.history.undo(),
+  redo: () => panelsById.history.redoLast(),
   get sessionId() { return session.state.id; },
   get summary() { return session.state.summary; },
   get lastLoadMs() { return session.state.lastLoadMs; },

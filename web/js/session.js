@@ -27,7 +27,11 @@ export class Session {
     this.reloadAgain = false;
     this.summaryListeners = [];
     this.loadedListeners = [];
+    this.editedListeners = [];
   }
+
+  /** Calls fn(edits) after meristemd accepted edits the page sent. */
+  onEdited(fn) { this.editedListeners.push(fn); }
 
   /** Calls fn(summary) with every summary meristemd sends for this session. */
   onSummary(fn) { this.summaryListeners.push(fn); }
@@ -90,6 +94,7 @@ export class Session {
       try {
         const s = await api.edit(state.id, edits);
         this.constraint.edited(edits);
+        for (const fn of this.editedListeners) fn(edits);
         this.applySummary(s);
         if (reload) this.refresh();
         return s;

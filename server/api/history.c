@@ -1,0 +1,90 @@
+/* meristemd — GET /v1/sessions/{id}/revisions (a page of the session's
+ * revisions) and GET /v1/sessions/{id}/skeleton (its nodes for scripts).
+ * Both read the tree's state under its work lock, so a worker answers them. */
+#include "config.h"
+
+#include <string.h>
+
+#include "server/api/private.h"
+
+/* Revisions per page when ?limit= is not given, and the most one may ask for. */
+#define PAGE_DEFAULT 100
+#define PAGE_MAX 1000
+
+static void answer_json(merd_api_job *j, json_t *body)
+{
+    size_t size = 0;
+    struct MHD_Response *r = body ? merd_json_response(body, &size) : NULL;
+    json_decref(body);
+    merd_api_job_finish(j, 200, r, size);
+}
+
+/* Finds session `id`, reads the query into a job with `read` (0, or -1 with
+ * `why`) and hands the job to a worker that runs `run`. */
+static enum MHD_Result submit(merd_request *req, const char *id,
+                              int (*read)(merd_request *req, merd_api_job *j, merd_refusal *why),
+                              merd_job_fn run)
+{
+    merd_refusal why = {0};
+    merd_session *s = merd_api_find_session(req, id, &why);
+    if (s == NULL)
+        return merd_reply_refusal(req, &why);
+    req->revision = (long long)merd_session_revision(s);
+    merd_api_job asked = {0};
+    if (read(req, &asked, &why) != 0) {
+        merd_session_unref(s);
+        return merd_reply_refusal(req, &why);
+    }
+    merd_api_job *j = merd_api_job_new(req, s);
+    if (j == NULL)
+        return MHD_NO;
+    asked.req = j->req;
+    asked.app = j->app;
+    asked.session = j->session;
+    *j = asked;
+    return merd_api_job_submit(j, run);
+}
+
+static void run_revisions(void *arg)
+{
+    merd_api_job *j = arg;
+    answer_json(j, merd_session_revisions(j->session, j->after, j->from_start, j->limit));
+}
+
+static int read_revisions(merd_request *req, merd_api_job *j, merd_refusal *why)
+{
+    uint64_t after = 0, limit = PAGE_DEFAULT;
+    bool given = false;
+    if (merd_api_query_uint(req, "after", 0, INT64_MAX, &after, &given, why) != 0 ||
+        merd_api_query_uint(req, "limit", 1, PAGE_MAX, &limit, NULL, why) != 0)
+        return -1;
+    j->after = after;
+    j->from_start = !given;
+    j->limit = (size_t)limit;
+    return 0;
+}
+
+enum MHD_Result merd_api_revisions(merd_request *req, const char *id)
+{
+    return submit(req, id, read_revisions, run_revisions);
+}
+
+static void run_skeleton(void *arg)
+{
+    merd_api_job *j = arg;
+    answer_json(j, merd_session_skeleton(j->session, j->alive_only));
+}
+
+static int read_skeleton(merd_request *req, merd_api_job *j, merd_refusal *why)
+{
+    uint64_t alive = 0;
+    if (merd_api_query_uint(req, "alive", 0, 1, &alive, NULL, why) != 0)
+        return -1;
+    j->alive_only = alive != 0;
+    return 0;
+}
+
+enum MHD_Result merd_api_skeleton(merd_request *req, const char *id)
+{
+    return submit(req, id, read_skeleton, run_skeleton);
+}
