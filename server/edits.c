@@ -118,7 +118,7 @@ int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *pa
             outcome->steps_asked += e->count;
             outcome->steps_done += c.done;
             if (c.done > 0)
-                mer_scene_step_report(scene, &outcome->last_step);
+                mer_scene_step_report(*scene, &outcome->last_step);
             if (c.done < e->count) {
                 // Stopped at a whole step: journal what was done, nothing after it.
                 if (c.done > 0)

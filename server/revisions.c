@@ -212,7 +212,7 @@ static mer_scene *start_state(merd_revisions *h, const merd_revision_origin *o, 
     if (scene != NULL)
         return scene;
     // Replay builds what was accepted once, whatever today's limits say.
-    const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX};
+    const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX, true};
     *at = 0;
     return merd_scene_from_spec(o->spec, &unlimited, why);
 }
