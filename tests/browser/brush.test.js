@@ -16,7 +16,6 @@ const ARTIFACTS = process.env.MER_ARTIFACTS || '/tmp';
 let d, browser, page, cdp, id;
 const errors = [];
 const expectedRefusals = [];   // statuses the tests provoke on purpose
-const expectedConsole = [];    // 404s of a meristemd without the skeleton route
 const edits = [];              // every POST .../edits the page sent: {t, body}
 
 const shot = (name) => page.screenshot({ path: path.join(ARTIFACTS, `brush-${name}.png`) });
@@ -62,16 +61,11 @@ before(async () => {
   page.on('pageerror', (e) => errors.push(String(e)));
   page.on('console', (m) => {
     const status = /status of (\d+)/.exec(m.text());
-    if (m.type() === 'error' && !(status && (expectedRefusals.includes(Number(status[1])) ||
-      (status[1] === '404' && expectedConsole.length)))) errors.push(m.text());
+    if (m.type() === 'error' && !(status && expectedRefusals.includes(Number(status[1])))) errors.push(m.text());
   });
   page.on('requestfailed', (r) => errors.push(`request failed: ${r.url()}`));
   page.on('response', (r) => {
-    // A meristemd without GET .../skeleton answers 404 once; the page then labels nodes
-    // without their subtrees (tools/hover.js).
-    const noSkeleton = r.status() === 404 && /\/skeleton\?/.test(r.url());
-    if (noSkeleton) expectedConsole.push(r.url());
-    if (r.status() >= 400 && !expectedRefusals.includes(r.status()) && !noSkeleton) errors.push(`${r.status()} ${r.url()}`);
+    if (r.status() >= 400 && !expectedRefusals.includes(r.status())) errors.push(`${r.status()} ${r.url()}`);
   });
   page.on('request', (r) => {
     if (r.method() === 'POST' && /\/edits$/.test(r.url())) edits.push({ t: Date.now(), body: JSON.parse(r.postData()) });
