@@ -178,12 +178,23 @@ mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const floa
         return mer_markers_colonize(e->markers, n, pos, dir, p->rho, p->r, p->theta, q, v, NULL,
                                     quiet, err);
     }
-    for (size_t b = 0; b < n; b++) {
-        q[b] = mer_shadow_light(e->shadow, pos + 3 * b, p->shadow_c);
-        mer_shadow_direction(e->shadow, pos + 3 * b, dir + 3 * b, p->theta, p->shadow_dir,
-                             v + 3 * b);
-    }
+    merp_env_light(e, n, pos, q);
+    for (size_t b = 0; b < n; b++)
+        merp_env_direction(e, pos + 3 * b, dir + 3 * b, v + 3 * b);
     return MER_OK;
+}
+
+void merp_env_light(const merp_env *e, size_t n, const float *pos, float *q)
+{
+    assert(e != NULL && e->shadow != NULL && (n == 0 || (pos != NULL && q != NULL)));
+    for (size_t b = 0; b < n; b++)
+        q[b] = mer_shadow_light(e->shadow, pos + 3 * b, e->p.shadow_c);
+}
+
+void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3])
+{
+    assert(e != NULL && e->shadow != NULL);
+    mer_shadow_direction(e->shadow, pos, dir, e->p.theta, e->p.shadow_dir, v);
 }
 
 void merp_env_occupy(merp_env *e, const float p[3])

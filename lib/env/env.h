@@ -67,6 +67,11 @@ void merp_env_drop_covered(merp_env *e, const merp_env_change *c);
  * (`quiet` may not be NULL then). O(n · neighbourhood). */
 mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const float *dir,
                              float *q, float *v, uint8_t *quiet, mer_error *err);
+/* Under shadow propagation, merp_env_perceive in two halves, so that V can be
+ * computed for the buds that grow only: the light Q of `n` buds at `pos` (O(n)),
+ * and the optimal direction V of one bud at `pos` facing `dir` (O(26)). */
+void merp_env_light(const merp_env *e, size_t n, const float *pos, float *q);
+void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3]);
 /* A bud at p that may not grow still clears its occupancy zone of markers. */
 void merp_env_occupy(merp_env *e, const float p[3]);
 /* 1 if p is below the ground or inside an obstacle. O(obstacles). */
