@@ -46,6 +46,8 @@ void merp_env_free(merp_env *e)
     merp_free(e->obs);
     mer_markers_free(e->markers);
     mer_shadow_free(e->shadow);
+    merp_free(e->pend);
+    merp_free(e->pend_tmp);
     memset(e, 0, sizeof *e);
 }
 
@@ -216,7 +218,9 @@ int merp_env_blocked(const merp_env *e, const float p[3])
 void merp_env_bud_changed(void *env, const float p[3], int sign)
 {
     merp_env *e = env;
-    if (e->shadow != NULL)
+    if (e->batching)
+        merp_env_batch_cast(e, p, sign);
+    else if (e->shadow != NULL)
         mer_shadow_cast_at(e->shadow, p, sign);
 }
 

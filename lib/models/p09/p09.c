@@ -202,7 +202,11 @@ static mer_result round_(merp_model *m, const merp_world *w, int syllepsis, mer_
     if (rc != MER_OK)
         return rc;
     merp_p09_directions(m, w);
-    return grow_buds(m, w, err);
+    /* Nothing reads the shadow grid while the shoots grow. */
+    merp_env_batch_begin(w->env);
+    rc = grow_buds(m, w, err);
+    merp_env_batch_end(w->env);
+    return rc;
 }
 
 static mer_result p09_step(merp_model *m, const merp_world *w, mer_error *err)
