@@ -6,7 +6,8 @@
  * internodes, steps, seconds of stepping (the process's CPU time, steadier than
  * wall time on a shared machine: the minimum and median of the runs; and the
  * wall time of the fastest run), internodes per second (at the minimum), peak
- * memory (getrusage maxrss). Not a test: nothing here passes or fails on
+ * memory (getrusage maxrss), and the scene's hash, so that a change meant to
+ * keep the output can be checked at this scale too. Not a test: nothing here passes or fails on
  * time. Run as `make bench`, or `tests/bench/bench [NAME [RUNS]]`; each workload
  * is best run in its own process so that its peak memory is its own. */
 #include "config.h"
@@ -46,6 +47,7 @@ typedef struct outcome {
     uint32_t steps, internodes;
     double secs, wall;
     float height, width;
+    uint64_t hash;
 } outcome;
 
 static double now(clockid_t clock)
@@ -135,6 +137,7 @@ static int grow(const workload *w, outcome *o)
     o->wall = now(CLOCK_MONOTONIC) - w1;
     mer_summary m;
     mer_scene_summary(s, &m);
+    o->hash = mer_scene_hash(s);
     mer_scene_free(s);
     o->steps = steps;
     o->internodes = m.internodes;
@@ -167,10 +170,11 @@ static int run(const workload *w, int runs)
     char paper[16] = "-";
     if (w->paper_steps > 0)
         snprintf(paper, sizeof paper, "%u", w->paper_steps);
-    printf("%-24s %10u %5u %5s %8.3f %8.3f %8.3f %12.0f %8.1f %5.0f %5.0f\n", w->name,
+    printf("%-24s %10u %5u %5s %8.3f %8.3f %8.3f %12.0f %8.1f %5.0f %5.0f %016llx\n", w->name,
            o[0].internodes, o[0].steps, paper, o[0].secs, med, o[0].wall,
            o[0].secs > 0 ? (double)o[0].internodes / o[0].secs : 0.0,
-           (double)ru.ru_maxrss / 1024.0, (double)o[0].height, (double)o[0].width);
+           (double)ru.ru_maxrss / 1024.0, (double)o[0].height, (double)o[0].width,
+           (unsigned long long)o[0].hash);
     return 0;
 }
 
@@ -183,9 +187,9 @@ int main(int argc, char **argv)
         return 2;
     }
     if (argc > 1 && strcmp(argv[1], "--header") == 0) {
-        printf("%-24s %10s %5s %5s %8s %8s %8s %12s %8s %5s %5s\n", "workload", "internodes",
-               "steps", "paper", "min s", "median s", "wall s", "internodes/s", "peak MB",
-               "high", "wide");
+        printf("%-24s %10s %5s %5s %8s %8s %8s %12s %8s %5s %5s %16s\n", "workload",
+               "internodes", "steps", "paper", "min s", "median s", "wall s", "internodes/s",
+               "peak MB", "high", "wide", "scene hash");
         return 0;
     }
     for (size_t i = 0; i < NWORK; i++) {
