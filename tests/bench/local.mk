@@ -3,8 +3,8 @@
 #  - bench: the Table 1 workloads (P09 §6), space colonization with a million
 #    markers and a forest of 100 trees, each grown to its internode count:
 #    internodes, steps (and the paper's), seconds (min and median of
-#    BENCH_RUNS runs), internodes per second, peak memory; each workload in its
-#    own process so its peak memory is its own.
+#    BENCH_RUNS runs), internodes per second, peak memory (each run in a
+#    process of its own), the scene's hash.
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
 #    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
 # `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
