@@ -18,6 +18,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/env/env.c \
 	lib/env/markers.c \
 	lib/env/shadow.c \
+	lib/env/shadow_batch.c \
 	lib/env/solid.c \
 	lib/env/obstacles.c \
 	lib/env/volumes.c \

@@ -46,6 +46,8 @@ void merp_env_free(merp_env *e)
     merp_free(e->obs);
     mer_markers_free(e->markers);
     mer_shadow_free(e->shadow);
+    merp_free(e->pend);
+    merp_free(e->pend_tmp);
     memset(e, 0, sizeof *e);
 }
 
@@ -178,12 +180,23 @@ mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const floa
         return mer_markers_colonize(e->markers, n, pos, dir, p->rho, p->r, p->theta, q, v, NULL,
                                     quiet, err);
     }
-    for (size_t b = 0; b < n; b++) {
-        q[b] = mer_shadow_light(e->shadow, pos + 3 * b, p->shadow_c);
-        mer_shadow_direction(e->shadow, pos + 3 * b, dir + 3 * b, p->theta, p->shadow_dir,
-                             v + 3 * b);
-    }
+    merp_env_light(e, n, pos, q);
+    for (size_t b = 0; b < n; b++)
+        merp_env_direction(e, pos + 3 * b, dir + 3 * b, v + 3 * b);
     return MER_OK;
+}
+
+void merp_env_light(const merp_env *e, size_t n, const float *pos, float *q)
+{
+    assert(e != NULL && e->shadow != NULL && (n == 0 || (pos != NULL && q != NULL)));
+    for (size_t b = 0; b < n; b++)
+        q[b] = mer_shadow_light(e->shadow, pos + 3 * b, e->p.shadow_c);
+}
+
+void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3])
+{
+    assert(e != NULL && e->shadow != NULL);
+    mer_shadow_direction(e->shadow, pos, dir, e->p.theta, e->p.shadow_dir, v);
 }
 
 void merp_env_occupy(merp_env *e, const float p[3])
@@ -205,7 +218,9 @@ int merp_env_blocked(const merp_env *e, const float p[3])
 void merp_env_bud_changed(void *env, const float p[3], int sign)
 {
     merp_env *e = env;
-    if (e->shadow != NULL)
+    if (e->batching)
+        merp_env_batch_cast(e, p, sign);
+    else if (e->shadow != NULL)
         mer_shadow_cast_at(e->shadow, p, sign);
 }
 

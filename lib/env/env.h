@@ -35,6 +35,10 @@ typedef struct merp_env {
     merp_obstacle *obs;
     uint32_t nobs;
     uint32_t epoch;     /* bumped whenever markers are added or buds move: see merp_env_epoch */
+    /* bud casts held back between merp_env_batch_begin and _end (shadow_batch.c) */
+    int batching;
+    uint64_t *pend, *pend_tmp;
+    size_t npend, pend_cap;
 } merp_env;
 
 /* Grids built ahead of a parameter change, so that a failure leaves the old ones. */
@@ -67,6 +71,11 @@ void merp_env_drop_covered(merp_env *e, const merp_env_change *c);
  * (`quiet` may not be NULL then). O(n · neighbourhood). */
 mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const float *dir,
                              float *q, float *v, uint8_t *quiet, mer_error *err);
+/* Under shadow propagation, merp_env_perceive in two halves, so that V can be
+ * computed for the buds that grow only: the light Q of `n` buds at `pos` (O(n)),
+ * and the optimal direction V of one bud at `pos` facing `dir` (O(26)). */
+void merp_env_light(const merp_env *e, size_t n, const float *pos, float *q);
+void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3]);
 /* A bud at p that may not grow still clears its occupancy zone of markers. */
 void merp_env_occupy(merp_env *e, const float p[3]);
 /* 1 if p is below the ground or inside an obstacle. O(obstacles). */
@@ -84,6 +93,21 @@ uint32_t merp_env_epoch(const merp_env *e);
 mer_result merp_env_add_markers(merp_env *e, const float *xyz, size_t count, mer_error *err);
 /* Folds obstacles (only when there are some) and marker positions into `h`. */
 uint64_t merp_env_hash(const merp_env *e, uint64_t h);
+
+/* shadow_batch.c: between begin and end the shadows of buds that appear or go
+ * (merp_env_bud_changed) are held back, and end casts them all, sorted by voxel:
+ * the grid ends exactly as if each had been cast at once, but nothing may read
+ * it in between. O(casts + pyramids' voxels). */
+void merp_env_batch_begin(merp_env *e);
+void merp_env_batch_cast(merp_env *e, const float p[3], int sign);
+void merp_env_batch_end(merp_env *e);
+
+/* shadow.c: the voxel index of p (clamped into the grid, as mer_shadow_cast_at
+ * does), the number of voxels, and `count` casts of a bud's pyramid at a voxel
+ * (negative: lifted). */
+uint32_t merp_shadow_cell(const mer_shadow *sh, const float p[3]);
+size_t merp_shadow_cells(const mer_shadow *sh);
+void merp_shadow_cast_cell(mer_shadow *sh, uint32_t cell, int32_t count);
 
 /* markers.c, shadow.c: deep copies, grids and scratch included. MER_ERR_NOMEM. */
 mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error *err);

@@ -1,6 +1,7 @@
 /* meristem — shadow propagation grid (P09 §4.1). */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -133,6 +134,36 @@ void mer_shadow_cast(mer_shadow *sh, const int ijk[3], int sign, float weight)
             for (int i = i0; i <= i1; i++)
                 row[i] += d;
         }
+    }
+}
+
+uint32_t merp_shadow_cell(const mer_shadow *sh, const float p[3])
+{
+    int ijk[3];
+    mer_shadow_voxel_of(sh, p, ijk);
+    return (uint32_t)idx(sh, ijk[0], ijk[1], ijk[2]);
+}
+
+size_t merp_shadow_cells(const mer_shadow *sh) { return sh->nvox; }
+
+void merp_shadow_cast_cell(mer_shadow *sh, uint32_t cell, int32_t count)
+{
+    assert(cell < sh->nvox);
+    const int dx = sh->dim[0], dz = sh->dim[2];
+    const int I = (int)(cell % (uint32_t)dx), K = (int)(cell / (uint32_t)dx % (uint32_t)dz);
+    const int J = (int)(cell / ((uint32_t)dx * (uint32_t)dz));
+    for (uint32_t q = 0; q <= sh->q_max && J >= (int)q; q++) {
+        /* count casts at once: the same sum as count single ones, wrapping alike */
+        uint32_t d = sh->delta[q] * (uint32_t)count;
+        int i0 = I - (int)q, i1 = I + (int)q, k0 = K - (int)q, k1 = K + (int)q;
+        if (i0 < 0) i0 = 0;
+        if (k0 < 0) k0 = 0;
+        if (i1 >= dx) i1 = dx - 1;
+        if (k1 >= dz) k1 = dz - 1;
+        uint32_t *row = sh->s + idx(sh, 0, J - (int)q, k0);
+        for (int k = k0; k <= k1; k++, row += dx)
+            for (int i = i0; i <= i1; i++)
+                row[i] += d;
     }
 }
 

@@ -7,6 +7,8 @@
 #include <assert.h>
 #include <string.h>
 
+#include <meristem/fate.h>
+
 #include "core/array.h"
 #include "models/p09/p09.h"
 
@@ -80,22 +82,29 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
             size_t b = m->bn++;
             m->bkey[b] = 3 * i + k;
             memcpy(m->bpos + 3 * b, e, sizeof e);
-            merp_skel_bud_dir(sk, i, k, m->bdir + 3 * b);
+            if (!m->v_deferred) /* else only for the buds that grow */
+                merp_skel_bud_dir(sk, i, k, m->bdir + 3 * b);
         }
     }
     return MER_OK;
 }
 
 mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsis,
-                                mer_error *err)
+                                int defer_v, mer_error *err)
 {
     assert(m != NULL && w != NULL && m->n == w->sk->n);
     if (w->sk->con_node != MER_NO_NODE)
         mark_constraint(m, w->sk);
+    /* Under shadow propagation most buds get no resource: V waits for the few
+     * that grow (merp_p09_directions), read from this same grid. */
+    m->v_deferred = defer_v && w->p->environment == MER_ENV_SHADOW;
     mer_result rc = collect_buds(m, w, syllepsis, err);
     if (rc != MER_OK)
         return rc;
-    rc = merp_env_perceive(w->env, m->bn, m->bpos, m->bdir, m->bq, m->bv, m->bquiet, err);
+    if (m->v_deferred)
+        merp_env_light(w->env, m->bn, m->bpos, m->bq);
+    else
+        rc = merp_env_perceive(w->env, m->bn, m->bpos, m->bdir, m->bq, m->bv, m->bquiet, err);
     if (rc != MER_OK)
         return rc;
     if (w->p->environment == MER_ENV_MARKERS) {
@@ -106,4 +115,20 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
     for (size_t b = 0; b < m->bn; b++)
         m->qb[m->bkey[b]] = m->bq[b];
     return MER_OK;
+}
+
+void merp_p09_directions(merp_model *m, const merp_world *w)
+{
+    assert(m != NULL && w != NULL);
+    if (!m->v_deferred)
+        return;
+    for (size_t b = 0; b < m->bn; b++) {
+        uint32_t key = m->bkey[b];
+        float l;
+        if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, &l) == 0)
+            continue;
+        merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * b);
+        merp_env_direction(w->env, m->bpos + 3 * b, m->bdir + 3 * b, m->bv + 3 * b);
+    }
+    m->v_deferred = 0;
 }

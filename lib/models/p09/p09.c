@@ -177,15 +177,17 @@ static mer_result grow_buds(merp_model *m, const merp_world *w, mer_error *err)
 
 static mer_result round_(merp_model *m, const merp_world *w, int syllepsis, mer_error *err)
 {
+    /* No shedding while growth is constrained to one bud: the other buds' Q is
+     * held at 0 then, which says nothing about their light. */
+    int shed = !syllepsis && w->p->shed_threshold > 0.0f && w->sk->con_node == MER_NO_NODE;
     mer_result rc = p09_sync(m, w->sk, err);
+    /* Shedding lifts shadows before the shoots grow: V cannot wait for it. */
     if (rc == MER_OK)
-        rc = merp_p09_environment(m, w, syllepsis, err);
+        rc = merp_p09_environment(m, w, syllepsis, !shed, err);
     if (rc != MER_OK)
         return rc;
     basipetal(m, w);
-    /* No shedding while growth is constrained to one bud: the other buds' Q is
-     * held at 0 then, which says nothing about their light. */
-    if (!syllepsis && w->p->shed_threshold > 0.0f && w->sk->con_node == MER_NO_NODE) {
+    if (shed) {
         uint32_t shed_count;
         rc = merp_p09_shed(m, w, &shed_count, err);
         if (rc != MER_OK)
@@ -199,7 +201,12 @@ static mer_result round_(merp_model *m, const merp_world *w, int syllepsis, mer_
         merp_p09_allocate_bh(m, w);
     if (rc != MER_OK)
         return rc;
-    return grow_buds(m, w, err);
+    merp_p09_directions(m, w);
+    /* Nothing reads the shadow grid while the shoots grow. */
+    merp_env_batch_begin(w->env);
+    rc = grow_buds(m, w, err);
+    merp_env_batch_end(w->env);
+    return rc;
 }
 
 static mer_result p09_step(merp_model *m, const merp_world *w, mer_error *err)

@@ -36,6 +36,7 @@ struct merp_model {
     float *bpos, *bdir, *bq, *bv;
     uint8_t *bquiet;
     size_t bn, bcap;
+    int v_deferred;    /* bv is not computed yet (merp_p09_directions) */
     /* priority scratch */
     float *pq, *pv;
     uint32_t *pbuds, *prank, *pscr, *ptarget;
@@ -43,8 +44,14 @@ struct merp_model {
 };
 
 /* environment.c */
+/* Q of every bud that may grow this round, and V too unless `defer_v` lets it
+ * wait (shadow propagation only) until merp_p09_directions, which must run
+ * before the shadow grid changes: between them nothing may cast or lift a
+ * shadow. */
 mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsis,
-                                mer_error *err);
+                                int defer_v, mer_error *err);
+/* V of the listed buds whose resource (m->vb) makes a shoot, if it was deferred. */
+void merp_p09_directions(merp_model *m, const merp_world *w);
 /* borchert_honda.c */
 void merp_p09_allocate_bh(merp_model *m, const merp_world *w);
 /* priority.c */

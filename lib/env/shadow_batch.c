@@ -1,0 +1,80 @@
+/* meristem — bud shadows cast in batches (P09 §4.1). A step's new shoots add and
+ * lift thousands of shadow pyramids, each a few hundred voxels in ~50 rows of a
+ * grid far larger than the cache. Held back and sorted by voxel, the pyramids
+ * of one step are cast in grid order, neighbours after neighbours, so their rows
+ * are mostly still in the cache; buds on the same voxel (a shoot's tip and its
+ * last lateral, a bud gone where another appeared) are cast once, with their
+ * net count. The sums wrap modulo 2³², so any order and any grouping gives the
+ * very same grid. */
+#include "config.h"
+
+#include <assert.h>
+#include <string.h>
+
+#include "core/array.h"
+#include "env/env.h"
+
+#define RADIX_BITS 11
+#define RADIX (1u << RADIX_BITS)
+
+void merp_env_batch_begin(merp_env *e)
+{
+    assert(e != NULL && !e->batching);
+    e->batching = e->shadow != NULL;
+    e->npend = 0;
+}
+
+/* Holds a cast back; without memory to hold it, casts it now (same sum). */
+void merp_env_batch_cast(merp_env *e, const float p[3], int sign)
+{
+    if (e->npend == e->pend_cap) {
+        size_t cap = e->pend_cap ? 2 * e->pend_cap : 4096;
+        if (!MERP_RESIZE(e->pend, cap) || !MERP_RESIZE(e->pend_tmp, cap)) {
+            mer_shadow_cast_at(e->shadow, p, sign);
+            return;
+        }
+        e->pend_cap = cap;
+    }
+    /* key: the voxel, then one bit for the sign */
+    e->pend[e->npend++] = (uint64_t)merp_shadow_cell(e->shadow, p) << 1 | (sign < 0);
+}
+
+/* LSD radix sort of the keys by voxel (the sign bit is left unsorted). */
+static uint64_t *sort_keys(uint64_t *a, uint64_t *tmp, size_t n, size_t cells)
+{
+    for (unsigned shift = 1; ((cells - 1) >> (shift - 1)) != 0; shift += RADIX_BITS) {
+        size_t count[RADIX + 1];
+        memset(count, 0, sizeof count);
+        for (size_t t = 0; t < n; t++)
+            count[(a[t] >> shift & (RADIX - 1)) + 1]++;
+        for (unsigned d = 0; d < RADIX; d++)
+            count[d + 1] += count[d];
+        for (size_t t = 0; t < n; t++)
+            tmp[count[a[t] >> shift & (RADIX - 1)]++] = a[t];
+        uint64_t *x = a;
+        a = tmp;
+        tmp = x;
+    }
+    return a;
+}
+
+void merp_env_batch_end(merp_env *e)
+{
+    assert(e != NULL);
+    if (!e->batching)
+        return;
+    e->batching = 0;
+    size_t n = e->npend;
+    e->npend = 0;
+    if (n == 0)
+        return;
+    uint64_t *k = sort_keys(e->pend, e->pend_tmp, n, merp_shadow_cells(e->shadow));
+    for (size_t t = 0; t < n;) {
+        uint64_t cell = k[t] >> 1;
+        int32_t count = 0;
+        for (; t < n && k[t] >> 1 == cell; t++)
+            count += (k[t] & 1) ? -1 : 1;
+        if (count != 0)
+            merp_shadow_cast_cell(e->shadow, (uint32_t)cell, count);
+    }
+}
