@@ -15,18 +15,34 @@ typedef struct merd_registry merd_registry;
 /* `cfg` is borrowed for the registry's life. NULL when out of memory. */
 merd_registry *merd_registry_new(const merd_session_config *cfg, uint32_t max_sessions);
 
-/* Restores every *.journal in the data folder (creating the folder if need be),
- * logging each to `log`. A journal that cannot be restored is quarantined (see
- * quarantine.h) and the others start; one that is wholly a torn creation is
- * removed. Returns the number restored, or -1 if the folder cannot be made or
- * read (the reason is logged). */
-long merd_registry_restore(merd_registry *r, FILE *log);
+/* Registers every *.journal in the data folder (creating the folder if need
+ * be) as a session not loaded yet, oldest journal first, and lists the
+ * quarantine, logging to `log`. Reads no journal: one lstat per file. Returns
+ * the number registered, or -1 if the folder cannot be made or read (the
+ * reason is logged). */
+long merd_registry_scan(merd_registry *r, FILE *log);
+
+/* Ensures `s` (a session of `r`) is loaded; see merd_session_load. A journal
+ * that cannot be loaded is quarantined (see quarantine.h), one that is wholly
+ * a torn creation removed, and either way the session leaves the registry.
+ * 0, or -1 with `why`: 503 quarantined, or 404. */
+int merd_registry_load(merd_registry *r, merd_session *s, merd_refusal *why);
+
+/* Ensure session loaded: the session `id`, loaded (merd_registry_load), with a
+ * reference the caller releases; NULL with `why` (404, or 503 quarantined).
+ * What every request about one session calls first. */
+merd_session *merd_registry_get_loaded(merd_registry *r, const char *id, merd_refusal *why);
+
+/* The sessions not loaded yet, in list order, each with a reference the
+ * caller releases, in an array the caller frees (NULL when out of memory). */
+merd_session **merd_registry_unloaded(merd_registry *r, size_t *n);
 
 /* A new session from a create request, with a fresh 128-bit id from the OS.
  * On success *out holds a reference the caller releases. 429 when full. */
 int merd_registry_create(merd_registry *r, const json_t *spec, merd_session **out, merd_refusal *why);
 
-/* The session `id` with a reference the caller releases, or NULL. */
+/* The session `id` with a reference the caller releases, or NULL. It may not
+ * be loaded yet: merd_registry_get_loaded is what requests want. */
 merd_session *merd_registry_get(merd_registry *r, const char *id);
 
 /* Removes `id`: a running batch is cancelled and the journal is durably
@@ -37,8 +53,10 @@ int merd_registry_delete(merd_registry *r, const char *id, merd_refusal *why);
 /* Whether `id` is quarantined; if so, `why` gets the 503 to answer with. */
 bool merd_registry_quarantined(merd_registry *r, const char *id, merd_refusal *why);
 
-/* {"sessions": [short summaries]} in creation order, then the quarantined
- * sessions as {id, state: "quarantined", reason} (new reference). */
+/* {"sessions": [...]} in list order (restored sessions oldest first, then
+ * new ones as created): a loaded session's short summary with state "loaded",
+ * {id, state: "not loaded"} for one not loaded yet (never loads it), then the
+ * quarantined sessions as {id, state: "quarantined", reason} (new reference). */
 json_t *merd_registry_list(merd_registry *r);
 
 /* Counts for metrics. */

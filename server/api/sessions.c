@@ -7,11 +7,7 @@
 
 merd_session *merd_api_find_session(merd_request *req, const char *id, merd_refusal *why)
 {
-    merd_session *s = merd_registry_get(req->app->registry, id);
-    if (s == NULL && !merd_registry_quarantined(req->app->registry, id, why))
-        merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET /v1/sessions "
-                    "lists them)", id);
-    return s;
+    return merd_registry_get_loaded(req->app->registry, id, why);
 }
 
 enum MHD_Result merd_api_list(merd_request *req, const char *id)
@@ -38,14 +34,14 @@ enum MHD_Result merd_api_get(merd_request *req, const char *id)
 
 enum MHD_Result merd_api_delete(merd_request *req, const char *id)
 {
-    merd_session *s = merd_registry_get(req->app->registry, id);
-    if (s != NULL) {
-        req->revision = (long long)merd_session_revision(s);
-        merd_session_unref(s);
-    }
+    // Loaded first, so that a damaged journal is quarantined (503), not removed.
     merd_refusal why = {0};
-    if (merd_registry_quarantined(req->app->registry, id, &why) ||
-        merd_registry_delete(req->app->registry, id, &why) != 0)
+    merd_session *s = merd_api_find_session(req, id, &why);
+    if (s == NULL)
+        return merd_reply_refusal(req, &why);
+    req->revision = (long long)merd_session_revision(s);
+    merd_session_unref(s);
+    if (merd_registry_delete(req->app->registry, id, &why) != 0)
         return merd_reply_refusal(req, &why);
     struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
     return merd_reply(req, 204, r, 0);
