@@ -84,7 +84,7 @@ crash-loop: all
 
 clean-local: clean-artifacts
 clean-artifacts:
-	-rm -rf tests/artifacts
+	-rm -rf tests/artifacts bench-restore-data
 .PHONY: clean-artifacts
 EXTRA_DIST += build-aux/tap-driver.sh
 include tests/bench/local.mk

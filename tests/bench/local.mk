@@ -6,6 +6,9 @@
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
 #    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
 # `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
+# `make bench-restore`: time to listen and to the first answer from the oldest
+# session of a data folder of 1,000 sessions of 200 edits (built once, by a
+# real meristemd, in bench-restore-data/; needs node).
 # `make bench-page`: the brush client loading and drawing 10,000-internode
 # snapshots in headless Chromium (needs node, the npm test tools, chromium).
 EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh
@@ -16,7 +19,8 @@ tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
 CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
-EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js
+EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js \
+	tests/bench/restore.js
 
 BENCH_WORKLOADS = table1-fig10-left table1-fig10-center table1-fig10-right colonization-1M-markers
 
@@ -32,4 +36,7 @@ bench-http: server/meristemd$(EXEEXT)
 bench-page: server/meristemd$(EXEEXT) webroot/.stamp
 	@MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_builddir)/webroot' \
 	  NODE_PATH='$(NODE_MODULES_DIR)' CHROMIUM='$(CHROMIUM)' '$(NODE)' $(srcdir)/tests/bench/page-load.js
-.PHONY: bench bench-http bench-page
+bench-restore: server/meristemd$(EXEEXT)
+	@MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_srcdir)/web' \
+	  BENCH_RESTORE_DIR='$(abs_top_builddir)/bench-restore-data' '$(NODE)' $(srcdir)/tests/bench/restore.js
+.PHONY: bench bench-http bench-page bench-restore
