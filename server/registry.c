@@ -165,6 +165,10 @@ static void loaded(void *ctx, merd_session *s, const merd_journal_report *report
                     report->dropped);
         return;
     }
+    merd_session *listed = merd_registry_get(r, id);
+    merd_session_unref(listed);
+    if (listed != s)
+        return; /* deleted meanwhile: its journal is gone, not damaged */
     if (report->fault == MERD_JOURNAL_TORN_CREATION) {
         // A creation cut short was never acknowledged: the file is all torn tail.
         fprintf(stderr, "meristemd: %s: dropped a torn first record (a creation never acknowledged)\n", name);

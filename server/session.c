@@ -102,6 +102,9 @@ int merd_session_discard(merd_session *s, char *error)
     int rc = merd_journal_unlink(s->path, error);
     if (rc == 0 && unlink(s->checkpoint) != 0 && errno != ENOENT)
         fprintf(stderr, "meristemd: session %s: its checkpoint stays: %s\n", s->id, strerror(errno));
+    char tmp[PATH_MAX + 8];
+    snprintf(tmp, sizeof tmp, "%s.tmp", s->path); /* a compaction a crash cut short */
+    unlink(tmp);
     return rc;
 }
 
