@@ -13,6 +13,8 @@
 //    without the background loader (--warm-up=off) and with it;
 //  - how long the background loader takes to load them all (what meristemd
 //    spent before it listened, when it restored every session first).
+// Spawning costs what the first line (an empty folder) shows: through the
+// libtool wrapper of a build tree that is half a second more than the binary.
 // The folder is kept (BENCH_RESTORE_DIR, default ./bench-restore-data) and
 // reused when it holds the sessions already. Run from the top of the source
 // tree with MERISTEMD (the daemon) and MER_WEB_ROOT (web/) set:
