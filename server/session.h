@@ -93,8 +93,9 @@ json_t *merd_session_summary(merd_session *s, bool full);
  * accepted: the fast path of GET /v1/sessions/{id}. NULL when out of memory. */
 char *merd_session_summary_text(merd_session *s, bool full, uint64_t *revision);
 
-/* Applies a decoded batch: all or none (see above), stopping early on cancel,
- * the time limit or the internode limit, keeping whole steps. Returns 0 and the
+/* Applies a decoded batch to a loaded session (merd_session_load): all or
+ * none (see above), stopping early on cancel, the time limit or the internode
+ * limit, keeping whole steps. Returns 0 and the
  * outcome, or -1 with `why`. Blocks while another batch of this session runs. */
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
                        merd_refusal *why);
@@ -109,7 +110,7 @@ typedef struct merd_snapshot_options {
     uint32_t compression; /* mer_gltf_compression */
 } merd_snapshot_options;
 
-/* The current tree as GLB for `options`, from the session's cache of variants
+/* The current tree of a loaded session as GLB for `options`, from the session's cache of variants
  * when one of this revision and these options is there (`*cached` says so).
  * `*out` is a new reference to shared, immutable bytes: release with
  * merd_snapshot_release. `etag` gets "\"r{revision}-{options}\""
