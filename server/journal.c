@@ -77,21 +77,31 @@ int merd_write_all(int fd, const void *bytes, size_t n)
     return 0;
 }
 
-int merd_journal_append(merd_journal *j, const char *payload, size_t size, char *error)
+/* The record of `payload` as the file holds it (caller frees), or NULL with
+ * `error` filled. */
+static unsigned char *frame(const char *payload, size_t size, char *error)
 {
     if (size > MERD_JOURNAL_RECORD_MAX) {
         snprintf(error, MERD_JOURNAL_ERROR_MAX, "a journal record is at most %u bytes, not %zu",
                  MERD_JOURNAL_RECORD_MAX, size);
-        return -1;
+        return NULL;
     }
     unsigned char *buf = malloc(HEADER + size);
     if (buf == NULL) {
         snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory for a journal record");
-        return -1;
+        return NULL;
     }
     put_u32(buf, (uint32_t)size);
     put_u32(buf + 4, checksum(payload, size));
     memcpy(buf + HEADER, payload, size);
+    return buf;
+}
+
+int merd_journal_append(merd_journal *j, const char *payload, size_t size, char *error)
+{
+    unsigned char *buf = frame(payload, size, error);
+    if (buf == NULL)
+        return -1;
     // One write of header and payload: a crash leaves a whole record or a torn
     // one that replay detects, never a record that reads as whole but is not.
     int rc = merd_write_all(j->fd, buf, HEADER + size);
@@ -108,6 +118,41 @@ int merd_journal_append(merd_journal *j, const char *payload, size_t size, char 
     j->size += (off_t)(HEADER + size);
     j->records++;
     j->dirty = j->mode != MERD_FSYNC_ALWAYS;
+    return 0;
+}
+
+int merd_journal_compact(merd_journal *j, const char *first, size_t size, char *error)
+{
+    unsigned char *buf = frame(first, size, error);
+    if (buf == NULL)
+        return -1;
+    char tmp[PATH_MAX + 8];
+    snprintf(tmp, sizeof tmp, "%s.tmp", j->path);
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0644);
+    int rc = fd < 0 ? fail(error, "cannot create", tmp) : 0;
+    if (rc == 0 && merd_write_all(fd, buf, HEADER + size) != 0)
+        rc = fail(error, "cannot write", tmp);
+    if (rc == 0 && fsync(fd) != 0)
+        rc = fail(error, "cannot flush", tmp);
+    if (rc == 0 && rename(tmp, j->path) != 0)
+        rc = fail(error, "cannot rename", tmp);
+    free(buf);
+    if (rc != 0) {
+        if (fd >= 0)
+            close(fd);
+        unlink(tmp);
+        return -1;
+    }
+    // Renamed: from here the new file is the journal, whether or not the
+    // folder's flush below succeeds (the old one, if it comes back after a
+    // crash, fits the checkpoint as well).
+    close(j->fd);
+    j->fd = fd;
+    j->size = (off_t)(HEADER + size);
+    j->records = 1;
+    j->dirty = false;
+    if (merd_sync_folder(j->path) != 0)
+        return fail(error, "cannot sync the folder of", j->path);
     return 0;
 }
 

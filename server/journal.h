@@ -82,6 +82,14 @@ int merd_journal_unlink(const char *path, char *error);
  * is cut back to where it was, so a failed append leaves no partial record. */
 int merd_journal_append(merd_journal *j, const char *payload, size_t size, char *error);
 
+/* Replaces the journal by one whose only record is `first`: written to
+ * "<path>.tmp", flushed, renamed over the journal, the folder flushed, so a
+ * crash leaves the old file or the new one, whole; appends go on in the new
+ * one. Only for a caller who has every other record durably elsewhere (a
+ * checkpoint). 0, or -1 with `error` filled (the old file then stays the
+ * journal unless the rename was done). O(size). */
+int merd_journal_compact(merd_journal *j, const char *first, size_t size, char *error);
+
 /* Flushes appended records to disk (MERD_FSYNC_INTERVAL mode). 0 or -1. */
 int merd_journal_sync(merd_journal *j);
 

@@ -18,13 +18,14 @@ server_meristemd_SOURCES = \
 	server/journal.c server/journal.h \
 	server/checkpoint.c server/checkpoint.h \
 	server/session.c server/session.h server/session_private.h \
-	server/session_summary.c server/session_snapshot.c server/session_history.c \
-	server/revisions.c server/revisions.h \
+	server/session_load.c server/session_summary.c server/session_snapshot.c \
+	server/session_history.c server/revisions.c server/revisions.h \
 	server/snapshot.c server/snapshot.h \
 	server/export.c server/export.h \
 	server/clock.h \
 	server/registry.c server/registry.h \
 	server/quarantine.c server/quarantine.h \
+	server/loader.c server/loader.h \
 	server/jobs.c server/jobs.h \
 	server/metrics.c server/metrics.h \
 	server/api.h server/api/private.h \

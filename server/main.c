@@ -18,6 +18,7 @@
 #include "server/app.h"
 #include "server/clock.h"
 #include "server/http.h"
+#include "server/loader.h"
 #include "server/settings.h"
 #include "server/static_files.h"
 
@@ -36,6 +37,7 @@ static merd_session_config session_config(const merd_settings *config)
         .max_internodes = (uint32_t)config->max_internodes,
         .max_seconds = (double)config->max_seconds,
         .checkpoint_every = (uint32_t)config->checkpoint_every,
+        .compact = config->compact,
     };
 }
 
@@ -60,12 +62,14 @@ static int wait_for_stop(const sigset_t *stop, merd_app *app)
     }
 }
 
-/* In order: no new connections; running batches stop at a whole step and are
- * journaled; every suspended request is answered, and the answers sent; only
- * then libmicrohttpd stops (it aborts on a suspended connection). */
-static void shut_down(merd_app *app, merd_server *server)
+/* In order: no new connections; the background loader ends the session it
+ * loads; running batches stop at a whole step and are journaled; every
+ * suspended request is answered, and the answers sent; only then
+ * libmicrohttpd stops (it aborts on a suspended connection). */
+static void shut_down(merd_app *app, merd_server *server, merd_loader *loader)
 {
     merd_server_quiesce(server);
+    merd_loader_stop(loader);
     atomic_store(&stopping, 1);
     merd_jobs_drain(app->jobs);
     if (!merd_server_settle(server, 5.0))
@@ -109,17 +113,20 @@ int main(int argc, char **argv)
     app.registry = merd_registry_new(&app.session_config, (uint32_t)config.max_sessions);
     if (app.metrics == NULL || app.registry == NULL)
         return EXIT_FAILURE;
+    // Listen first: sessions are only registered here, and loaded on their
+    // first request or by the background loader.
     double t0 = merd_now();
-    long restored = merd_registry_restore(app.registry, stderr);
-    if (restored < 0)
+    long found = merd_registry_scan(app.registry, stderr);
+    if (found < 0)
         return EXIT_FAILURE;
     // The folder exists now: say where it is, whatever the working directory.
     if (realpath(config.data_dir, data_dir) == NULL)
         snprintf(data_dir, sizeof data_dir, "%s", config.data_dir);
     printf("meristemd: data dir %s\n", data_dir);
-    if (restored > 0)
-        printf("meristemd: restored %ld sessions from %s in %.2f s\n", restored, data_dir,
-               merd_now() - t0);
+    if (found > 0)
+        printf("meristemd: found %ld sessions in %s in %.3f s; each loads on its first request%s\n",
+               found, data_dir, merd_now() - t0,
+               strcmp(config.warm_up, "off") != 0 ? " or in the background" : "");
     // Every connection is a descriptor: take all the kernel allows this process.
     struct rlimit files;
     if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
@@ -138,9 +145,14 @@ int main(int argc, char **argv)
            strchr(host, ':') ? "[" : "", host, strchr(host, ':') ? "]" : "",
            merd_server_port(server), config.web_root[0] ? config.web_root : "none: the API only");
 
+    merd_loader *loader = NULL;
+    if (found > 0 && strcmp(config.warm_up, "background") == 0 &&
+        (loader = merd_loader_start(app.registry, app.jobs, stdout)) == NULL)
+        printf("meristemd: no background loader: sessions load on their first request\n");
+
     int signo = wait_for_stop(&stop, &app);
     printf("meristemd: %s, shutting down\n", signo == SIGINT ? "SIGINT" : "SIGTERM");
-    shut_down(&app, server);
+    shut_down(&app, server, loader);
     merd_registry_sync(app.registry);
     merd_registry_free(app.registry);
     merd_metrics_free(app.metrics);

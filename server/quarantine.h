@@ -2,7 +2,7 @@
  * not regular files, or not replayable. Such a journal is not ours to cut:
  * it is moved byte for byte into <data-dir>/quarantine/ (with a .reason file
  * beside it) and its session answers 503 until an operator decides. The set is
- * filled at start-up and only read after. */
+ * filled at start-up and as sessions are loaded, lazily (under its own lock). */
 #ifndef MERISTEMD_QUARANTINE_H
 #define MERISTEMD_QUARANTINE_H
 

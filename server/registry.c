@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/random.h>
 #include <sys/stat.h>
+#include <time.h>
 
 #include "server/clock.h"
 #include "server/decode.h"
@@ -120,11 +121,6 @@ merd_registry *merd_registry_new(const merd_session_config *cfg, uint32_t max_se
     return r;
 }
 
-static int cmp_names(const void *a, const void *b)
-{
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
 /* `error` with the journal's full path put as its bare name: the reason is
  * shown to clients, who need not learn where the data folder is. */
 static void bare_names(char *error, const char *path, const char *name)
@@ -137,36 +133,139 @@ static void bare_names(char *error, const char *path, const char *name)
     memcpy(at, name, nlen);
 }
 
-/* Restores the journal <data-dir>/name, or quarantines it. 1 if restored. */
-static int restore_one(merd_registry *r, const char *name, FILE *log)
+/* Takes `s` out of the list and the index (caller holds the write lock).
+ * Whether it was there. */
+static bool detach(merd_registry *r, merd_session *s)
 {
-    char path[4200], error[MERD_JOURNAL_ERROR_MAX], id[33];
-    snprintf(path, sizeof path, "%s/%s", r->cfg->data_dir, name);
-    snprintf(id, sizeof id, "%.32s", name);
-    merd_journal_report report = {0};
-    merd_session *s = merd_session_restore(r->cfg, path, &report, error);
-    if (s == NULL && report.fault == MERD_JOURNAL_TORN_CREATION) {
-        // A creation cut short was never acknowledged: the file is all torn tail.
-        fprintf(log, "meristemd: %s: dropped a torn first record (a creation never acknowledged)\n", name);
-        merd_journal_unlink(path, error);
-        return 0;
-    }
-    if (s == NULL) {
-        bare_names(error, path, name);
-        merd_quarantine_add(r->quarantine, name, id, error, report.fault == MERD_JOURNAL_DAMAGED, log);
-        return 0;
-    }
-    if (report.dropped > 0)
-        fprintf(log, "meristemd: %s: dropped a torn last record (%zu bytes)\n", name, report.dropped);
-    pthread_rwlock_wrlock(&r->lock);
-    int rc = insert(r, s);
-    pthread_rwlock_unlock(&r->lock);
-    if (rc != 0)
-        merd_session_unref(s);
-    return rc == 0;
+    merd_session **slot = find_slot(r, merd_session_id(s), false);
+    if (slot == NULL || *slot != s)
+        return false;
+    *slot = TOMBSTONE;
+    for (size_t i = 0; i < r->count; i++)
+        if (r->list[i] == s) {
+            memmove(&r->list[i], &r->list[i + 1], (r->count - i - 1) * sizeof *r->list);
+            r->count--;
+            break;
+        }
+    return true;
 }
 
-long merd_registry_restore(merd_registry *r, FILE *log)
+/* What the call that loads a session does with the outcome, under the
+ * session's lock (see merd_session_load): logs a dropped torn tail, or takes
+ * a session that cannot load out of the registry and quarantines its journal,
+ * or removes it when it is wholly a torn creation. */
+static void loaded(void *ctx, merd_session *s, const merd_journal_report *report, const char *error)
+{
+    merd_registry *r = ctx;
+    const char *id = merd_session_id(s);
+    char name[48], path[4200], reason[MERD_JOURNAL_ERROR_MAX];
+    snprintf(name, sizeof name, "%s.journal", id);
+    snprintf(path, sizeof path, "%s/%s", r->cfg->data_dir, name);
+    if (error == NULL) {
+        if (report->dropped > 0)
+            fprintf(stderr, "meristemd: %s: dropped a torn last record (%zu bytes)\n", name,
+                    report->dropped);
+        return;
+    }
+    merd_session *listed = merd_registry_get(r, id);
+    merd_session_unref(listed);
+    if (listed != s)
+        return; /* deleted meanwhile: its journal is gone, not damaged */
+    if (report->fault == MERD_JOURNAL_TORN_CREATION) {
+        // A creation cut short was never acknowledged: the file is all torn tail.
+        fprintf(stderr, "meristemd: %s: dropped a torn first record (a creation never acknowledged)\n", name);
+        merd_journal_unlink(path, reason);
+    } else {
+        snprintf(reason, sizeof reason, "%s", error);
+        bare_names(reason, path, name);
+        merd_quarantine_add(r->quarantine, name, id, reason, report->fault == MERD_JOURNAL_DAMAGED, stderr);
+    }
+    // Quarantined before it leaves the registry: a request that misses it
+    // there finds it in the quarantine, never a 404 in between.
+    pthread_rwlock_wrlock(&r->lock);
+    bool ours = detach(r, s);
+    pthread_rwlock_unlock(&r->lock);
+    if (ours)
+        merd_session_unref(s); /* the registry's reference */
+}
+
+int merd_registry_load(merd_registry *r, merd_session *s, merd_refusal *why)
+{
+    if (merd_session_load(s, loaded, r) == 0)
+        return 0;
+    const char *id = merd_session_id(s);
+    if (!merd_registry_quarantined(r, id, why))
+        merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET /v1/sessions "
+                    "lists them)", id);
+    return -1;
+}
+
+merd_session *merd_registry_get_loaded(merd_registry *r, const char *id, merd_refusal *why)
+{
+    merd_session *s = merd_registry_get(r, id);
+    if (s == NULL) {
+        if (!merd_registry_quarantined(r, id, why))
+            merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET "
+                        "/v1/sessions lists them)", id);
+        return NULL;
+    }
+    if (merd_registry_load(r, s, why) != 0) {
+        merd_session_unref(s);
+        return NULL;
+    }
+    return s;
+}
+
+typedef struct found {
+    char name[41];
+    struct timespec mtime;
+} found;
+
+/* Oldest journal first (the time of its last write), then by name, so that
+ * the list and the background loader keep the same order every time. */
+static int cmp_found(const void *a, const void *b)
+{
+    const found *x = a, *y = b;
+    if (x->mtime.tv_sec != y->mtime.tv_sec)
+        return x->mtime.tv_sec < y->mtime.tv_sec ? -1 : 1;
+    if (x->mtime.tv_nsec != y->mtime.tv_nsec)
+        return x->mtime.tv_nsec < y->mtime.tv_nsec ? -1 : 1;
+    return strcmp(x->name, y->name);
+}
+
+/* The *.journal names in the data folder with their times (caller frees), or
+ * NULL with `*n` 0 when there are none or no memory. One lstat each: never
+ * opens a journal (a FIFO would block). */
+static found *list_journals(merd_registry *r, DIR *dir, size_t *n)
+{
+    found *names = NULL;
+    size_t cap = 0;
+    *n = 0;
+    struct dirent *e;
+    while ((e = readdir(dir)) != NULL) {
+        size_t len = strlen(e->d_name);
+        if (len != 40 || strcmp(e->d_name + 32, ".journal") != 0)
+            continue;
+        if (*n == cap) {
+            cap = cap ? 2 * cap : 64;
+            found *grown = realloc(names, cap * sizeof *names);
+            if (grown == NULL)
+                break;
+            names = grown;
+        }
+        char path[4200];
+        struct stat st;
+        snprintf(path, sizeof path, "%s/%s", r->cfg->data_dir, e->d_name);
+        memcpy(names[*n].name, e->d_name, 41);
+        names[*n].mtime = lstat(path, &st) == 0 ? st.st_mtim : (struct timespec){0};
+        (*n)++;
+    }
+    if (*n > 1)
+        qsort(names, *n, sizeof *names, cmp_found);
+    return names;
+}
+
+long merd_registry_scan(merd_registry *r, FILE *log)
 {
     if (mkdir(r->cfg->data_dir, 0755) != 0 && errno != EEXIST) {
         fprintf(log, "meristemd: cannot create --data-dir %s: %s\n", r->cfg->data_dir, strerror(errno));
@@ -177,34 +276,38 @@ long merd_registry_restore(merd_registry *r, FILE *log)
         fprintf(log, "meristemd: cannot read --data-dir %s: %s\n", r->cfg->data_dir, strerror(errno));
         return -1;
     }
-    // Sorted, so that restores happen in the same order every time.
-    char **names = NULL;
-    size_t n = 0, cap = 0;
-    struct dirent *e;
-    while ((e = readdir(dir)) != NULL) {
-        size_t len = strlen(e->d_name);
-        if (len != 40 || strcmp(e->d_name + 32, ".journal") != 0)
-            continue;
-        if (n == cap) {
-            cap = cap ? 2 * cap : 64;
-            char **grown = realloc(names, cap * sizeof *names);
-            if (grown == NULL)
-                break;
-            names = grown;
-        }
-        names[n++] = strdup(e->d_name);
-    }
+    size_t n = 0;
+    found *names = list_journals(r, dir, &n);
     closedir(dir);
-    if (n > 1)
-        qsort(names, n, sizeof *names, cmp_names);
     merd_quarantine_load(r->quarantine, log);
-    long restored = 0;
+    long known = 0;
+    pthread_rwlock_wrlock(&r->lock);
     for (size_t i = 0; i < n; i++) {
-        restored += restore_one(r, names[i], log);
-        free(names[i]);
+        char id[33];
+        snprintf(id, sizeof id, "%.32s", names[i].name);
+        merd_session *s = merd_session_unloaded(r->cfg, id);
+        if (s != NULL && insert(r, s) != 0)
+            merd_session_unref(s);
+        else
+            known += s != NULL;
     }
+    pthread_rwlock_unlock(&r->lock);
     free(names);
-    return restored;
+    return known;
+}
+
+merd_session **merd_registry_unloaded(merd_registry *r, size_t *n)
+{
+    pthread_rwlock_rdlock(&r->lock);
+    merd_session **out = malloc((r->count ? r->count : 1) * sizeof *out);
+    *n = 0;
+    for (size_t i = 0; out != NULL && i < r->count; i++)
+        if (!merd_session_is_loaded(r->list[i])) {
+            merd_session_ref(r->list[i]);
+            out[(*n)++] = r->list[i];
+        }
+    pthread_rwlock_unlock(&r->lock);
+    return out;
 }
 
 static int new_id(char id[33])
@@ -302,15 +405,8 @@ int merd_registry_delete(merd_registry *r, const char *id, merd_refusal *why)
     pthread_rwlock_wrlock(&r->lock);
     merd_session **slot = find_slot(r, id, false);
     merd_session *s = slot != NULL && *slot != NULL && *slot != TOMBSTONE ? *slot : NULL;
-    if (s != NULL) {
-        *slot = TOMBSTONE;
-        for (size_t i = 0; i < r->count; i++)
-            if (r->list[i] == s) {
-                memmove(&r->list[i], &r->list[i + 1], (r->count - i - 1) * sizeof *r->list);
-                r->count--;
-                break;
-            }
-    }
+    if (s != NULL)
+        detach(r, s);
     pthread_rwlock_unlock(&r->lock);
     if (s == NULL)
         return merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s", id);
@@ -333,33 +429,42 @@ bool merd_registry_quarantined(merd_registry *r, const char *id, merd_refusal *w
     return true;
 }
 
-/* The state a listing filters by: "running", "idle" or "quarantined". */
-static const char *state_of(const json_t *summary)
+/* Whether a list item is in the state a listing asks for: its own state
+ * ("loaded", "not loaded", "quarantined"), "running" or "idle" (a loaded
+ * session with or without a step running), or "live" (any but quarantined). */
+static bool in_state(const json_t *item, const char *want)
 {
-    const json_t *state = json_object_get(summary, "state");
-    if (json_is_string(state))
-        return json_string_value(state);
-    const json_t *running = json_object_get(json_object_get(summary, "running"), "active");
-    return json_is_true(running) ? "running" : "idle";
+    const char *state = json_string_value(json_object_get(item, "state"));
+    if (state == NULL)
+        state = "loaded";
+    if (strcmp(want, state) == 0)
+        return true;
+    if (strcmp(want, "live") == 0)
+        return strcmp(state, "quarantined") != 0;
+    if (strcmp(state, "loaded") != 0)
+        return false;
+    bool running = json_is_true(json_object_get(json_object_get(item, "running"), "active"));
+    return strcmp(want, running ? "running" : "idle") == 0;
 }
 
-static bool wanted(const json_t *summary, const merd_list_query *q)
+static bool wanted(const json_t *item, const merd_list_query *q)
 {
-    const json_t *preset = json_object_get(summary, "preset");
-    const char *state = state_of(summary);
+    const json_t *preset = json_object_get(item, "preset");
     if (q->preset != NULL && (!json_is_string(preset) || strcmp(json_string_value(preset), q->preset) != 0))
         return false;
-    if (q->state == NULL || strcmp(q->state, state) == 0)
-        return true;
-    return strcmp(q->state, "live") == 0 && strcmp(state, "quarantined") != 0;
+    return q->state == NULL || in_state(item, q->state);
 }
 
 json_t *merd_registry_list(merd_registry *r, const merd_list_query *q)
 {
     json_t *all = json_array();
     pthread_rwlock_rdlock(&r->lock);
-    for (size_t i = 0; i < r->count; i++)
-        json_array_append_new(all, merd_session_summary(r->list[i], false));
+    for (size_t i = 0; i < r->count; i++) {
+        json_t *item = merd_session_summary(r->list[i], false);
+        if (json_object_get(item, "state") == NULL)
+            json_object_set_new(item, "state", json_string("loaded"));
+        json_array_append_new(all, item);
+    }
     pthread_rwlock_unlock(&r->lock);
     merd_quarantine_list(r->quarantine, all);
     // A page starts after the session named by `after`, in the order listed.

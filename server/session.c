@@ -2,6 +2,7 @@
  * journaling batches (see session.h). */
 #include "config.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,13 +14,14 @@
 #include "server/session_private.h"
 #include "server/spec.h"
 
-static merd_session *session_new(const merd_session_config *cfg, const char *id)
+merd_session *merd_session_new(const merd_session_config *cfg, const char *id)
 {
     merd_session *s = calloc(1, sizeof *s);
     if (s == NULL)
         return NULL;
     atomic_init(&s->refs, 1);
     atomic_init(&s->cancel, 0);
+    atomic_init(&s->loaded, MERD_NOT_LOADED);
     snprintf(s->id, sizeof s->id, "%s", id);
     snprintf(s->path, sizeof s->path, "%s/%s.journal", cfg->data_dir, id);
     snprintf(s->checkpoint, sizeof s->checkpoint, "%s/%s.checkpoint", cfg->data_dir, id);
@@ -63,7 +65,7 @@ static void record_counts(json_t *record, const mer_scene *scene)
 merd_session *merd_session_create(const merd_session_config *cfg, const char *id, const json_t *spec,
                                   double expires_at, merd_refusal *why)
 {
-    merd_session *s = session_new(cfg, id);
+    merd_session *s = merd_session_new(cfg, id);
     if (s == NULL) {
         merd_refuse(why, 503, "out-of-memory", "", "out of memory for a session");
         return NULL;
@@ -93,134 +95,7 @@ merd_session *merd_session_create(const merd_session_config *cfg, const char *id
     merd_session_record(s, 0, none, NULL);
     json_decref(none);
     merd_session_publish(s, 0);
-    return s;
-}
-
-typedef struct replay_ctx {
-    merd_session *s;
-    uint64_t revision;
-    char *error;
-    mer_scene *base;      /* a checkpoint's scene, taken at record 0, or NULL */
-    uint64_t base_revision;
-    size_t replayed;      /* records applied after the checkpoint */
-} replay_ctx;
-
-static int replay_record(void *ctx, size_t index, const char *payload, size_t size)
-{
-    replay_ctx *r = ctx;
-    json_error_t jerr;
-    json_t *doc = json_loadb(payload, size, JSON_REJECT_DUPLICATES, &jerr);
-    merd_refusal why = {0};
-    int rc = -1;
-    if (doc == NULL)
-        goto done;
-    if (index == 0) {
-        const json_t *create = json_object_get(doc, "create");
-        const json_t *id = json_object_get(doc, "id");
-        if (create == NULL || !json_is_string(id) || strcmp(json_string_value(id), r->s->id) != 0)
-            goto done;
-        // Replay builds what was accepted once, whatever today's limits say.
-        const merd_edit_limits unlimited = {UINT32_MAX, UINT32_MAX, true};
-        r->s->scene = r->base ? r->base : merd_scene_from_spec(create, &unlimited, &why);
-        r->base = NULL;
-        r->s->spec = json_deep_copy(create);
-        const json_t *expires = json_object_get(doc, "expires_at");
-        r->s->expires_at = json_is_number(expires) ? json_number_value(expires) : 0;
-        rc = r->s->scene != NULL ? 0 : -1;
-        json_t *none = json_array();
-        if (rc == 0)
-            merd_session_record(r->s, 0, none, r->base_revision > 0 ? doc : NULL);
-        json_decref(none);
-    } else {
-        const json_t *rev = json_object_get(doc, "revision");
-        const json_t *edits = json_object_get(doc, "edits");
-        if (r->s->scene == NULL || !json_is_integer(rev) || !json_is_array(edits))
-            goto done;
-        r->revision = (uint64_t)json_integer_value(rev);
-        // The checkpoint holds the records up to its revision.
-        bool replay = r->revision > r->base_revision;
-        const merd_past past = merd_session_past(r->s);
-        rc = replay ? merd_batch_replay(edits, &r->s->scene, &past, &why) : 0;
-        r->replayed += replay;
-        if (rc == 0)
-            merd_session_record(r->s, r->revision, edits, replay ? NULL : doc);
-    }
-done:
-    if (rc != 0)
-        snprintf(r->error, MERD_JOURNAL_ERROR_MAX, "record %zu: %.200s", index,
-                 why.detail[0] ? why.detail : "not a meristem journal record");
-    json_decref(doc);
-    return rc;
-}
-
-/* Builds the session's scene afresh from its journal, the whole of it (caller
- * holds `work`); `r` is fresh and is filled as replay_record does. */
-static int rebuild(merd_session *s, replay_ctx *r, merd_journal_report *report)
-{
-    merd_journal_close(s->journal, false);
-    s->journal = NULL;
-    mer_scene_free(s->scene);
-    s->scene = NULL;
-    json_decref(s->spec);
-    s->spec = NULL;
-    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, report, r->error);
-    return s->journal != NULL && s->scene != NULL ? 0 : -1;
-}
-
-/* Opens the journal of `s` and replays it onto its checkpoint's scene when
- * there is one that the journal reaches; `r` is filled as replay_record does. */
-static void replay_from_checkpoint(merd_session *s, replay_ctx *r, merd_journal_report *report)
-{
-    char why[MERD_JOURNAL_ERROR_MAX] = "";
-    r->base = merd_checkpoint_read(s->checkpoint, s->id, &r->base_revision, why);
-    if (r->base == NULL)
-        r->base_revision = 0; /* replay every record */
-    if (r->base == NULL && access(s->checkpoint, F_OK) == 0)
-        fprintf(stderr, "meristemd: session %s: the checkpoint is not used: %s\n", s->id, why);
-    bool from_checkpoint = r->base != NULL;
-    s->journal = merd_journal_open(s->path, s->cfg->fsync, replay_record, r, report, r->error);
-    mer_scene_free(r->base); /* not taken: the journal has no first record */
-    r->base = NULL;
-    if (s->journal == NULL || !from_checkpoint)
-        return;
-    if (r->revision >= r->base_revision) {
-        fprintf(stderr, "meristemd: session %s: restored from its checkpoint at revision %llu "
-                "and %zu journal records after it\n", s->id,
-                (unsigned long long)r->base_revision, r->replayed);
-        return;
-    }
-    // A journal shorter than its checkpoint (its tail was dropped): trust the journal.
-    fprintf(stderr, "meristemd: session %s: the checkpoint (revision %llu) is past the journal "
-            "(revision %llu): replaying it all\n", s->id, (unsigned long long)r->base_revision,
-            (unsigned long long)r->revision);
-    *r = (replay_ctx){.s = s, .error = r->error};
-    rebuild(s, r, report);
-}
-
-merd_session *merd_session_restore(const merd_session_config *cfg, const char *path,
-                                   merd_journal_report *report, char *error)
-{
-    const char *base = strrchr(path, '/');
-    base = base ? base + 1 : path;
-    char id[33];
-    if (strlen(base) != 32 + 8 || strcmp(base + 32, ".journal") != 0) {
-        snprintf(error, MERD_JOURNAL_ERROR_MAX, "%.200s is not a session journal", path);
-        return NULL;
-    }
-    memcpy(id, base, 32);
-    id[32] = '\0';
-    merd_session *s = session_new(cfg, id);
-    if (s == NULL) {
-        snprintf(error, MERD_JOURNAL_ERROR_MAX, "out of memory for a session");
-        return NULL;
-    }
-    replay_ctx r = {.s = s, .error = error};
-    replay_from_checkpoint(s, &r, report);
-    if (s->journal == NULL || s->scene == NULL) {
-        session_free(s, false);
-        return NULL;
-    }
-    merd_session_publish(s, r.revision);
+    atomic_store(&s->loaded, MERD_LOADED);
     return s;
 }
 
@@ -243,11 +118,16 @@ int merd_session_discard(merd_session *s, char *error)
     atomic_store(&s->cancel, 1);
     // Gone now, not when the running batch lets go: that batch only appends
     // through its open descriptor (to the unlinked file) and never reopens it.
-    // The checkpoint first: a crash between the two leaves a journal that
-    // restores whole, never a checkpoint without its journal.
-    if (unlink(s->checkpoint) != 0 && errno != ENOENT)
+    // The journal first: a crash between the two leaves a checkpoint without
+    // its journal, which nothing loads, never a compacted journal without the
+    // checkpoint it needs.
+    int rc = merd_journal_unlink(s->path, error);
+    if (rc == 0 && unlink(s->checkpoint) != 0 && errno != ENOENT)
         fprintf(stderr, "meristemd: session %s: its checkpoint stays: %s\n", s->id, strerror(errno));
-    return merd_journal_unlink(s->path, error);
+    char tmp[PATH_MAX + 8];
+    snprintf(tmp, sizeof tmp, "%s.tmp", s->path); /* a compaction a crash cut short */
+    unlink(tmp);
+    return rc;
 }
 
 const char *merd_session_id(const merd_session *s)
@@ -309,18 +189,29 @@ static const char *should_stop(void *ctx, uint32_t done, uint32_t total)
 }
 
 /* Writes a checkpoint every cfg->checkpoint_every revisions (caller holds
- * `work`). A failure costs only restore time: the journal has every record. */
+ * `work`), then compacts the journal (--compact). A failure costs only restore
+ * time: the journal has every record the checkpoints do not. */
 static void checkpoint(merd_session *s, uint64_t revision)
 {
     uint32_t every = s->cfg->checkpoint_every;
-    if (discarded(s))
+    if (every == 0 || revision % every != 0 || discarded(s))
         return;
+    // Compaction drops records on the strength of the checkpoint: both the
+    // record of `revision` and the checkpoint must be on disk before it.
+    bool sync = s->cfg->fsync == MERD_FSYNC_ALWAYS || s->cfg->compact;
     char error[MERD_JOURNAL_ERROR_MAX] = "";
-    if (every > 0 && revision % every == 0 &&
-        merd_checkpoint_write(s->checkpoint, s->id, revision, s->scene,
-                              s->cfg->fsync == MERD_FSYNC_ALWAYS, error) != 0)
+    if (s->cfg->compact && merd_journal_sync(s->journal) != 0) {
+        fprintf(stderr, "meristemd: session %s: no checkpoint at revision %llu: the journal "
+                "could not be flushed\n", s->id, (unsigned long long)revision);
+        return;
+    }
+    if (merd_checkpoint_write(s->checkpoint, s->id, revision, s->scene, sync, error) != 0) {
         fprintf(stderr, "meristemd: session %s: no checkpoint at revision %llu: %s\n", s->id,
                 (unsigned long long)revision, error);
+        return;
+    }
+    if (s->cfg->compact)
+        merd_session_compact(s, revision);
 }
 
 /* Puts back the scene as it was before a refused batch (caller holds `work`):
@@ -331,7 +222,7 @@ static void undo(merd_session *s, merd_undo how, mer_scene *before)
     if (how == MERD_UNDO_COPY) {
         mer_scene_free(s->scene);
         s->scene = before;
-    } else if (how == MERD_UNDO_REPLAY && rebuild(s, &(replay_ctx){.s = s, .error = error}, NULL) != 0) {
+    } else if (how == MERD_UNDO_REPLAY && merd_session_rebuild(s, error) != 0) {
         fprintf(stderr, "meristemd: session %s could not be rebuilt: %s\n", s->id, error);
     }
 }
@@ -339,6 +230,7 @@ static void undo(merd_session *s, merd_undo how, mer_scene *before)
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
                        merd_refusal *why)
 {
+    assert(merd_session_is_loaded(s));
     pthread_mutex_lock(&s->work);
     int rc = -1;
     if (merd_session_internodes(s) >= s->cfg->max_internodes) {

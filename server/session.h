@@ -9,7 +9,12 @@
  * Durability. An edit batch is applied, then journaled (and fsync'ed), and only
  * then made visible (revision + 1) and acknowledged. A batch refused halfway, or
  * one whose journal write fails, is undone by rebuilding the scene from the
- * journal: the engine is deterministic, so the rebuilt scene is the one before.
+ * checkpoint and the journal: the engine is deterministic, so the rebuilt
+ * scene is the one before.
+ *
+ * Loading. A session restored from the data folder starts unloaded (its
+ * journal not read) and is loaded by its first request or by the background
+ * loader (loader.h), so meristemd listens before reading any journal.
  */
 #ifndef MERISTEMD_SESSION_H
 #define MERISTEMD_SESSION_H
@@ -38,6 +43,7 @@ typedef struct merd_session_config {
     size_t max_obstacle_triangles;
     const atomic_int *stopping;  /* when set and non-zero: batches stop at the next whole step */
     uint32_t checkpoint_every;   /* revisions between checkpoints; 0: none */
+    bool compact;                /* drop the journal records a checkpoint covers */
 } merd_session_config;
 
 /* Creates a session with id `id` (32 hex digits) from a create request `spec`
@@ -50,12 +56,28 @@ merd_session *merd_session_create(const merd_session_config *cfg, const char *id
  * ttl_seconds, kept in the journal), or 0 for never. */
 double merd_session_expires(const merd_session *s);
 
-/* Restores the session journaled at `path`: from its checkpoint and the records
- * after it, or, without a checkpoint that fits, by replaying it all. NULL with a
- * reason in `error` (MERD_JOURNAL_ERROR_MAX bytes). `report` (may be NULL) says what
- * merd_journal_open says: a torn tail dropped, or why the journal was refused. */
-merd_session *merd_session_restore(const merd_session_config *cfg, const char *path,
-                                   merd_journal_report *report, char *error);
+/* A session known only by its id, whose journal <data-dir>/<id>.journal is
+ * loaded later (merd_session_load): no I/O, O(1). Its summary says
+ * {"id", "state": "not loaded"} until then. NULL when out of memory. */
+merd_session *merd_session_unloaded(const merd_session_config *cfg, const char *id);
+
+/* Called once, by the call that loaded (or failed to load) a session, while
+ * it still holds the session: `error` is NULL when it loaded (`report` may
+ * still say a torn tail was dropped), else why not, with `report->fault`. */
+typedef void (*merd_session_loaded_fn)(void *ctx, merd_session *s, const merd_journal_report *report,
+                                       const char *error);
+
+/* Ensures the session is loaded: from its checkpoint and the journal records
+ * after it, or, without a checkpoint that fits, by replaying the whole
+ * journal. Concurrent callers load it once: the others wait for that load
+ * (and for `done`, which only the loading call runs) and share its outcome.
+ * 0 when loaded, -1 when it could not be (now or by an earlier call). A
+ * loaded session returns at once. Cost: reading the journal and checkpoint,
+ * and replaying at most --checkpoint-every records (all, without one). */
+int merd_session_load(merd_session *s, merd_session_loaded_fn done, void *ctx);
+
+/* Whether the session is loaded (never waits). */
+bool merd_session_is_loaded(merd_session *s);
 
 /* Reference counting: a session stays alive while a request uses it, even after
  * it is deleted from the registry. */
@@ -67,15 +89,17 @@ uint64_t merd_session_revision(merd_session *s);
 
 /* The summary (new reference). `full` adds params and schedule. Never waits for
  * a running step: it shows the state after the last accepted batch and the
- * progress of the running one. */
+ * progress of the running one. Of a session not loaded: {id, state: "not
+ * loaded"}. */
 json_t *merd_session_summary(merd_session *s, bool full);
 
 /* The same summary as text (caller frees), from text cached when the batch was
  * accepted: the fast path of GET /v1/sessions/{id}. NULL when out of memory. */
 char *merd_session_summary_text(merd_session *s, bool full, uint64_t *revision);
 
-/* Applies a decoded batch: all or none (see above), stopping early on cancel,
- * the time limit or the internode limit, keeping whole steps. Returns 0 and the
+/* Applies a decoded batch to a loaded session (merd_session_load): all or
+ * none (see above), stopping early on cancel, the time limit or the internode
+ * limit, keeping whole steps. Returns 0 and the
  * outcome, or -1 with `why`. Blocks while another batch of this session runs. */
 int merd_session_apply(merd_session *s, const merd_batch *batch, merd_batch_outcome *outcome,
                        merd_refusal *why);
@@ -90,7 +114,7 @@ typedef struct merd_snapshot_options {
     uint32_t compression; /* mer_gltf_compression */
 } merd_snapshot_options;
 
-/* The current tree as GLB for `options`, from the session's cache of variants
+/* The current tree of a loaded session as GLB for `options`, from the session's cache of variants
  * when one of this revision and these options is there (`*cached` says so).
  * `*out` is a new reference to shared, immutable bytes: release with
  * merd_snapshot_release. `etag` gets "\"r{revision}-{options}\""

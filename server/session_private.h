@@ -1,6 +1,7 @@
 /* meristemd — a session's state, shared by the files that implement
- * session.h: session.c (lifecycle, applying, journaling), session_summary.c
- * (the summary cache) and session_snapshot.c (snapshots). */
+ * session.h: session.c (lifecycle, applying, journaling), session_load.c
+ * (loading from checkpoint and journal, compaction), session_summary.c (the
+ * summary cache) and session_snapshot.c (snapshots). */
 #ifndef MERISTEMD_SESSION_PRIVATE_H
 #define MERISTEMD_SESSION_PRIVATE_H
 
@@ -12,8 +13,12 @@
 #include "server/session.h"
 #include "server/snapshot.h"
 
+/* Where a session is in its loading (see merd_session_load). */
+enum { MERD_NOT_LOADED = 0, MERD_LOADED = 1, MERD_LOAD_FAILED = 2 };
+
 struct merd_session {
     atomic_int refs;
+    atomic_int loaded;       /* MERD_NOT_LOADED etc.; changes only while `work` is held */
     char id[33];
     char path[PATH_MAX];
     char checkpoint[PATH_MAX]; /* beside the journal: <id>.checkpoint */
@@ -38,6 +43,18 @@ struct merd_session {
     merd_snapshot_cache snaps; /* guarded by `work` */
     merd_revisions *revs;      /* guarded by `work` */
 };
+
+/* A session of id `id` with nothing loaded (scene, journal and spec NULL). */
+merd_session *merd_session_new(const merd_session_config *cfg, const char *id);
+
+/* Builds the session's scene again from its checkpoint and journal (caller
+ * holds `work`; the session is loaded): how a refused batch is undone when no
+ * copy was taken. 0, or -1 with a reason in `error` (MERD_JOURNAL_ERROR_MAX). */
+int merd_session_rebuild(merd_session *s, char *error);
+
+/* After a checkpoint at `revision`, the last record's (caller holds `work`):
+ * with --compact, drops the journal records it covers (see session_load.c). */
+void merd_session_compact(merd_session *s, uint64_t revision);
 
 /* Caches the summary of the scene as it is (caller holds `work`) and makes
  * `revision` the session's. */

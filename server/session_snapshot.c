@@ -2,6 +2,7 @@
  * lock, kept in its cache of variants (see session.h). */
 #include "config.h"
 
+#include <assert.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <string.h>
@@ -59,6 +60,7 @@ int merd_session_build(merd_session *s, const mer_scene *scene, uint64_t revisio
 int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
                           merd_snapshot **out, char *etag, bool *cached, merd_refusal *why)
 {
+    assert(merd_session_is_loaded(s));
     pthread_mutex_lock(&s->work);
     merd_session_etag(s, options, etag);
     *out = merd_snapshot_cache_get(&s->snaps, etag);

@@ -88,6 +88,10 @@ char *merd_session_summary_text(merd_session *s, bool full, uint64_t *revision)
 json_t *merd_session_summary(merd_session *s, bool full)
 {
     pthread_mutex_lock(&s->state);
+    if (s->summary == NULL) { /* not loaded: all that is known without reading it */
+        pthread_mutex_unlock(&s->state);
+        return json_pack("{s:s, s:s}", "id", s->id, "state", "not loaded");
+    }
     json_t *j = json_deep_copy(s->summary);
     json_t *running = json_pack("{s:b, s:i, s:i}", "active", s->running, "done",
                                 (json_int_t)s->done, "total", (json_int_t)s->total);

@@ -66,6 +66,12 @@ static const opt_spec specs[] = {
     {"checkpoint-every", OPT_LONG, 0, 1000000, "50", NUM(checkpoint_every),
      "write a session's checkpoint every this many revisions (0: never), so that restore "
      "replays only the journal after it"},
+    {"compact", OPT_FLAG, 0, 0, NULL, NUM(compact),
+     "after each checkpoint, drop the journal records it covers (journals stay short, but "
+     "the history before the checkpoint is gone)"},
+    {"warm-up", OPT_STRING, 0, 0, "background", STR(warm_up),
+     "background: once listening, load the data folder's sessions oldest first at low "
+     "priority; off: load each on its first request only"},
     {"fsync", OPT_STRING, 0, 0, "always", STR(fsync),
      "always: flush the journal before every reply; interval: every --fsync-interval ms "
      "(a power cut may lose that long)"},
@@ -210,6 +216,10 @@ merd_settings_outcome merd_settings_parse(merd_settings *config, int argc, char 
     }
     if (optind < argc) {
         fprintf(err, "meristemd: unexpected argument '%s'; see --help\n", argv[optind]);
+        return MERD_SETTINGS_ERROR;
+    }
+    if (strcmp(config->warm_up, "background") != 0 && strcmp(config->warm_up, "off") != 0) {
+        fprintf(err, "meristemd: --warm-up wants background or off, got '%s'\n", config->warm_up);
         return MERD_SETTINGS_ERROR;
     }
     if (strcmp(config->fsync, "always") != 0 && strcmp(config->fsync, "interval") != 0) {

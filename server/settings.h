@@ -27,6 +27,8 @@ typedef struct merd_settings {
     long max_steps;         /* --max-steps: per request */
     long max_seconds;       /* --max-request-seconds: a batch stops at the step past it */
     long checkpoint_every;  /* --checkpoint-every: revisions between checkpoints, 0: none */
+    bool compact;           /* --compact: drop the journal records a checkpoint covers */
+    char warm_up[16];       /* --warm-up: "background" or "off" */
     char fsync[16];         /* --fsync: "always" or "interval" */
     long fsync_interval;    /* --fsync-interval: milliseconds between flushes */
     char token[256];        /* --token: required as Authorization: Bearer on /v1 but health */

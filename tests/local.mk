@@ -32,6 +32,8 @@ TESTS += tests/api/sessions.test.js
 TESTS += tests/api/durability.test.js
 TESTS += tests/api/undo.test.js
 TESTS += tests/api/checkpoint.test.js
+TESTS += tests/api/restore.test.js
+TESTS += tests/api/compact.test.js
 TESTS += tests/api/crashloop.test.js
 TESTS += tests/api/security.test.js
 TESTS += tests/api/limits.test.js
@@ -68,6 +70,8 @@ EXTRA_DIST += \
 	tests/api/durability.test.js \
 	tests/api/undo.test.js \
 	tests/api/checkpoint.test.js \
+	tests/api/restore.test.js \
+	tests/api/compact.test.js \
 	tests/api/crashloop.test.js \
 	tests/api/security.test.js \
 	tests/api/limits.test.js \
@@ -96,7 +100,7 @@ crash-loop: all
 
 clean-local: clean-artifacts
 clean-artifacts:
-	-rm -rf tests/artifacts
+	-rm -rf tests/artifacts bench-restore-data
 .PHONY: clean-artifacts
 EXTRA_DIST += build-aux/tap-driver.sh
 include tests/bench/local.mk

@@ -12,8 +12,8 @@
 #include "server/api.h"
 #include "server/app.h"
 
-/* The session `id` names (a reference: merd_session_unref it), or NULL with
- * a 404 in `why`. */
+/* The session `id` names, loaded (a reference: merd_session_unref it), or
+ * NULL with a 404 or a 503 (quarantined) in `why`. */
 merd_session *merd_api_find_session(merd_request *req, const char *id, merd_refusal *why);
 
 /* The snapshot options of the query string (detail, leaves, markers, quantize,

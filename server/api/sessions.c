@@ -8,11 +8,7 @@
 
 merd_session *merd_api_find_session(merd_request *req, const char *id, merd_refusal *why)
 {
-    merd_session *s = merd_registry_get(req->app->registry, id);
-    if (s == NULL && !merd_registry_quarantined(req->app->registry, id, why))
-        merd_refuse(why, 404, "unknown-session", "", "there is no session %.64s (GET /v1/sessions "
-                    "lists them)", id);
-    return s;
+    return merd_registry_get_loaded(req->app->registry, id, why);
 }
 
 /* Sessions per page of GET /v1/sessions when ?limit= is not given, and the most. */
@@ -29,13 +25,14 @@ enum MHD_Result merd_api_list(merd_request *req, const char *id)
         .preset = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "preset"),
         .state = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "state"),
     };
-    static const char *const states[] = {"live", "running", "idle", "quarantined"};
+    static const char *const states[] = {"live", "running", "idle", "loaded", "not loaded",
+                                         "quarantined"};
     bool known = q.state == NULL;
     for (size_t k = 0; !known && k < sizeof states / sizeof states[0]; k++)
         known = strcmp(q.state, states[k]) == 0;
     if (!known)
         merd_refuse(&why, 422, "out-of-range", "state",
-                    "state must be live, running, idle or quarantined, got '%.40s'", q.state);
+                    "state must be live, running, idle, loaded, not loaded or quarantined, got '%.40s'", q.state);
     if (!known || merd_api_query_uint(req, "limit", 1, LIST_MAX, &limit, NULL, &why) != 0)
         return merd_reply_refusal(req, &why);
     q.limit = (size_t)limit;
@@ -60,14 +57,14 @@ enum MHD_Result merd_api_get(merd_request *req, const char *id)
 
 enum MHD_Result merd_api_delete(merd_request *req, const char *id)
 {
-    merd_session *s = merd_registry_get(req->app->registry, id);
-    if (s != NULL) {
-        req->revision = (long long)merd_session_revision(s);
-        merd_session_unref(s);
-    }
+    // Loaded first, so that a damaged journal is quarantined (503), not removed.
     merd_refusal why = {0};
-    if (merd_registry_quarantined(req->app->registry, id, &why) ||
-        merd_registry_delete(req->app->registry, id, &why) != 0)
+    merd_session *s = merd_api_find_session(req, id, &why);
+    if (s == NULL)
+        return merd_reply_refusal(req, &why);
+    req->revision = (long long)merd_session_revision(s);
+    merd_session_unref(s);
+    if (merd_registry_delete(req->app->registry, id, &why) != 0)
         return merd_reply_refusal(req, &why);
     struct MHD_Response *r = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
     return merd_reply(req, 204, r, 0);

@@ -44,7 +44,7 @@ test('kill -9 during a stream of edits loses no acknowledged edit', async (t) =>
 
   d = await startDaemon([], { dataDir });
   t.after(() => d.stop());
-  assert.match(d.log(), /restored 2 sessions/);
+  await d.waitForLog(/restored 2 sessions/);
   for (const id of ids) {
     const s = await api(d.url, 'GET', `/v1/sessions/${id}`);
     assert.equal(s.status, 200);
@@ -80,8 +80,8 @@ test('a torn last journal record is dropped whole on restart', async (t) => {
   fs.truncateSync(file, size - 7);
   d = await startDaemon([], { dataDir });
   t.after(() => d.stop());
-  assert.match(d.log(), /dropped a torn last record/);
   const s = await api(d.url, 'GET', `/v1/sessions/${id}`);
+  assert.match(d.log(), /dropped a torn last record/);
   assert.equal(s.body.revision, 2);
   assert.equal(s.body.step, 7);
   assert.equal(s.body.hash, two.body.hash);
@@ -167,6 +167,7 @@ for (const [what, damage] of Object.entries(damages)) {
 
     d = await startDaemon([], { dataDir });
     t.after(() => d.stop());
+    await d.waitForLog(/restored \d+ sessions/);  // in the background
     // Moved aside byte for byte, not cut.
     assert.ok(!fs.existsSync(file));
     const kept = path.join(dataDir, 'quarantine', `${bad.id}.journal`);
@@ -184,7 +185,7 @@ for (const [what, damage] of Object.entries(damages)) {
     assert.equal(item.state, 'quarantined');
     assert.match(item.reason, new RegExp(`^record 2 \\(byte \\d+\\) of ${bad.id}\\.journal is damaged`));
     assert.ok(!item.reason.includes(dataDir), 'the data folder is not shown to clients');
-    assert.ok(list.some((s) => s.id === good.id && s.state === undefined));
+    assert.ok(list.some((s) => s.id === good.id && s.state === 'loaded'));
     // Still quarantined after another restart, without a second alarm.
     await d.stop();
     d = await startDaemon([], { dataDir });
@@ -281,6 +282,7 @@ test('a journal cut short in its creation record is dropped: it was never acknow
   fs.writeFileSync(file, whole.subarray(0, whole.length - 3));
   d = await startDaemon([], { dataDir });
   t.after(() => d.stop());
+  await d.waitForLog(/restored 0 sessions/);  // in the background
   assert.equal(d.log().match(/dropped a torn first record/g).length, 2, d.log());
   assert.doesNotMatch(d.log(), /QUARANTINED/);
   assert.ok(!fs.existsSync(file) && !fs.existsSync(empty));

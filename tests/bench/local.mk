@@ -9,6 +9,9 @@
 #    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
 # `make table1`: see below.
 # `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
+# `make bench-restore`: time to listen and to the first answer from the oldest
+# session of a data folder of 1,000 sessions of 200 edits (built once, by a
+# real meristemd, in bench-restore-data/; needs node).
 # `make bench-page`: the brush client loading and drawing 10,000-internode
 # snapshots in headless Chromium (needs node, the npm test tools, chromium).
 EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh tests/bench/table1
@@ -21,9 +24,10 @@ tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
 CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/table1$(EXEEXT)
-EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js
+EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js \
+	tests/bench/restore.js
 
-BENCH_WORKLOADS = table1-fig10-left table1-fig10-center table1-fig10-right \
+BENCH_WORKLOADS = table1-left table1-center table1-right \
   colonization-1M-markers forest-100-trees
 BENCH_RUNS = 3
 
@@ -47,4 +51,7 @@ TABLE1_SEEDS = 2
 table1: tests/bench/table1$(EXEEXT)
 	@./tests/bench/table1$(EXEEXT) $(TABLE1_SEEDS)
 
-.PHONY: bench bench-http bench-page table1
+bench-restore: server/meristemd$(EXEEXT)
+	@MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_srcdir)/web' \
+	  BENCH_RESTORE_DIR='$(abs_top_builddir)/bench-restore-data' '$(NODE)' $(srcdir)/tests/bench/restore.js
+.PHONY: bench bench-http bench-page bench-restore table1

@@ -10,7 +10,8 @@ const path = require('node:path');
  * @param {string[]} extraArgs more command-line options
  * @param {{dataDir?: string}} options an existing data folder to use (and keep)
  * @returns {Promise<{url: string, port: number, child: import('node:child_process').ChildProcess,
- *   dataDir: string, log: () => string, stop: (signal?: string) => Promise<{code: number|null, signal: string|null}>}>}
+ *   dataDir: string, log: () => string, waitForLog: (pattern: RegExp) => Promise<string>,
+ *   stop: (signal?: string) => Promise<{code: number|null, signal: string|null}>}>}
  */
 async function startDaemon(extraArgs = [], options = {}) {
   const exe = process.env.MERISTEMD;
@@ -41,6 +42,21 @@ async function startDaemon(extraArgs = [], options = {}) {
     child,
     dataDir,
     log: () => output,
+    /** Resolves once the log matches `pattern` (rejects with the log if the
+     * daemon exits first, or after 60 s): to wait for what the daemon does in
+     * the background, such as loading its sessions. */
+    waitForLog(pattern) {
+      return new Promise((resolve, reject) => {
+        const timer = setTimeout(() => { done(); reject(new Error(`no ${pattern} in the log:\n${output}`)); }, 60000);
+        const look = () => { if (pattern.test(output)) { done(); resolve(output); } };
+        const gone = () => { done(); reject(new Error(`meristemd exited before ${pattern}:\n${output}`)); };
+        const done = () => { clearTimeout(timer); child.stdout.off('data', look); child.stderr.off('data', look); child.off('exit', gone); };
+        child.stdout.on('data', look);
+        child.stderr.on('data', look);
+        child.on('exit', gone);
+        look();
+      });
+    },
     async stop(signal = 'SIGTERM') {
       if (child.exitCode === null && child.signalCode === null) child.kill(signal);
       const result = await exited;

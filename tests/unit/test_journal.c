@@ -1,6 +1,7 @@
-/* Unit tests for server/journal.c: records survive reopening, a torn tail is
- * dropped whole and cut off, appends go on after it; damage anywhere else
- * leaves the file untouched, and only regular files are opened. */
+/* Unit tests for server/journal.c: records survive reopening, compaction
+ * leaves one record, a torn tail is dropped whole and cut off, appends go on
+ * after it; damage anywhere else leaves the file untouched, and only regular
+ * files are opened. */
 #include "config.h"
 
 #include <fcntl.h>
@@ -94,6 +95,29 @@ static void test_records_survive_reopening(void **state)
     assert_int_equal(s.count, 4);
     merd_journal_close(j, true);
     assert_int_equal(access(path, F_OK), -1);  // removed
+}
+
+/* Compaction leaves one record, renamed into place (no temporary file stays),
+ * and appends go on in the new file through the same journal. */
+static void test_compact_keeps_one_record(void **state)
+{
+    (void)state;
+    merd_journal *j = write_three();
+    char error[MERD_JOURNAL_ERROR_MAX], tmp[160];
+    assert_int_equal(merd_journal_compact(j, "{\"create\":2}", 12, error), 0);
+    assert_int_equal(merd_journal_records(j), 1);
+    assert_int_equal(file_size(), 8 + 12);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    assert_int_equal(access(tmp, F_OK), -1);
+    assert_int_equal(merd_journal_append(j, "{\"rev\":3}", 9, error), 0);
+    merd_journal_close(j, false);
+    seen s = {0};
+    j = merd_journal_open(path, MERD_FSYNC_ALWAYS, collect, &s, NULL, error);
+    assert_non_null(j);
+    assert_int_equal(s.count, 2);
+    assert_string_equal(s.text[0], "{\"create\":2}");
+    assert_string_equal(s.text[1], "{\"rev\":3}");
+    merd_journal_close(j, true);
 }
 
 /* A power cut in the middle of the last write: any prefix of its bytes. */
@@ -290,6 +314,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_records_survive_reopening, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_compact_keeps_one_record, setup, teardown),
         cmocka_unit_test_setup_teardown(test_torn_tail_is_dropped_whole, setup, teardown),
         cmocka_unit_test_setup_teardown(test_damage_before_whole_records_is_kept, setup, teardown),
         cmocka_unit_test_setup_teardown(test_zeroed_tail_is_torn, setup, teardown),
