@@ -179,6 +179,10 @@ static mer_result load_obstacle(merp_env *e, merp_bytes_in *in, mer_error *err)
         if (rc == MER_OK)
             rc = merp_solid_new(tri, ntri, &ob.solid, err);
         merp_free(tri);
+        // No scene this loads into could have taken it (markers aside, which
+        // may have come after it): its inside tests would cost unbounded time.
+        if (rc == MER_OK && (rc = merp_check_mesh_work(ob.solid, &e->p, 0, NULL, err)) != MER_OK)
+            merp_solid_free(ob.solid);
         if (rc != MER_OK)
             return rc == MER_ERR_NOMEM ? rc : mer_error_set(err, MER_ERR_FORMAT, "obstacles",
                                                             "a damaged mesh obstacle");

@@ -79,6 +79,11 @@ tests_unit_test_mesh_SOURCES = tests/unit/test_mesh.cc
 tests_unit_test_mesh_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_mesh_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_obstacle_work
+tests_unit_test_obstacle_work_SOURCES = tests/unit/test_obstacle_work.c tests/unit/scene_helpers.h
+tests_unit_test_obstacle_work_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_obstacle_work_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_journal
 tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c server/journal.h
 tests_unit_test_journal_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
