@@ -89,6 +89,18 @@ tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c ser
 tests_unit_test_journal_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
 tests_unit_test_journal_LDADD = $(CMOCKA_LIBS) $(ZLIB_LIBS)
 
+check_PROGRAMS += tests/unit/test_host
+tests_unit_test_host_SOURCES = tests/unit/test_host.c server/host.c server/host.h
+tests_unit_test_host_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_host_LDADD = $(CMOCKA_LIBS)
+
+# libmicrohttpd's one call the guard makes is the test's own.
+check_PROGRAMS += tests/unit/test_guard
+tests_unit_test_guard_SOURCES = tests/unit/test_guard.c server/guard.c server/guard.h \
+	server/guard_private.h server/clock.h
+tests_unit_test_guard_CPPFLAGS = $(UNIT_CPPFLAGS) $(MHD_CFLAGS)
+tests_unit_test_guard_LDADD = $(CMOCKA_LIBS) -lpthread
+
 check_PROGRAMS += tests/unit/test_refusal
 tests_unit_test_refusal_SOURCES = tests/unit/test_refusal.c server/refusal.c server/refusal.h \
 	server/decode.c server/decode.h
