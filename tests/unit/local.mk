@@ -85,9 +85,17 @@ tests_unit_test_obstacle_work_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_obstacle_work_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_journal
-tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c server/journal.h
+tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c server/journal.h \
+	server/io_hooks.h
 tests_unit_test_journal_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
 tests_unit_test_journal_LDADD = $(CMOCKA_LIBS) $(ZLIB_LIBS)
+
+# Short writes, ENOSPC and EIO on the journal's and the checkpoints' path.
+check_PROGRAMS += tests/unit/test_journal_faults
+tests_unit_test_journal_faults_SOURCES = tests/unit/test_journal_faults.c server/journal.c \
+	server/journal.h server/checkpoint.c server/checkpoint.h server/io_hooks.h
+tests_unit_test_journal_faults_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
+tests_unit_test_journal_faults_LDADD = $(UNIT_LDADD) $(ZLIB_LIBS)
 
 check_PROGRAMS += tests/unit/test_host
 tests_unit_test_host_SOURCES = tests/unit/test_host.c server/host.c server/host.h
