@@ -179,6 +179,10 @@ static mer_result load_obstacle(merp_env *e, merp_bytes_in *in, mer_error *err)
         if (rc == MER_OK)
             rc = merp_solid_new(tri, ntri, &ob.solid, err);
         merp_free(tri);
+        // No scene this loads into could have taken it (markers aside, which
+        // may have come after it): its inside tests would cost unbounded time.
+        if (rc == MER_OK && (rc = merp_check_mesh_work(ob.solid, &e->p, 0, NULL, err)) != MER_OK)
+            merp_solid_free(ob.solid);
         if (rc != MER_OK)
             return rc == MER_ERR_NOMEM ? rc : mer_error_set(err, MER_ERR_FORMAT, "obstacles",
                                                             "a damaged mesh obstacle");
@@ -266,6 +270,14 @@ static mer_result load_body(mer_scene *s, merp_bytes_in *in, const mer_params *e
     if (rc == MER_OK && in->bad)
         rc = in->bad == 2 ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a scene")
                           : mer_error_set(err, MER_ERR_FORMAT, NULL, "a damaged checkpoint");
+    // A grid or model refusing what the bytes hold (a range, a count) is damage
+    // to the caller, who may only tell it from running out of memory.
+    if (rc != MER_OK && rc != MER_ERR_NOMEM && rc != MER_ERR_FORMAT) {
+        mer_error why = {0};
+        if (err != NULL)
+            why = *err;
+        rc = mer_error_set(err, MER_ERR_FORMAT, why.field, "a damaged checkpoint: %.200s", why.message);
+    }
     if (rc != MER_OK)
         return rc;
     s->env.epoch = epoch;

@@ -12,6 +12,7 @@
 #include <zlib.h>
 
 #include "server/checkpoint.h"
+#include "server/io_hooks.h"
 #include "server/journal.h"
 
 #define MAGIC "MERDCKP1"
@@ -55,7 +56,7 @@ int merd_checkpoint_write(const char *path, const char *id, uint64_t revision,
     } else {
         if (merd_write_all(fd, head, sizeof head) != 0 || merd_write_all(fd, bytes, size) != 0)
             failed(error, "cannot write", tmp);
-        else if (sync && fsync(fd) != 0)
+        else if (sync && merd_io.fsync(fd) != 0)
             failed(error, "cannot flush", tmp);
         else
             rc = 0;

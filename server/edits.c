@@ -136,9 +136,10 @@ int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *pa
 merd_undo merd_batch_undo(const merd_batch *b)
 {
     const merd_edit *e = &b->edits[0];
-    if (b->count > 1 || e->constrain) // a dab that constrains is two calls
+    // A dab that constrains is two calls; a step edit is many steps.
+    if (b->count > 1 || e->constrain || (e->op->flags & MERD_OP_STEPS))
         return MERD_UNDO_COPY;
-    return e->op->flags & MERD_OP_STEPS ? MERD_UNDO_REPLAY : MERD_UNDO_NOTHING;
+    return MERD_UNDO_NOTHING;
 }
 
 int merd_batch_replay(const json_t *applied, mer_scene **scene, const merd_past *past,

@@ -10,6 +10,7 @@
 
 #include "server/clock.h"
 #include "server/guard.h"
+#include "server/guard_private.h"
 
 typedef struct entry {
     struct MHD_Connection *connection;
@@ -71,19 +72,42 @@ static void cut(merd_guard *g, entry *e)
     g->cuts++;
 }
 
+/* Cuts every listed connection whose deadline is past at `now` (caller holds
+ * the lock). Deadlines differ (head or idle), so the whole list is looked at: a
+ * few thousand entries at most, twice a second. */
+static void sweep_at(merd_guard *g, double now)
+{
+    for (entry *e = g->head, *next; e != NULL; e = next) {
+        next = e->next;
+        if (e->deadline <= now)
+            cut(g, e);
+    }
+}
+
+size_t merd_guard_sweep(merd_guard *g, double now)
+{
+    pthread_mutex_lock(&g->lock);
+    size_t before = g->cuts;
+    sweep_at(g, now);
+    size_t n = g->cuts - before;
+    pthread_mutex_unlock(&g->lock);
+    return n;
+}
+
+unsigned merd_guard_open(merd_guard *g)
+{
+    pthread_mutex_lock(&g->lock);
+    unsigned n = g->open;
+    pthread_mutex_unlock(&g->lock);
+    return n;
+}
+
 static void *sweep(void *arg)
 {
     merd_guard *g = arg;
     pthread_mutex_lock(&g->lock);
     while (!g->stopping) {
-        double now = merd_now();
-        // Deadlines differ (head or idle), so the whole list is looked at: a few
-        // thousand entries at most, twice a second.
-        for (entry *e = g->head, *next; e != NULL; e = next) {
-            next = e->next;
-            if (e->deadline <= now)
-                cut(g, e);
-        }
+        sweep_at(g, merd_now());
         struct timespec until;
         clock_gettime(CLOCK_REALTIME, &until);
         until.tv_nsec += 500 * 1000000L;

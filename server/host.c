@@ -15,7 +15,8 @@ static bool split(const char *host, char *name, size_t size, unsigned long *port
 {
     const char *colon;
     size_t n;
-    if (host[0] == '[') {
+    bool bracketed = host[0] == '[';
+    if (bracketed) {
         const char *close = strchr(host, ']');
         if (close == NULL)
             return false;
@@ -30,6 +31,9 @@ static bool split(const char *host, char *name, size_t size, unsigned long *port
         if (colon != NULL && strchr(colon + 1, ':') != NULL)
             return false;
     }
+    // "name." is the same name, fully qualified (RFC 1034 §3.1).
+    if (!bracketed && n > 1 && host[n - 1] == '.')
+        n--;
     if (n == 0 || n >= size)
         return false;
     memcpy(name, host, n);

@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "server/io_hooks.h"
 #include "server/journal.h"
 
 struct merd_journal {
@@ -25,6 +26,8 @@ struct merd_journal {
 };
 
 #define HEADER 8
+
+merd_io_calls merd_io = {write, fsync, fdatasync};
 
 static void put_u32(unsigned char *p, uint32_t v)
 {
@@ -57,7 +60,7 @@ int merd_sync_folder(const char *path)
     int fd = open(dirname(copy), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (fd < 0)
         return -1;
-    int rc = fsync(fd);
+    int rc = merd_io.fsync(fd);
     close(fd);
     return rc;
 }
@@ -66,7 +69,7 @@ int merd_write_all(int fd, const void *bytes, size_t n)
 {
     const unsigned char *p = bytes;
     while (n > 0) {
-        ssize_t w = write(fd, p, n);
+        ssize_t w = merd_io.write(fd, p, n);
         if (w < 0 && errno == EINTR)
             continue;
         if (w <= 0)
@@ -107,7 +110,7 @@ int merd_journal_append(merd_journal *j, const char *payload, size_t size, char 
     int rc = merd_write_all(j->fd, buf, HEADER + size);
     free(buf);
     if (rc == 0 && j->mode == MERD_FSYNC_ALWAYS)
-        rc = fdatasync(j->fd);
+        rc = merd_io.fdatasync(j->fd);
     if (rc != 0) {
         fail(error, "cannot append to", j->path);
         // Cut back a partial write so the next append starts on a boundary.
@@ -327,7 +330,7 @@ merd_journal *merd_journal_open(const char *path, merd_fsync_mode mode, merd_jou
     j->fd = fd;
     j->size = (off_t)at;
     j->records = records;
-    if (at < size && (ftruncate(fd, (off_t)at) != 0 || fsync(fd) != 0)) {
+    if (at < size && (ftruncate(fd, (off_t)at) != 0 || merd_io.fsync(fd) != 0)) {
         report->fault = MERD_JOURNAL_IO;
         fail(error, "cannot cut the torn tail of", path);
         close(fd);
@@ -351,7 +354,7 @@ int merd_journal_sync(merd_journal *j)
 {
     if (j == NULL || !j->dirty)
         return 0;
-    if (fdatasync(j->fd) != 0)
+    if (merd_io.fdatasync(j->fd) != 0)
         return -1;
     j->dirty = false;
     return 0;

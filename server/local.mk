@@ -4,7 +4,7 @@ server_meristemd_SOURCES = \
 	server/main.c \
 	server/settings.c server/settings.h \
 	server/http.c server/http.h \
-	server/guard.c server/guard.h \
+	server/guard.c server/guard.h server/guard_private.h \
 	server/host.c server/host.h \
 	server/request.c server/request.h \
 	server/routes.c server/routes.h \
@@ -15,7 +15,7 @@ server_meristemd_SOURCES = \
 	server/spec.c server/spec.h \
 	server/edit_ops.c server/edit_ops.h \
 	server/edits.c server/edits.h \
-	server/journal.c server/journal.h \
+	server/journal.c server/journal.h server/io_hooks.h \
 	server/checkpoint.c server/checkpoint.h \
 	server/session.c server/session.h server/session_private.h \
 	server/session_load.c server/session_summary.c server/session_snapshot.c \

@@ -122,6 +122,16 @@ mer_result merp_env_prepare(const merp_env *e, const mer_params *p, merp_env_cha
                        p->shadow_a != o->shadow_a || p->shadow_b != o->shadow_b ||
                        p->q_max != o->q_max || p->environment != o->environment ||
                        p->shadow_c != o->shadow_c;
+    // Finer voxels or wider bounds ask a mesh obstacle more: the same bound as
+    // when it was added.
+    for (uint32_t i = 0; i < e->nobs && (c->shadow_change || c->markers_change); i++) {
+        if (e->obs[i].kind != MERP_OBS_MESH)
+            continue;
+        mer_result rc = merp_check_mesh_work(e->obs[i].solid, p, mer_markers_count(e->markers),
+                                             "voxel", err);
+        if (rc != MER_OK)
+            return rc;
+    }
     if (c->markers_change) {
         mer_result rc = regrid_markers(e->markers, p, &c->markers, err);
         if (rc != MER_OK)

@@ -133,6 +133,12 @@ void merp_env_cast_obstacles(merp_env *e);
 /* The checks of a triangle soup (9 floats per triangle) for a mesh obstacle or a
  * mesh volume of markers: count, finite, in range, not flat. */
 mer_result merp_check_mesh(const float *xyz, size_t triangles, mer_error *err);
+/* Refuses (MER_ERR_RANGE naming `field`) a mesh whose inside tests would cost a
+ * scene of parameters `p` holding `markers` markers more than
+ * MERP_SOLID_WORK_MAX: the shadow cast asks two per voxel, the marker sweep one
+ * per marker, both within the bounds. O(the solid's cells). */
+mer_result merp_check_mesh_work(const merp_solid *solid, const mer_params *p, size_t markers,
+                                const char *field, mer_error *err);
 mer_result merp_env_add_box(merp_env *e, const float min[3], const float max[3], mer_error *err);
 mer_result merp_env_add_sphere(merp_env *e, const float center[3], float radius, mer_error *err);
 mer_result merp_env_add_mesh(merp_env *e, const float *xyz, size_t triangles, mer_error *err);
@@ -161,9 +167,19 @@ int merp_solid_inside(const merp_solid *s, const float p[3]);
 void merp_solid_bounds(const merp_solid *s, float lo[3], float hi[3]);
 /* FNV-1a of the triangles' bytes, computed once. */
 uint64_t merp_solid_digest(const merp_solid *s);
+/* The crossing tests that queries spread at `density` per unit volume over the
+ * box [lo, hi] cost in all (the O(1) answers off the surface aside): the work a
+ * mesh puts on a scene whose grids fill that box. O(cells). */
+double merp_solid_work(const merp_solid *s, const float lo[3], const float hi[3], double density);
+/* The most that work may be: a mesh whose cells are coarse where the scene
+ * queries it (a mesh in raw quantized units, say, thousands of voxels across
+ * one cell) is refused rather than left to cost seconds on every cast. */
+#define MERP_SOLID_WORK_MAX 5e7
 /* The cells that may hold inside points (IN or SURFACE), by index, into `out`
  * (NULL: count only). Returns their number. O(cells). */
 size_t merp_solid_candidates(const merp_solid *s, uint32_t *out);
+/* The volume of one cell. */
+double merp_solid_cell_volume(const merp_solid *s);
 /* The point at fractions f (each in [0, 1)) across cell `cell`. */
 void merp_solid_cell_point(const merp_solid *s, uint32_t cell, const float f[3], float out[3]);
 

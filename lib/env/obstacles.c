@@ -174,6 +174,26 @@ mer_result merp_check_mesh(const float *xyz, size_t triangles, mer_error *err)
     return MER_OK;
 }
 
+mer_result merp_check_mesh_work(const merp_solid *solid, const mer_params *p, size_t markers,
+                                const char *field, mer_error *err)
+{
+    assert(solid != NULL && p != NULL);
+    double vox = (double)p->voxel, volume = 1.0;
+    for (int a = 0; a < 3; a++)
+        volume *= (double)p->bounds_max[a] - (double)p->bounds_min[a];
+    double density = (p->environment == MER_ENV_SHADOW ? 2.0 / (vox * vox * vox) : 0.0) +
+                     (double)markers / volume;
+    double work = merp_solid_work(solid, p->bounds_min, p->bounds_max, density);
+    if (!(work <= MERP_SOLID_WORK_MAX))
+        return mer_error_set(err, MER_ERR_RANGE, field,
+                             "a mesh obstacle is too coarse for this scene: its inside tests "
+                             "would cost %.3g triangle tests, more than %.3g (are its "
+                             "coordinates in the scene's units? a quantized mesh needs "
+                             "dequantizing)",
+                             work, (double)MERP_SOLID_WORK_MAX);
+    return MER_OK;
+}
+
 mer_result merp_env_add_mesh(merp_env *e, const float *xyz, size_t triangles, mer_error *err)
 {
     mer_result rc = merp_check_mesh(xyz, triangles, err);
@@ -187,6 +207,11 @@ mer_result merp_env_add_mesh(merp_env *e, const float *xyz, size_t triangles, me
     rc = merp_solid_new(xyz, triangles, &o.solid, err);
     if (rc != MER_OK)
         return rc;
+    rc = merp_check_mesh_work(o.solid, &e->p, mer_markers_count(e->markers), "xyz", err);
+    if (rc != MER_OK) {
+        merp_solid_free(o.solid);
+        return rc;
+    }
     merp_solid_bounds(o.solid, o.a, o.b);
     rc = merp_env_add_obstacle(e, &o, err);
     if (rc != MER_OK)

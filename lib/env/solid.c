@@ -30,9 +30,13 @@
  * walked). Off the surface the parity of a closed mesh cannot change, so these
  * answers are the exact ones; for an open mesh they are the rays' verdicts carried
  * from the nearest cell centre above, a close approximation of the definition.
+ * Walks are long where cells are coarse next to faces; merp_solid_work sums
+ * their cost over a region, so that callers can refuse a mesh that would cost
+ * a scene too much (obstacles.c).
  */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -403,6 +407,45 @@ mer_result merp_solid_new(const float *xyz, size_t triangles, merp_solid **out, 
     return MER_OK;
 }
 
+/* The overlap of cell i along axis a with [lo, hi]. */
+static double overlap(const merp_solid *s, int a, int i, float lo, float hi)
+{
+    double c0 = (double)s->org[a] + (double)i * (double)s->h, c1 = c0 + (double)s->h;
+    double a0 = c0 > (double)lo ? c0 : (double)lo, a1 = c1 < (double)hi ? c1 : (double)hi;
+    return a1 > a0 ? a1 - a0 : 0.0;
+}
+
+/* Σ over cells of (volume of the cell in [lo, hi]) × (the triangles a query in
+ * it meets walking up axis A: ray_parity's cost). */
+static double walk_work(const merp_solid *s, int A, const float lo[3], const float hi[3])
+{
+    int U = (A + 1) % 3, V = (A + 2) % 3;
+    double total = 0.0;
+    int k[3];
+    for (k[V] = 0; k[V] < s->dim[V]; k[V]++)
+        for (k[U] = 0; k[U] < s->dim[U]; k[U]++) {
+            double area = overlap(s, U, k[U], lo[U], hi[U]) * overlap(s, V, k[V], lo[V], hi[V]);
+            if (area == 0.0)
+                continue;
+            double run = 0.0; /* triangles listed from this cell up to the first not SURFACE */
+            for (k[A] = s->dim[A] - 1; k[A] >= 0; k[A]--) {
+                size_t ci = cell_index(s, k);
+                run = s->cell[ci] & CELL_SURFACE ? run + (double)(s->start[ci + 1] - s->start[ci]) : 0.0;
+                total += run * area * overlap(s, A, k[A], lo[A], hi[A]);
+            }
+        }
+    return total;
+}
+
+double merp_solid_work(const merp_solid *s, const float lo[3], const float hi[3], double density)
+{
+    assert(s != NULL && lo != NULL && hi != NULL && density >= 0.0);
+    double work = 0.0;
+    for (int A = 0; A < 3; A++)
+        work += walk_work(s, A, lo, hi);
+    return work * density;
+}
+
 size_t merp_solid_candidates(const merp_solid *s, uint32_t *out)
 {
     size_t ncell = (size_t)s->dim[0] * (size_t)s->dim[1] * (size_t)s->dim[2], k = 0;
@@ -413,6 +456,11 @@ size_t merp_solid_candidates(const merp_solid *s, uint32_t *out)
             k++;
         }
     return k;
+}
+
+double merp_solid_cell_volume(const merp_solid *s)
+{
+    return (double)s->h * (double)s->h * (double)s->h;
 }
 
 void merp_solid_cell_point(const merp_solid *s, uint32_t cell, const float f[3], float out[3])

@@ -151,6 +151,20 @@ mer_result merp_env_fill_mesh(merp_env *e, mer_rng *rng, const float *xyz, size_
     if (rc != MER_OK)
         return rc;
     size_t ncand = merp_solid_candidates(solid, NULL);
+    // Each marker costs a draw or more in a candidate cell: refuse a mesh whose
+    // draws would each walk long runs of coarse cells (see MERP_SOLID_WORK_MAX).
+    float lo[3], hi[3];
+    merp_solid_bounds(solid, lo, hi);
+    double work = merp_solid_work(solid, lo, hi,
+                                  (double)count / ((double)(ncand ? ncand : 1) *
+                                                   merp_solid_cell_volume(solid)));
+    if (!(work <= MERP_SOLID_WORK_MAX)) {
+        merp_solid_free(solid);
+        return mer_error_set(err, MER_ERR_RANGE, "xyz",
+                             "the mesh is too coarse for %u markers: drawing them would cost "
+                             "%.3g triangle tests, more than %.3g",
+                             (unsigned)count, work, (double)MERP_SOLID_WORK_MAX);
+    }
     uint32_t *cand = merp_malloc((ncand ? ncand : 1) * sizeof *cand);
     float *pts = merp_malloc((size_t)count * 3 * sizeof *pts);
     if (cand == NULL || pts == NULL) {

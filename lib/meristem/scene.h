@@ -194,7 +194,11 @@ mer_result mer_scene_add_sphere(mer_scene *s, const float center[3], float radiu
  * `xyz` is NULL), MER_ERR_LIMIT "triangles" past MER_MESH_TRIANGLES_MAX,
  * MER_ERR_INVALID "xyz" for a coordinate that is not finite, MER_ERR_RANGE "xyz"
  * for one past ±MER_MESH_COORD_MAX or a mesh that is flat along an axis,
- * MER_ERR_NOMEM. */
+ * MER_ERR_RANGE "xyz" for a mesh too coarse for the scene (its cache cells
+ * thousands of voxels wide where the scene asks: a mesh in raw quantized units,
+ * say), whose inside tests would cost more than a fixed bound of triangle tests,
+ * MER_ERR_NOMEM. mer_scene_set_params refuses (MER_ERR_RANGE "voxel") finer
+ * grids that would take a mesh obstacle past that bound. */
 
 /* Adds a mesh obstacle: like a box or sphere it removes the markers inside it,
  * shades (its voxels fully, and a pyramid from each voxel of its top surface) and

@@ -79,16 +79,48 @@ tests_unit_test_mesh_SOURCES = tests/unit/test_mesh.cc
 tests_unit_test_mesh_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_mesh_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_obstacle_work
+tests_unit_test_obstacle_work_SOURCES = tests/unit/test_obstacle_work.c tests/unit/scene_helpers.h
+tests_unit_test_obstacle_work_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_obstacle_work_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_journal
-tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c server/journal.h
+tests_unit_test_journal_SOURCES = tests/unit/test_journal.c server/journal.c server/journal.h \
+	server/io_hooks.h
 tests_unit_test_journal_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
 tests_unit_test_journal_LDADD = $(CMOCKA_LIBS) $(ZLIB_LIBS)
+
+# Short writes, ENOSPC and EIO on the journal's and the checkpoints' path.
+check_PROGRAMS += tests/unit/test_journal_faults
+tests_unit_test_journal_faults_SOURCES = tests/unit/test_journal_faults.c server/journal.c \
+	server/journal.h server/checkpoint.c server/checkpoint.h server/io_hooks.h
+tests_unit_test_journal_faults_CPPFLAGS = $(UNIT_CPPFLAGS) $(ZLIB_CFLAGS)
+tests_unit_test_journal_faults_LDADD = $(UNIT_LDADD) $(ZLIB_LIBS)
+
+check_PROGRAMS += tests/unit/test_host
+tests_unit_test_host_SOURCES = tests/unit/test_host.c server/host.c server/host.h
+tests_unit_test_host_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_host_LDADD = $(CMOCKA_LIBS)
+
+# libmicrohttpd's one call the guard makes is the test's own.
+check_PROGRAMS += tests/unit/test_guard
+tests_unit_test_guard_SOURCES = tests/unit/test_guard.c server/guard.c server/guard.h \
+	server/guard_private.h server/clock.h
+tests_unit_test_guard_CPPFLAGS = $(UNIT_CPPFLAGS) $(MHD_CFLAGS)
+tests_unit_test_guard_LDADD = $(CMOCKA_LIBS) -lpthread
 
 check_PROGRAMS += tests/unit/test_refusal
 tests_unit_test_refusal_SOURCES = tests/unit/test_refusal.c server/refusal.c server/refusal.h \
 	server/decode.c server/decode.h
 tests_unit_test_refusal_CPPFLAGS = $(UNIT_CPPFLAGS) $(JANSSON_CFLAGS)
 tests_unit_test_refusal_LDADD = $(UNIT_LDADD) $(JANSSON_LIBS)
+
+check_PROGRAMS += tests/unit/test_undo_policy
+tests_unit_test_undo_policy_SOURCES = tests/unit/test_undo_policy.c server/refusal.c \
+	server/refusal.h server/decode.c server/decode.h server/codec.c server/codec.h \
+	server/edit_ops.c server/edit_ops.h server/edits.c server/edits.h
+tests_unit_test_undo_policy_CPPFLAGS = $(UNIT_CPPFLAGS) $(JANSSON_CFLAGS)
+tests_unit_test_undo_policy_LDADD = $(UNIT_LDADD) $(JANSSON_LIBS)
 
 check_PROGRAMS += tests/unit/test_snapshot_cache
 tests_unit_test_snapshot_cache_SOURCES = tests/unit/test_snapshot_cache.c server/snapshot.c \

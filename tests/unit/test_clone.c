@@ -9,6 +9,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -255,6 +256,41 @@ static void test_inconsistent_checkpoints_never_crash(void **state)
     free(bytes);
 }
 
+/* A value a grid refuses (found by fuzz_checkpoint; its input, framed as the
+ * harness frames it): parameters mer_params_validate lets pass with marker_cell
+ * 0, which the marker grid refuses. That is damage too (MER_ERR_FORMAT), never
+ * a range error of the caller's. */
+static void test_grid_refusals_are_damage(void **state)
+{
+    (void)state;
+    char path[512];
+    const char *src = getenv("srcdir");
+    snprintf(path, sizeof path, "%s/tests/fuzz/corpus/checkpoint/regress-zero-marker-cell",
+             src != NULL ? src : "..");
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static uint8_t in[1 << 16];
+    size_t n = fread(in, 1, sizeof in, f);
+    fclose(f);
+    assert_true(n > 1 && (in[0] & 1)); /* a payload: head it */
+    mer_scene *s = new_scene(NULL, 3);
+    size_t size;
+    uint8_t *bytes = save(s, &size);
+    mer_scene_free(s);
+    uint8_t *framed = malloc(32 + n - 1);
+    assert_non_null(framed);
+    uint64_t payload = n - 1, h = UINT64_C(1469598103934665603) /* MERP_FNV_OFFSET */;
+    for (size_t k = 1; k < n; k++)
+        h = (h ^ in[k]) * UINT64_C(1099511628211);
+    memcpy(framed, bytes, 16);
+    memcpy(framed + 16, &payload, 8);
+    memcpy(framed + 24, &h, 8);
+    memcpy(framed + 32, in + 1, n - 1);
+    refused(framed, 32 + n - 1);
+    free(framed);
+    free(bytes);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -263,6 +299,7 @@ int main(void)
         cmocka_unit_test(test_checkpoints_grow_on_identically),
         cmocka_unit_test(test_damaged_checkpoints_are_refused),
         cmocka_unit_test(test_inconsistent_checkpoints_never_crash),
+        cmocka_unit_test(test_grid_refusals_are_damage),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
