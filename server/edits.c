@@ -136,10 +136,9 @@ int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *pa
 merd_undo merd_batch_undo(const merd_batch *b)
 {
     const merd_edit *e = &b->edits[0];
-    // A dab that constrains is two calls; a step edit is many steps.
-    if (b->count > 1 || e->constrain || (e->op->flags & MERD_OP_STEPS))
+    if (b->count > 1 || e->constrain) // a dab that constrains is two calls
         return MERD_UNDO_COPY;
-    return MERD_UNDO_NOTHING;
+    return e->op->flags & MERD_OP_STEPS ? MERD_UNDO_REPLAY : MERD_UNDO_NOTHING;
 }
 
 int merd_batch_replay(const json_t *applied, mer_scene **scene, const merd_past *past,

@@ -85,15 +85,13 @@ int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *pa
 
 /* How a refusal of `b` halfway is undone. */
 typedef enum merd_undo {
-    /* One edit, one library call that changes nothing when refused. */
+    /* One edit, one library call: a refused call changes nothing. */
     MERD_UNDO_NOTHING,
-    /* Never chosen for a batch: the session's last resort when an edit applied
-     * in place (MERD_UNDO_NOTHING) could not be journaled. Replays the whole
-     * journal, O(every edit ever made). */
+    /* One step edit: a copy would cost O(shadow voxels) before every step, and a
+     * step is refused only when out of memory or past the node limit; then the
+     * journal is replayed. */
     MERD_UNDO_REPLAY,
-    /* Anything else, steps included (a refused step may leave whole steps done,
-     * or a partial one when out of memory): a copy of the scene (mer_scene_clone,
-     * O(nodes + markers + voxels), far below a step) taken before. */
+    /* Anything else: a copy of the scene (mer_scene_clone) taken before. */
     MERD_UNDO_COPY
 } merd_undo;
 

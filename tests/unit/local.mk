@@ -115,13 +115,6 @@ tests_unit_test_refusal_SOURCES = tests/unit/test_refusal.c server/refusal.c ser
 tests_unit_test_refusal_CPPFLAGS = $(UNIT_CPPFLAGS) $(JANSSON_CFLAGS)
 tests_unit_test_refusal_LDADD = $(UNIT_LDADD) $(JANSSON_LIBS)
 
-check_PROGRAMS += tests/unit/test_undo_policy
-tests_unit_test_undo_policy_SOURCES = tests/unit/test_undo_policy.c server/refusal.c \
-	server/refusal.h server/decode.c server/decode.h server/codec.c server/codec.h \
-	server/edit_ops.c server/edit_ops.h server/edits.c server/edits.h
-tests_unit_test_undo_policy_CPPFLAGS = $(UNIT_CPPFLAGS) $(JANSSON_CFLAGS)
-tests_unit_test_undo_policy_LDADD = $(UNIT_LDADD) $(JANSSON_LIBS)
-
 check_PROGRAMS += tests/unit/test_snapshot_cache
 tests_unit_test_snapshot_cache_SOURCES = tests/unit/test_snapshot_cache.c server/snapshot.c \
 	server/snapshot.h
