@@ -1,4 +1,4 @@
-/* The paper's figures as measured trends of form (P09 §4.2, Figs. 7, 9, 10, 14),
+/* The paper's figures as measured trends of form (P09 §4.2, §4.4, Figs. 7, 9, 10, 14),
  * over 8 seeds each, with the measures of forms.h. Trees are grown to a few
  * thousand internodes so that the suite stays quick. */
 #include "config.h"
@@ -93,11 +93,74 @@ static void test_fig10_apical_schedules(void **state)
     assert_true(right.order1 > 1.5f * center.order1);
 }
 
+/* Fig. 7: extended BH, α = 2, λ 0.46, 0.48, 0.50, 0.52, 0.54 — a progression from
+ * decurrent to excurrent. After 16 steps (4,600–8,500 internodes) the largest
+ * first-order branch's share of the tree falls at every step of the series, not only
+ * across 0.5 (measured 0.817, 0.656, 0.325, 0.210, 0.111), and from λ = 0.5 on the
+ * crown grows taller for its width (0.80, 0.95, 1.20). Below 0.5 the leader is still
+ * overtopped in every seed (margins -0.74, -0.65): the progression there is carried by
+ * how much of the crown one limb takes, not yet by the leader. */
+static void test_fig7_lambda_progression(void **state)
+{
+    (void)state;
+    static const char *const names[5] = {"fig7-bh-0.46", "fig7-bh-0.48", "fig7-bh-0.50",
+                                         "fig7-bh-0.52", "fig7-bh-0.54"};
+    form f[5];
+    for (int k = 0; k < 5; k++)
+        f[k] = measure(names[k], 16);
+    for (int k = 1; k < 5; k++) {
+        assert_true(f[k].largest < f[k - 1].largest - 0.05f);
+        assert_true(f[k].margin > f[k - 1].margin);
+    }
+    assert_true(f[3].slenderness > f[2].slenderness + 0.05f);
+    assert_true(f[4].slenderness > f[3].slenderness + 0.05f);
+}
+
+/* Fig. 14 (P09 §4.4): shedding raises a tall bole, with the default shadow settings.
+ * After 18 steps (about 1,500 internodes, the figure's "approximately 1000 metamers"),
+ * the lowest living branch stands higher with shedding than without, on average by
+ * far (measured 12.8 against 1.0) and in most seeds. */
+static void test_fig14_shedding_raises_the_bole(void **state)
+{
+    (void)state;
+    mer_params with, def = mer_params_default();
+    assert_int_equal(mer_preset_params("fig14-tall-bole", &with, NULL), MER_OK);
+    assert_true(with.shadow_a == def.shadow_a && with.shadow_b == def.shadow_b);
+    assert_true(with.q_max == def.q_max && with.voxel == def.voxel);
+    assert_int_equal(with.schedule.lambda_key_count, 0);
+    mer_params without = with;
+    without.shed_threshold = 0.0f;
+    float sum_with = 0.0f, sum_without = 0.0f;
+    int raised = 0;
+    for (uint64_t seed = 1; seed <= SEEDS; seed++) {
+        mer_scene *a = new_scene(&with, seed), *b = new_scene(&without, seed);
+        step(a, 18);
+        step(b, 18);
+        float la = form_lowest_branch(a), lb = form_lowest_branch(b);
+        mer_summary m;
+        mer_scene_summary(a, &m);
+        print_message("seed %u: %u internodes, height %.1f, lowest branch %.1f (%.1f unshed)\n",
+                      (unsigned)seed, m.internodes, (double)m.height, (double)la, (double)lb);
+        assert_true(m.internodes >= 300);
+        sum_with += la / SEEDS;
+        sum_without += lb / SEEDS;
+        raised += la > lb + 1.0f;
+        mer_scene_free(a);
+        mer_scene_free(b);
+    }
+    print_message("lowest branch: %.2f with shedding, %.2f without; raised in %d of %d\n",
+                  (double)sum_with, (double)sum_without, raised, SEEDS);
+    assert_true(sum_with > sum_without + 5.0f);
+    assert_true(raised >= SEEDS - 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fig9_priority_keeps_leader),
         cmocka_unit_test(test_fig10_apical_schedules),
+        cmocka_unit_test(test_fig7_lambda_progression),
+        cmocka_unit_test(test_fig14_shedding_raises_the_bole),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
