@@ -40,6 +40,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/lsystem/string.c \
 	lib/models/lsystem/parse.c \
 	lib/models/lsystem/derive.c \
+	lib/models/lsystem/turtle.c \
 	lib/scene.c \
 	lib/scene_clone.c \
 	lib/scene_io.c \

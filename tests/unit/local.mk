@@ -165,3 +165,8 @@ check_PROGRAMS += tests/unit/test_lsystem
 tests_unit_test_lsystem_SOURCES = tests/unit/test_lsystem.c
 tests_unit_test_lsystem_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_lsystem_turtle
+tests_unit_test_lsystem_turtle_SOURCES = tests/unit/test_lsystem_turtle.c
+tests_unit_test_lsystem_turtle_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_lsystem_turtle_LDADD = $(UNIT_LDADD)

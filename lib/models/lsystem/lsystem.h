@@ -137,4 +137,39 @@ int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
 /* Derives `n` steps from the axiom into `out`, steps numbered 0 .. n-1. */
 int merp_lsys_run(const merp_lsys *ls, int n, uint64_t seed, merp_lstr *out);
 
+/* ---- the turtle (turtle.c) ---- */
+
+/* Defaults of the interpretation: δ in degrees, the step of F without a
+ * parameter, the initial width, and tropism (ABOP §2.2): the direction T and
+ * the susceptibility e (0: none). */
+typedef struct merp_ls_turtle {
+    double delta, step, width;
+    double tropism[3], elasticity;
+} merp_ls_turtle;
+
+/* One drawn internode: from base to tip, the segment drawn before it on the
+ * same path (parent, UINT32_MAX for the first), its branching order (bracket
+ * depth), width and colour index from ! and ', and the module that drew it. */
+typedef struct merp_ls_seg {
+    float base[3], tip[3];
+    float width;
+    uint32_t parent, module;
+    uint16_t order, color;
+} merp_ls_seg;
+
+typedef struct merp_ls_segs {
+    size_t n, cap;
+    merp_ls_seg *seg;
+} merp_ls_segs;
+
+/* ABOP's defaults: δ 90, step 1, width 1, no tropism. */
+merp_ls_turtle merp_ls_turtle_default(void);
+
+/* Interprets `s` with the turtle of ABOP §1.5, §1.6, §2.2 into `out` (cleared
+ * first): the turtle starts at the origin heading up (+y), its left -x, its up
+ * +z. 0, or -1 when out of memory. O(|s|) time; memory O(segments + depth). */
+int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs *out);
+
+void merp_ls_segs_free(merp_ls_segs *segs);
+
 #endif
