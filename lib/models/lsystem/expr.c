@@ -212,73 +212,43 @@ static void parse_unary(cc *c)
     }
 }
 
-static void parse_mul(cc *c)
-{
-    parse_unary(c);
-    while (!c->failed) {
-        if (eat(c, "*")) {
-            parse_unary(c);
-            emit(c, OP_MUL, 0, 0, 0, -1);
-        } else if (eat(c, "/")) {
-            parse_unary(c);
-            emit(c, OP_DIV, 0, 0, 0, -1);
-        } else {
-            return;
-        }
-    }
-}
+/* The binary operators by precedence, loosest first; all group to the left. A
+ * longer token comes before its prefix ("<=" before "<"). */
+static const struct {
+    const char *tok[7];
+    uint8_t op[7];
+} levels[] = {
+    {{"||"}, {OP_OR}},
+    {{"&&"}, {OP_AND}},
+    {{"==", "!=", "<=", ">=", "<", ">", "="},
+     {OP_EQ, OP_NE, OP_LE, OP_GE, OP_LT, OP_GT, OP_EQ}},
+    {{"+", "-"}, {OP_ADD, OP_SUB}},
+    {{"*", "/"}, {OP_MUL, OP_DIV}},
+};
+#define NLEVELS ((int)(sizeof levels / sizeof levels[0]))
 
-static void parse_add(cc *c)
+static void parse_level(cc *c, int lv)
 {
-    parse_mul(c);
-    while (!c->failed) {
-        if (eat(c, "+")) {
-            parse_mul(c);
-            emit(c, OP_ADD, 0, 0, 0, -1);
-        } else if (eat(c, "-")) {
-            parse_mul(c);
-            emit(c, OP_SUB, 0, 0, 0, -1);
-        } else {
-            return;
-        }
+    if (lv == NLEVELS) {
+        parse_unary(c);
+        return;
     }
-}
-
-static void parse_cmp(cc *c)
-{
-    static const struct { const char *tok; int op; } cmp[] = {
-        {"==", OP_EQ}, {"!=", OP_NE}, {"<=", OP_LE}, {">=", OP_GE},
-        {"<", OP_LT},  {">", OP_GT},  {"=", OP_EQ},
-    };
-    parse_add(c);
+    parse_level(c, lv + 1);
     for (int again = 1; again && !c->failed;) {
         again = 0;
-        for (size_t k = 0; k < sizeof cmp / sizeof cmp[0]; k++)
-            if (eat(c, cmp[k].tok)) {
-                parse_add(c);
-                emit(c, cmp[k].op, 0, 0, 0, -1);
+        for (int k = 0; k < 7 && levels[lv].tok[k]; k++)
+            if (eat(c, levels[lv].tok[k])) {
+                parse_level(c, lv + 1);
+                emit(c, levels[lv].op[k], 0, 0, 0, -1);
                 again = 1;
                 break;
             }
     }
 }
 
-static void parse_and(cc *c)
-{
-    parse_cmp(c);
-    while (!c->failed && eat(c, "&&")) {
-        parse_cmp(c);
-        emit(c, OP_AND, 0, 0, 0, -1);
-    }
-}
-
 static void parse_or(cc *c)
 {
-    parse_and(c);
-    while (!c->failed && eat(c, "||")) {
-        parse_and(c);
-        emit(c, OP_OR, 0, 0, 0, -1);
-    }
+    parse_level(c, 0);
 }
 
 merp_expr *merp_expr_compile(const char *src, size_t len, const merp_ls_name *names,

@@ -479,12 +479,10 @@ merp_lsys *merp_lsys_parse(const char *text, merp_ls_error *err)
                 break;
             b = e + 1;
         }
-        if (!rc && index_heads(ls)) {
-            snprintf(err->msg, sizeof err->msg, "out of memory");
-            rc = -1;
-        }
+        if (!rc && index_heads(ls))
+            rc = error_at(c, 0, 0, "out of memory");
         if (!rc && !(ls->defs = merp_malloc(((size_t)ls->ndefs + 1) * sizeof *ls->defs)))
-            rc = -1;
+            rc = error_at(c, 0, 0, "out of memory");
         if (!rc)
             memcpy(ls->defs, c->names, (size_t)ls->ndefs * sizeof *ls->defs);
     }
