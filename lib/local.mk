@@ -34,6 +34,13 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/p09/shoot.c \
 	lib/models/p09/shedding.c \
 	lib/models/p09/params_p09.c \
+	lib/models/lsystem/lsystem.h \
+	lib/models/lsystem/lsystem_private.h \
+	lib/models/lsystem/expr.c \
+	lib/models/lsystem/string.c \
+	lib/models/lsystem/parse.c \
+	lib/models/lsystem/derive.c \
+	lib/models/lsystem/turtle.c \
 	lib/scene.c \
 	lib/scene_clone.c \
 	lib/scene_io.c \

@@ -148,3 +148,18 @@ tests_unit_test_clone_SOURCES = tests/unit/test_clone.c tests/unit/scene_helpers
 nodist_EXTRA_tests_unit_test_clone_SOURCES = lib/link-as-cxx.cc
 tests_unit_test_clone_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_clone_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_lsystem_expr
+tests_unit_test_lsystem_expr_SOURCES = tests/unit/test_lsystem_expr.c
+tests_unit_test_lsystem_expr_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_lsystem_expr_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_lsystem
+tests_unit_test_lsystem_SOURCES = tests/unit/test_lsystem.c
+tests_unit_test_lsystem_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_lsystem_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_lsystem_turtle
+tests_unit_test_lsystem_turtle_SOURCES = tests/unit/test_lsystem_turtle.c
+tests_unit_test_lsystem_turtle_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_lsystem_turtle_LDADD = $(UNIT_LDADD)

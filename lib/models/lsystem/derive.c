@@ -1,0 +1,222 @@
+/* meristem — one derivation step of an L-system: every module is rewritten in
+ * parallel (ABOP §1.2), by the first production whose predecessor, contexts
+ * (ABOP §1.8) and condition (ABOP §1.10) match; a module no production matches
+ * stays as it is.
+ *
+ * Stochastic productions (ABOP §1.7): when the first matching production has a
+ * probability, the choice is among all matching productions with one, in
+ * proportion to their weights. Every random number of module i in step t — this
+ * choice, then ran() and nran() in conditions and successors — is drawn from a
+ * counter keyed by (seed, t, i), so the string does not depend on the order in
+ * which modules are rewritten.
+ *
+ * Context with brackets (ABOP §1.8): looking left, a "]" skips the whole sibling
+ * branch back to its "[" and a "[" steps into the parent; looking right, a "["
+ * in the string skips the child branch unless the context itself has "[" there,
+ * a "]" ends the branch, and a "]" in the context skips the rest of the branch.
+ * Symbols of the ignore list are skipped either way.
+ */
+#include "config.h"
+
+#include "models/lsystem/lsystem_private.h"
+
+#include <assert.h>
+#include <string.h>
+
+#include "core/alloc.h"
+
+typedef struct dctx {
+    const merp_lsys *ls;
+    const merp_lstr *in;
+    const size_t *match;
+    int *cand; /* matching stochastic productions of one module */
+    double vars[MERP_LS_MAXVARS];
+} dctx;
+
+/* Binds the formal parameters of pattern `p` to the parameters of module j;
+ * 0 when the symbol or the parameter count differs. */
+static int bind(dctx *d, const merp_ls_pat *p, size_t j)
+{
+    const merp_lstr *s = d->in;
+    if (s->sym[j] != p->sym || merp_lstr_np(s, j) != p->nf)
+        return 0;
+    const float *par = s->par + s->poff[j];
+    for (unsigned k = 0; k < p->nf; k++)
+        d->vars[p->slot + k] = par[k];
+    return 1;
+}
+
+static int match_left(dctx *d, const merp_ls_prod *pr, size_t i)
+{
+    const merp_lstr *s = d->in;
+    size_t j = i;
+    for (int k = pr->nlc - 1; k >= 0; k--) {
+        for (;;) {
+            if (j == 0)
+                return 0;
+            j--;
+            merp_sym y = s->sym[j];
+            if (y == ']') {
+                if (d->match[j] == SIZE_MAX)
+                    return 0;
+                j = d->match[j];
+            } else if (y != '[' && !d->ls->skip[y]) {
+                break;
+            }
+        }
+        if (!bind(d, &pr->lc[k], j))
+            return 0;
+    }
+    return 1;
+}
+
+/* Moves j past ignored symbols and child branches to the next module of the
+ * same branch; 0 at the end of the branch or string. */
+static int next_module(dctx *d, size_t *j)
+{
+    const merp_lstr *s = d->in;
+    while (*j < s->n) {
+        merp_sym y = s->sym[*j];
+        if (y == ']')
+            return 0;
+        if (y == '[') {
+            if (d->match[*j] == SIZE_MAX)
+                return 0;
+            *j = d->match[*j] + 1;
+        } else if (d->ls->skip[y]) {
+            (*j)++;
+        } else {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static int match_right(dctx *d, const merp_ls_prod *pr, size_t i)
+{
+    const merp_lstr *s = d->in;
+    size_t j = i + 1;
+    for (int k = 0; k < pr->nrc; k++) {
+        merp_sym want = pr->rc[k].sym;
+        if (want == '[') {
+            while (j < s->n && s->sym[j] != '[' && s->sym[j] != ']' &&
+                   d->ls->skip[s->sym[j]])
+                j++;
+            if (j >= s->n || s->sym[j] != '[')
+                return 0;
+            j++;
+        } else if (want == ']') {
+            while (j < s->n && s->sym[j] != ']')
+                j = s->sym[j] == '[' && d->match[j] != SIZE_MAX ? d->match[j] + 1 : j + 1;
+            if (j >= s->n)
+                return 0;
+            j++;
+        } else {
+            if (!next_module(d, &j) || !bind(d, &pr->rc[k], j))
+                return 0;
+            j++;
+        }
+    }
+    return 1;
+}
+
+/* Whether pr's predecessor and contexts match module i (binding variables). */
+static int matches(dctx *d, const merp_ls_prod *pr, size_t i)
+{
+    return bind(d, &pr->pred, i) && (pr->nlc == 0 || match_left(d, pr, i)) &&
+           (pr->nrc == 0 || match_right(d, pr, i));
+}
+
+static int applies(dctx *d, const merp_ls_prod *pr, size_t i, merp_ls_rand *rnd)
+{
+    return matches(d, pr, i) &&
+           (!pr->cond || merp_expr_eval(pr->cond, d->vars, rnd) != 0.0);
+}
+
+/* The production for module i, its variables bound; NULL when none applies. */
+static const merp_ls_prod *choose(dctx *d, size_t i, merp_ls_rand *rnd)
+{
+    const merp_lsys *ls = d->ls;
+    merp_sym y = d->in->sym[i];
+    int ncand = 0;
+    double total = 0.0;
+    for (int k = ls->head_off[y]; k < ls->head_off[y + 1]; k++) {
+        const merp_ls_prod *pr = &ls->prods[ls->by_head[k]];
+        if ((ncand > 0 && !pr->has_prob) || !applies(d, pr, i, rnd))
+            continue;
+        if (!pr->has_prob)
+            return pr;
+        d->cand[ncand++] = ls->by_head[k];
+        total += pr->prob;
+    }
+    if (ncand == 0 || !(total > 0.0))
+        return NULL;
+    double u = merp_ls_uniform(rnd) * total;
+    int c = 0;
+    for (; c < ncand - 1; c++) {
+        if (u < ls->prods[d->cand[c]].prob)
+            break;
+        u -= ls->prods[d->cand[c]].prob;
+    }
+    /* Rounding can run past the last positive weight: step back to it. */
+    while (c > 0 && ls->prods[d->cand[c]].prob <= 0.0)
+        c--;
+    const merp_ls_prod *pick = &ls->prods[d->cand[c]];
+    matches(d, pick, i); /* rebinds the variables of the chosen one */
+    return pick;
+}
+
+static int produce(dctx *d, const merp_ls_prod *pr, merp_lstr *out, merp_ls_rand *rnd)
+{
+    float a[MERP_LS_MAXARGS];
+    for (int m = 0; m < pr->nsucc; m++) {
+        const merp_ls_out *o = &pr->succ[m];
+        for (unsigned k = 0; k < o->nargs; k++)
+            a[k] = (float)merp_expr_eval(pr->args[o->arg0 + k], d->vars, rnd);
+        if (merp_lstr_push(out, o->sym, a, o->nargs))
+            return -1;
+    }
+    return 0;
+}
+
+int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
+                     uint64_t seed, uint32_t step)
+{
+    assert(ls && in && out && in != out);
+    merp_lstr_clear(out);
+    size_t *match = merp_malloc((in->n ? in->n : 1) * sizeof *match);
+    int *cand = merp_malloc(((size_t)ls->nprod + 1) * sizeof *cand);
+    dctx *d = merp_malloc(sizeof *d);
+    int rc = (!match || !cand || !d || merp_lstr_brackets(in, match)) ? -1 : 0;
+    if (d)
+        *d = (dctx){.ls = ls, .in = in, .match = match, .cand = cand};
+    for (size_t i = 0; !rc && i < in->n; i++) {
+        merp_ls_rand rnd = {merp_ls_key(seed, step, i), 0};
+        const merp_ls_prod *pr = ls->head_off[in->sym[i]] == ls->head_off[in->sym[i] + 1]
+                                     ? NULL
+                                     : choose(d, i, &rnd);
+        if (pr)
+            rc = produce(d, pr, out, &rnd);
+        else
+            rc = merp_lstr_push(out, in->sym[i], in->par + in->poff[i],
+                                merp_lstr_np(in, i));
+    }
+    merp_free(match);
+    merp_free(cand);
+    merp_free(d);
+    return rc;
+}
+
+int merp_lsys_run(const merp_lsys *ls, int n, uint64_t seed, merp_lstr *out)
+{
+    assert(ls && out && n >= 0);
+    merp_lstr tmp;
+    merp_lstr_init(&tmp);
+    int rc = merp_lstr_copy(out, &ls->axiom);
+    for (int t = 0; !rc && t < n; t++) {
+        rc = merp_lsys_derive(ls, out, &tmp, seed, (uint32_t)t);
+        merp_lstr_swap(out, &tmp);
+    }
+    merp_lstr_free(&tmp);
+    return rc;
+}
