@@ -178,7 +178,12 @@ test(`crash loop: ${CYCLES} kill -9 cycles, CRASH_SEED=${SEED}`, async (t) => {
     }
     const streams = slots.map((s) => stream(d.url, s, generator(SEED + cycle * 31 + s.k), state)
       .catch((e) => { if (e instanceof assert.AssertionError) throw e; }));
-    await new Promise((res) => setTimeout(res, 20 + random() * 400));
+    // A random moment once this cycle's streams are going (on a busy machine the
+    // first acknowledgement may take longer than the whole window).
+    const acks = state.acks;
+    for (let waited = 0; state.acks === acks && waited < 5000; waited += 10)
+      await new Promise((res) => setTimeout(res, 10));
+    await new Promise((res) => setTimeout(res, random() * 400));
     d.child.kill('SIGKILL');
     await Promise.all(streams);
     await d.stop();

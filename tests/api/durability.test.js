@@ -36,7 +36,10 @@ test('kill -9 during a stream of edits loses no acknowledged edit', async (t) =>
       } catch { return; }  // the connection died with the daemon
     }
   });
-  await new Promise((res) => setTimeout(res, 700));
+  // Kill once both streams are going (a busy machine may take a while to get
+  // there), in the middle of the next edits.
+  while ([...acked.values()].some((r) => r <= 2)) await new Promise((res) => setTimeout(res, 20));
+  await new Promise((res) => setTimeout(res, 200));
   d.child.kill('SIGKILL');
   stop = true;
   await Promise.all(streams);
