@@ -7,6 +7,13 @@
 
 #include "server/request.h"
 
+/* Whether session `id` is known and not loaded yet: then its load (a
+ * checkpoint and journal read, a replay) is handed to a worker, so that the
+ * HTTP thread goes on serving its other connections, and the request is
+ * suspended, to be routed again once the load is done (`*result` is what to
+ * return to libmicrohttpd). Once per request. */
+bool merd_api_load_first(merd_request *req, const char *id, enum MHD_Result *result);
+
 enum MHD_Result merd_api_health(merd_request *req, const char *id);
 enum MHD_Result merd_api_presets(merd_request *req, const char *id);
 enum MHD_Result merd_api_metrics(merd_request *req, const char *id);

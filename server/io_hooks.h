@@ -16,4 +16,10 @@ typedef struct merd_io_calls {
 /* write(2), fsync(2), fdatasync(2) unless a test put others (journal.c). */
 extern merd_io_calls merd_io;
 
+/* For the API tests only, undocumented: with MERISTEMD_TEST_FAIL_WRITE=N in
+ * the environment, the N-th write through merd_io fails with ENOSPC (a full
+ * disk) and writes nothing; the others go through. Call before any journal
+ * is written (io_faults.c). */
+void merd_io_faults_from_env(void);
+
 #endif

@@ -15,7 +15,7 @@ server_meristemd_SOURCES = \
 	server/spec.c server/spec.h \
 	server/edit_ops.c server/edit_ops.h \
 	server/edits.c server/edits.h \
-	server/journal.c server/journal.h server/io_hooks.h \
+	server/journal.c server/journal.h server/io_hooks.h server/io_faults.c \
 	server/checkpoint.c server/checkpoint.h \
 	server/session.c server/session.h server/session_private.h \
 	server/session_load.c server/session_summary.c server/session_snapshot.c \

@@ -18,6 +18,7 @@
 #include "server/app.h"
 #include "server/clock.h"
 #include "server/http.h"
+#include "server/io_hooks.h"
 #include "server/loader.h"
 #include "server/settings.h"
 #include "server/static_files.h"
@@ -86,6 +87,7 @@ int main(int argc, char **argv)
     case MERD_SETTINGS_ERROR: return 2;
     case MERD_SETTINGS_RUN: break;
     }
+    merd_io_faults_from_env();
     // Snapshots allocate tens of megabytes and free them at once. Keeping freed
     // memory in the heap for the next one, instead of returning it to the kernel
     // and faulting it in again, makes a warm snapshot several times faster

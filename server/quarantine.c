@@ -1,6 +1,7 @@
 /* meristemd — quarantined sessions (see quarantine.h). */
 #include "config.h"
 
+#include <assert.h>
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -126,13 +127,27 @@ long merd_quarantine_load(merd_quarantine *q, FILE *log)
     return found;
 }
 
-/* Moves <data-dir>/name into the quarantine folder under a name not taken yet;
- * `to` gets the new path. */
+/* The checkpoint beside journal `journal` ("<id>.journal[.k]"), in `out`: the
+ * same name with .checkpoint for .journal. */
+static void checkpoint_name(const char *journal, char *out, size_t n)
+{
+    const char *dot = strstr(journal, ".journal");
+    assert(dot != NULL);
+    snprintf(out, n, "%.*s.checkpoint%s", (int)(dot - journal), journal, dot + strlen(".journal"));
+}
+
+/* Moves <data-dir>/name into the quarantine folder under a name not taken yet,
+ * and the session's checkpoint with it when there is one: a compacted journal
+ * starts where its checkpoint ends and means nothing without it. `to` gets the
+ * journal's new path. */
 static int move_aside(merd_quarantine *q, const char *name, const char *reason, char *to, size_t n)
 {
     char folder[PATH_MAX], from[PATH_MAX + 300];
+    char ckpt_from[PATH_MAX + 300], ckpt_to[PATH_MAX + 310], ckpt[64];
     snprintf(folder, sizeof folder, "%s/quarantine", q->data_dir);
     snprintf(from, sizeof from, "%s/%s", q->data_dir, name);
+    checkpoint_name(name, ckpt, sizeof ckpt);
+    snprintf(ckpt_from, sizeof ckpt_from, "%s/%s", q->data_dir, ckpt);
     if (mkdir(folder, 0755) != 0 && errno != EEXIST)
         return -1;
     struct stat st;
@@ -141,13 +156,18 @@ static int move_aside(merd_quarantine *q, const char *name, const char *reason, 
             snprintf(to, n, "%s/%s", folder, name);
         else
             snprintf(to, n, "%s/%s.%d", folder, name, k);
-        if (lstat(to, &st) != 0 && errno == ENOENT)
+        checkpoint_name(to + strlen(folder) + 1, ckpt, sizeof ckpt);
+        snprintf(ckpt_to, sizeof ckpt_to, "%s/%s", folder, ckpt);
+        if (lstat(to, &st) != 0 && errno == ENOENT && lstat(ckpt_to, &st) != 0 && errno == ENOENT)
             break;
         if (k == 999)
             return -1;
     }
     if (rename(from, to) != 0)
         return -1;
+    // Without it the journal stays readable as far as it goes; it is still kept.
+    if (lstat(ckpt_from, &st) == 0)
+        (void)rename(ckpt_from, ckpt_to);
     char why[PATH_MAX + 310];
     snprintf(why, sizeof why, "%s.reason", to);
     FILE *f = fopen(why, "wxe");

@@ -25,7 +25,8 @@ long merd_quarantine_load(merd_quarantine *q, FILE *log);
 
 /* Quarantines session `id` whose journal is <data-dir>/`name` for `reason`:
  * with `move`, renames the file (a link or FIFO too, never what it points to)
- * into the quarantine folder without replacing anything there, writes the
+ * and the session's checkpoint, if any, into the quarantine folder without
+ * replacing anything there, writes the
  * reason beside it and syncs both folders; without, leaves it in place (a
  * fault that may pass, such as a read error). Logs it loudly to `log`. 0, or
  * -1 if the file could not be moved (it is then left in place and still

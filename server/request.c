@@ -175,6 +175,12 @@ void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response
     MHD_resume_connection(req->connection);
 }
 
+void merd_request_reroute(merd_request *req)
+{
+    req->async = MERD_ASYNC_NONE;
+    MHD_resume_connection(req->connection);
+}
+
 static int depth_of(const json_t *j)
 {
     int deepest = 0;

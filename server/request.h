@@ -38,6 +38,7 @@ typedef struct merd_request {
     struct MHD_Response *pending;
     unsigned pending_status;
     uint64_t pending_size;
+    bool load_handed_off;      /* its session's first load went to a worker */
 } merd_request;
 
 /* Suspends the connection until merd_request_finish; call from the handler. */
@@ -47,6 +48,10 @@ void merd_request_suspend(merd_request *req);
  * connection, which then queues it. */
 void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response *response,
                          uint64_t size);
+
+/* From a worker: resumes the connection without an answer, so that the
+ * request is routed again. */
+void merd_request_reroute(merd_request *req);
 
 /* Builds, without queueing, an RFC 9457 body (for workers). NULL when out of memory. */
 struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,

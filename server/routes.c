@@ -173,7 +173,12 @@ enum MHD_Result merd_route(merd_request *req, const char *web_root)
             }
             bool ok = true;
             enum MHD_Result refused = refuse_unknown_query(req, &routes[i], &ok);
-            return ok ? routes[i].handler(req, id[0] ? id : NULL) : refused;
+            if (!ok)
+                return refused;
+            enum MHD_Result deferred;
+            if (id[0] != '\0' && merd_api_load_first(req, id, &deferred))
+                return deferred;
+            return routes[i].handler(req, id[0] ? id : NULL);
         }
         size_t used = strlen(allow);
         snprintf(allow + used, sizeof allow - used, "%s%s", used ? ", " : "", routes[i].method);

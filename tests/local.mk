@@ -37,6 +37,7 @@ TESTS += tests/api/compact.test.js
 TESTS += tests/api/crashloop.test.js
 TESTS += tests/api/security.test.js
 TESTS += tests/api/limits.test.js
+TESTS += tests/api/mhd-refusals.test.js
 TESTS += tests/api/obstacles.test.js
 TESTS += tests/api/shutdown.test.js
 TESTS += tests/api/slow-clients.test.js
@@ -75,7 +76,7 @@ EXTRA_DIST += \
 	tests/api/compact.test.js \
 	tests/api/crashloop.test.js \
 	tests/api/security.test.js \
-	tests/api/limits.test.js tests/api/obstacles.test.js \
+	tests/api/limits.test.js tests/api/mhd-refusals.test.js tests/api/obstacles.test.js \
 	tests/api/shutdown.test.js \
 	tests/api/slow-clients.test.js \
 	tests/api/proto.test.js \

@@ -34,6 +34,12 @@ void merd_api_job_finish(merd_api_job *j, unsigned status, struct MHD_Response *
     job_free(j);
 }
 
+void merd_api_job_reroute(merd_api_job *j)
+{
+    merd_request_reroute(j->req);
+    job_free(j);
+}
+
 void merd_api_job_refuse(merd_api_job *j, const merd_refusal *why)
 {
     size_t size = 0;

@@ -63,6 +63,10 @@ enum MHD_Result merd_api_job_submit(merd_api_job *j, merd_job_fn fn);
 void merd_api_job_finish(merd_api_job *j, unsigned status, struct MHD_Response *response,
                          size_t size);
 
+/* From the worker: resumes the request without an answer, to be routed
+ * again, and frees the job. */
+void merd_api_job_reroute(merd_api_job *j);
+
 /* From the worker: answers with the refusal and frees the job. */
 void merd_api_job_refuse(merd_api_job *j, const merd_refusal *why);
 

@@ -11,6 +11,33 @@ merd_session *merd_api_find_session(merd_request *req, const char *id, merd_refu
     return merd_registry_get_loaded(req->app->registry, id, why);
 }
 
+static void run_load(void *arg)
+{
+    merd_api_job *j = arg;
+    merd_refusal why = {0};
+    // Loaded or not, the request is routed again: its handler then finds the
+    // session loaded, quarantined or gone, and answers as for any request.
+    (void)merd_registry_load(j->app->registry, j->session, &why);
+    merd_api_job_reroute(j);
+}
+
+bool merd_api_load_first(merd_request *req, const char *id, enum MHD_Result *result)
+{
+    if (req->load_handed_off)
+        return false;
+    merd_session *s = merd_registry_get(req->app->registry, id);
+    if (s == NULL)
+        return false;
+    if (merd_session_is_loaded(s)) {
+        merd_session_unref(s);
+        return false;
+    }
+    req->load_handed_off = true;
+    merd_api_job *j = merd_api_job_new(req, s);
+    *result = j != NULL ? merd_api_job_submit(j, run_load) : MHD_NO;
+    return true;
+}
+
 /* Sessions per page of GET /v1/sessions when ?limit= is not given, and the most. */
 #define LIST_DEFAULT 1000
 #define LIST_MAX 10000

@@ -178,3 +178,39 @@ test('a journal that skips revisions no checkpoint holds is quarantined, not ser
   assert.match(list.find((s) => s.id === b).reason, /revision 4 follows revision 0/);
   assert.ok(fs.readFileSync(path.join(dataDir, 'quarantine', `${b}.journal`)).equals(kept), 'kept byte for byte');
 });
+
+test('a quarantined compacted journal takes its checkpoint with it', async (t) => {
+  const dataDir = freshDir();
+  let d = null;
+  t.after(async () => { if (d) await d.stop(); fs.rmSync(dataDir, { recursive: true, force: true }); });
+  const args = ['--checkpoint-every', '3', '--compact'];
+  d = await startDaemon(args, { dataDir });
+  const id = (await api(d.url, 'POST', '/v1/sessions', SPEC)).body.id;
+  for (let i = 0; i < 6; i++)
+    assert.equal((await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit(i))).status, 200);
+  await d.stop();
+  const file = path.join(dataDir, `${id}.journal`);
+  const checkpoint = path.join(dataDir, `${id}.checkpoint`);
+  const records = journal(file);
+  assert.equal(records[0].checkpoint, 6, 'compacted');
+  // One more edit after the compaction, then a byte flipped inside the
+  // record before the last: damage with a whole record after it.
+  d = await startDaemon(args, { dataDir });
+  assert.equal((await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit(6))).status, 200);
+  assert.equal((await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit(7))).status, 200);
+  await d.stop();
+  const bytes = fs.readFileSync(file);
+  const second = 8 + bytes.readUInt32LE(0);
+  bytes[second + 8 + 2] ^= 0x20;
+  fs.writeFileSync(file, bytes);
+  const ckpt = fs.readFileSync(checkpoint);
+
+  d = await startDaemon(args, { dataDir });
+  const r = await api(d.url, 'GET', `/v1/sessions/${id}`);
+  assert.equal(r.status, 503, JSON.stringify(r.body));
+  assert.equal(r.body.type, 'urn:meristem:problem:quarantined');
+  const aside = path.join(dataDir, 'quarantine');
+  assert.ok(fs.readFileSync(path.join(aside, `${id}.journal`)).equals(bytes), 'journal kept byte for byte');
+  assert.ok(fs.readFileSync(path.join(aside, `${id}.checkpoint`)).equals(ckpt), 'its checkpoint beside it');
+  assert.ok(!fs.existsSync(checkpoint), 'no checkpoint left behind for a session that is not served');
+});

@@ -292,3 +292,36 @@ test('a journal cut short in its creation record is dropped: it was never acknow
   assert.equal((await api(d.url, 'GET', `/v1/sessions/${id}`)).status, 404);
   assert.deepEqual((await api(d.url, 'GET', '/v1/sessions')).body.sessions, []);
 });
+
+test('an edit whose record cannot be written (a full disk) answers 503 journal and is not kept', async (t) => {
+  const dataDir = freshDir();
+  let d = null;
+  t.after(async () => { if (d) await d.stop(); fs.rmSync(dataDir, { recursive: true, force: true }); });
+  // The third write fails: the creation and one edit are written, the next is not.
+  process.env.MERISTEMD_TEST_FAIL_WRITE = '3';
+  try {
+    d = await startDaemon(['--checkpoint-every', '0'], { dataDir });
+  } finally {
+    delete process.env.MERISTEMD_TEST_FAIL_WRITE;
+  }
+  const { body: { id } } = await api(d.url, 'POST', '/v1/sessions', { seed: 4 });
+  const edit = { op: 'step', count: 2 };
+  const first = await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit);
+  assert.equal(first.status, 200);
+  const refused = await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit);
+  assert.equal(refused.status, 503, JSON.stringify(refused.body));
+  assert.match(refused.headers.get('content-type'), /application\/problem\+json/);
+  assert.equal(refused.body.type, 'urn:meristem:problem:journal');
+  const after = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  assert.equal(after.revision, first.body.revision, 'nothing acknowledged');
+  assert.equal(after.hash, first.body.hash, 'the tree put back');
+  // The disk has room again: the same edit takes the revision the refused one did not.
+  const again = await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit);
+  assert.equal(again.status, 200);
+  assert.equal(again.body.revision, first.body.revision + 1);
+  await d.stop('SIGKILL');
+  d = await startDaemon(['--checkpoint-every', '0'], { dataDir });
+  const restored = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  assert.equal(restored.revision, again.body.revision);
+  assert.equal(restored.hash, again.body.hash);
+});

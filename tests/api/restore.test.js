@@ -10,6 +10,10 @@ const os = require('node:os');
 const path = require('node:path');
 const { startDaemon, api } = require('../support/daemon.js');
 
+/** Edits (of 5 steps) in the journal of the slow-loading session: a tree of
+ * about 250,000 internodes, whose replay takes seconds. */
+const SLOW_EDITS = 8;
+
 const freshDir = () => fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-restore-'));
 
 /** {id: state} of GET /v1/sessions. */
@@ -149,4 +153,32 @@ test('a journal found damaged when first requested is quarantined, once, not cut
   assert.deepEqual(list.map((s) => [s.id, s.state]), [[id, 'quarantined']]);
   assert.equal((await api(d.url, 'POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 1 })).status, 503);
   assert.equal((await api(d.url, 'DELETE', `/v1/sessions/${id}`)).status, 503);
+});
+
+test('a slow first load runs on a worker: health answers on the same HTTP thread meanwhile', async (t) => {
+  const dataDir = freshDir();
+  let d = null;
+  t.after(async () => { if (d) await d.stop(); fs.rmSync(dataDir, { recursive: true, force: true }); });
+  // No checkpoints: the first request replays every step of the journal.
+  d = await startDaemon(['--checkpoint-every', '0'], { dataDir });
+  const { body: { id } } = await api(d.url, 'POST', '/v1/sessions', { preset: 'fig7-bh-0.54', seed: 3 });
+  let last = null;
+  for (let i = 0; i < SLOW_EDITS; i++)
+    last = (await api(d.url, 'POST', `/v1/sessions/${id}/edits`, { op: 'step', count: 5 })).body;
+  await d.stop();
+
+  // One HTTP thread serves both connections.
+  d = await startDaemon(['--warm-up', 'off', '--threads', '1', '--checkpoint-every', '0'], { dataDir });
+  const order = [];
+  const session = api(d.url, 'GET', `/v1/sessions/${id}`).then((r) => { order.push('session'); return r; });
+  // Only so that the load has begun: the replay takes far longer.
+  await new Promise((r) => setTimeout(r, 300));
+  const health = await api(d.url, 'GET', '/v1/health');
+  order.push('health');
+  assert.equal(health.status, 200);
+  const r = await session;
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.equal(r.body.revision, last.revision);
+  assert.equal(r.body.hash, last.hash);
+  assert.deepEqual(order, ['health', 'session'], 'health did not wait for the load');
 });
