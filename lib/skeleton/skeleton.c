@@ -160,13 +160,6 @@ mer_result merp_skel_add_plant(merp_skeleton *sk, const mer_params *p, uint32_t 
     return MER_OK;
 }
 
-void merp_skel_node_end(const merp_skeleton *sk, uint32_t i, float out[3])
-{
-    assert(i < sk->n);
-    for (int a = 0; a < 3; a++)
-        out[a] = sk->pos[3 * i + a] + sk->dir[3 * i + a] * sk->len[i];
-}
-
 void merp_skel_bud_dir(const merp_skeleton *sk, uint32_t i, uint32_t k, float out[3])
 {
     assert(i < sk->n && k < 3);
@@ -195,11 +188,6 @@ void merp_skel_bud_set(merp_skeleton *sk, uint32_t i, uint32_t k, uint8_t state)
         merp_skel_node_end(sk, i, e);
         sk->on_bud(sk->on_bud_ctx, e, state == MER_BUD_DORMANT ? 1 : -1);
     }
-}
-
-int merp_skel_bud_exists(const merp_skeleton *sk, uint32_t i, uint32_t k, uint32_t buds_per_node)
-{
-    return sk->bud[3 * i + k] == MER_BUD_DORMANT && (k == 0 || k <= buds_per_node);
 }
 
 void merp_skel_cast_buds(const merp_skeleton *sk)

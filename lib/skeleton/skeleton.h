@@ -6,6 +6,7 @@
 #ifndef MERISTEM_SKELETON_H
 #define MERISTEM_SKELETON_H
 
+#include <assert.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -66,14 +67,26 @@ mer_result merp_skel_node_new(merp_skeleton *sk, uint32_t step, uint32_t *id, me
 mer_result merp_skel_add_plant(merp_skeleton *sk, const mer_params *p, uint32_t step,
                                const float base[3], mer_rng *rng, uint32_t *root,
                                mer_error *err);
-void merp_skel_node_end(const merp_skeleton *sk, uint32_t i, float out[3]);
+/* The end point of node i: pos + dir·len. Inline: every step reads it for
+ * every live bud. */
+static inline void merp_skel_node_end(const merp_skeleton *sk, uint32_t i, float out[3])
+{
+    assert(i < sk->n);
+    for (int a = 0; a < 3; a++)
+        out[a] = sk->pos[3 * i + a] + sk->dir[3 * i + a] * sk->len[i];
+}
 /* The direction of bud k of node i: the internode's for k = 0, else turned by the
  * branch angle towards (k = 1) or away from (k = 2) the phyllotactic side. */
 void merp_skel_bud_dir(const merp_skeleton *sk, uint32_t i, uint32_t k, float out[3]);
 /* Sets bud k of node i and tells on_bud when a live node's dormant bud comes or goes. */
 void merp_skel_bud_set(merp_skeleton *sk, uint32_t i, uint32_t k, uint8_t state);
-/* 1 if bud k of node i is dormant and exists under buds_per_node. */
-int merp_skel_bud_exists(const merp_skeleton *sk, uint32_t i, uint32_t k, uint32_t buds_per_node);
+/* 1 if bud k of node i is dormant and exists under buds_per_node. Inline: the
+ * per-step walks ask it for every slot of every live node. */
+static inline int merp_skel_bud_exists(const merp_skeleton *sk, uint32_t i, uint32_t k,
+                                       uint32_t buds_per_node)
+{
+    return sk->bud[3 * i + k] == MER_BUD_DORMANT && (k == 0 || k <= buds_per_node);
+}
 /* Tells on_bud (+1) of every dormant bud of every live node, in id order. O(nodes). */
 void merp_skel_cast_buds(const merp_skeleton *sk);
 /* The live subtree of `root` (root first, then depth-first) into
