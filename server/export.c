@@ -20,7 +20,7 @@ mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh
                           .leaves = mesh->leaves,
                           .markers = mesh->markers,
                           .color = mesh->color,
-                          .internode_length = mer_scene_params(scene)->internode_length};
+                          .internode_length = (double)mer_scene_params(scene)->internode_length};
     rc = mer_gltf_write_tree(m, &meta, gltf, bytes, size, err);
     if (triangles != NULL)
         *triangles = (m->bark.index_count + m->leaves.index_count) / 3;

@@ -42,7 +42,7 @@ static int bind(dctx *d, const merp_ls_pat *p, size_t j)
         return 0;
     const float *par = s->par + s->poff[j];
     for (unsigned k = 0; k < p->nf; k++)
-        d->vars[p->slot + k] = par[k];
+        d->vars[p->slot + k] = (double)par[k];
     return 1;
 }
 
