@@ -171,6 +171,7 @@ for (const [what, damage] of Object.entries(damages)) {
     d = await startDaemon([], { dataDir });
     t.after(() => d.stop());
     await d.waitForLog(/restored \d+ sessions/);  // in the background
+    await d.waitForLog(/QUARANTINED/);  // stderr, which may be read after stdout
     // Moved aside byte for byte, not cut.
     assert.ok(!fs.existsSync(file));
     const kept = path.join(dataDir, 'quarantine', `${bad.id}.journal`);
@@ -286,6 +287,8 @@ test('a journal cut short in its creation record is dropped: it was never acknow
   d = await startDaemon([], { dataDir });
   t.after(() => d.stop());
   await d.waitForLog(/restored 0 sessions/);  // in the background
+  // Those lines go to stderr and may be read after stdout's: wait for both.
+  await d.waitForLog(/dropped a torn first record[\s\S]*dropped a torn first record/);
   assert.equal(d.log().match(/dropped a torn first record/g).length, 2, d.log());
   assert.doesNotMatch(d.log(), /QUARANTINED/);
   assert.ok(!fs.existsSync(file) && !fs.existsSync(empty));

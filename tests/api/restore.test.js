@@ -72,6 +72,7 @@ test('health and the list answer before any session is loaded; a request loads i
   const answers = await Promise.all(Array.from({ length: 8 }, (_, i) =>
     (i % 2 ? api(d.url, 'GET', `/v1/sessions/${id}`) : fetch(`${d.url}/v1/sessions/${id}/snapshot.glb`))));
   for (const a of answers) assert.equal(a.status, 200);
+  await d.waitForLog(new RegExp(`${id}: restored from its checkpoint`));  // stderr may lag
   const loads = d.log().match(new RegExp(`${id}: restored from its checkpoint`, 'g'));
   assert.equal(loads.length, 1, d.log());
   // An edit to a session not loaded loads it and goes on from its revision.
@@ -146,6 +147,7 @@ test('a journal found damaged when first requested is quarantined, once, not cut
     assert.equal(r.body.type, 'urn:meristem:problem:quarantined');
     assert.ok(r.body.detail.includes(id));
   }
+  await d.waitForLog(/QUARANTINED/);  // stderr may lag behind the answers
   assert.equal(d.log().match(/QUARANTINED/g).length, 1, d.log());
   assert.ok(!fs.existsSync(file));
   assert.ok(fs.readFileSync(path.join(dataDir, 'quarantine', `${id}.journal`)).equals(bytes), 'kept byte for byte');
