@@ -77,7 +77,7 @@ test('the journal keeps only the records after the last checkpoint, and restores
 
   d = await startDaemon(args, { dataDir });
   same(await look(d.url, id), scratch[8], 'compacted, restored after kill -9');
-  assert.match(d.log(), new RegExp(`${id}: restored from its checkpoint at revision 6 and 2 journal records`));
+  await d.waitForLog(new RegExp(`${id}: restored from its checkpoint at revision 6 and 2 journal records`));  // stderr may lag: wait for the line
   assert.equal((await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit(8))).body.revision, 9);
   assert.deepEqual(journal(file).map((r) => r.revision), [undefined], 'compacted again at 9');
   assert.equal(journal(file)[0].checkpoint, 9);

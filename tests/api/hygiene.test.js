@@ -33,7 +33,7 @@ test('a session with ttl_seconds is removed with its journal and checkpoint', as
   assert.ok(gone, 'the session went after its ttl');
   for (const f of files) assert.ok(!fs.existsSync(f), `${f} is removed`);
   assert.equal((await J('GET', `/v1/sessions/${keep.body.id}`)).status, 200);
-  assert.match(d.log(), new RegExp(`session ${id} reached its ttl_seconds`));
+  await d.waitForLog(new RegExp(`session ${id} reached its ttl_seconds`));  // stderr may lag: wait for the line
   for (const ttl of [0, -1, 'soon', 1e9]) {
     const r = await J('POST', '/v1/sessions', { ttl_seconds: ttl });
     assert.equal(r.status, 422, String(ttl));
@@ -168,5 +168,5 @@ test('run from its build tree without --web-root, meristemd serves the build\'s 
 });
 
 test('the data dir is logged as an absolute path', async () => {
-  assert.match(d.log(), new RegExp(`data dir ${fs.realpathSync(d.dataDir).replace(/[.*+?^${}()|[\]\\]/g, '\\$&')}\n`));
+  await d.waitForLog(new RegExp(`data dir ${fs.realpathSync(d.dataDir).replace(/[.*+?^${}()|[\]\\]/g, '\\$&')}\n`));  // stderr may lag: wait for the line
 });
