@@ -34,6 +34,9 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/p09/shoot.c \
 	lib/models/p09/shedding.c \
 	lib/models/p09/params_p09.c \
+	lib/models/runions/runions.h \
+	lib/models/runions/runions.c \
+	lib/models/runions/associate.c \
 	lib/models/lsystem/lsystem.h \
 	lib/models/lsystem/lsystem_private.h \
 	lib/models/lsystem/expr.c \

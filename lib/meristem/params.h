@@ -50,7 +50,8 @@ extern "C" {
 /* The growth model a scene runs. 0 is P09, so all-zero parameters, and every
  * request or journal written before models could be chosen, mean P09. */
 typedef enum mer_model_kind {
-    MER_MODEL_P09 = 0     /* self-organizing trees, Palubicki et al. 2009 (default) */
+    MER_MODEL_P09 = 0,    /* self-organizing trees, Palubicki et al. 2009 (default) */
+    MER_MODEL_RUNIONS = 1 /* space colonization, Runions, Lane & Prusinkiewicz 2007 */
 } mer_model_kind;
 
 typedef enum mer_env_kind {
@@ -149,6 +150,12 @@ typedef struct mer_params {
     /* pipe model, P09 §4.5 */
     float pipe_n;             /* n in d^n = d1^n + d2^n; 2.5 (2 to 3); [1, 10] */
     float leaf_diameter;      /* diameter of a leaf-bearing tip internode; 0.05; (0, 100] */
+
+    /* space colonization of Runions, Lane & Prusinkiewicz 2007 (model "runions"):
+     * attraction points are the markers; see lib/models/runions/runions.h */
+    float d_i;                /* d_i, radius of influence; 6; (0, 1000] */
+    float d_k;                /* d_k, kill distance; 2; (0, 1000], below d_i */
+    float D;                  /* D, node length (distance between nodes); 1; (0, 100] */
 
     /* initial scene: read by mer_scene_new only (set_params leaves the scene as it is) */
     uint32_t seedlings;       /* plants placed along x at creation; 1; 0..1000 */

@@ -65,12 +65,14 @@ typedef struct merp_model_ops {
 
 /* The row groups of the parameter table: a row read by every model, or only by
  * the models whose param_rows include its group. */
-enum { MERP_ROWS_WORLD = 1u << 0, MERP_ROWS_P09 = 1u << 1 };
+enum { MERP_ROWS_WORLD = 1u << 0, MERP_ROWS_P09 = 1u << 1, MERP_ROWS_RUNIONS = 1u << 2 };
 
 /* The ops of model `kind` (mer_model_kind), or NULL when there is none. */
 const merp_model_ops *merp_model_ops_of(uint32_t kind);
 
 /* models/p09/p09.c */
 extern const merp_model_ops merp_p09_ops;
+/* models/runions/runions.c */
+extern const merp_model_ops merp_runions_ops;
 
 #endif
