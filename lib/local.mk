@@ -7,6 +7,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/core/array.h \
 	lib/core/bytes.h \
 	lib/core/hash.h \
+	lib/core/perlin.h \
+	lib/core/perlin.c \
 	lib/core/vec.h \
 	lib/result.c \
 	lib/rng.c \
@@ -22,6 +24,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/env/solid.c \
 	lib/env/obstacles.c \
 	lib/env/volumes.c \
+	lib/env/noise.h \
+	lib/env/noise.c \
 	lib/models/model.h \
 	lib/models/registry.c \
 	lib/models/p09/p09.h \

@@ -72,12 +72,11 @@ bool merd_param_in_schedule(const char *name)
 json_t *merd_json_params(const mer_params *p)
 {
     json_t *o = json_object();
-    const char *model = mer_model_name(p->model);
     for (size_t i = 0; i < mer_params_field_count(); i++) {
-        const char *name = mer_params_field_name(i), *reader = mer_params_field_model(i);
+        const char *name = mer_params_field_name(i);
         double v;
-        if (reader[0] != '\0' && (model == NULL || strcmp(reader, model) != 0))
-            continue; /* another model's row */
+        if (!mer_params_field_used(p, i))
+            continue; /* another model's row, or noise while it is off */
         if (!merd_param_in_schedule(name) && mer_params_get(p, name, &v, NULL) == MER_OK)
             json_object_set_new(o, name, merd_json_param(v));
     }

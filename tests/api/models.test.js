@@ -2,7 +2,7 @@
 // Growth models chosen by name over HTTP: POST /v1/sessions {"model": ...} runs
 // the model (mer_model_parse), /v1/presets lists its presets and parameters with
 // the model that reads them, and a session's summary lists only the parameters
-// its model reads.
+// its model reads (and Perlin noise's only while it is on).
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
@@ -70,4 +70,25 @@ test('the preset runs its model; the model refuses what it cannot grow with', as
   const unknown = await J('POST', '/v1/sessions', { model: 'nope' });
   assert.equal(unknown.status, 422);
   assert.match(unknown.body.detail, /p09, runions/);
+});
+
+test('Perlin noise: its parameters are listed while it is on, and it changes the tree', async () => {
+  const plain = await J('POST', '/v1/sessions', { seed: 5 });
+  assert.equal(plain.body.params.noise_amplitude, undefined);
+  const noisy = await J('POST', '/v1/sessions', { seed: 5, params: { noise_amplitude: 0.5, noise_octaves: 4 } });
+  assert.equal(noisy.status, 201, JSON.stringify(noisy.body));
+  assert.equal(noisy.body.params.noise_amplitude, 0.5);
+  assert.equal(noisy.body.params.noise_octaves, 4);
+  assert.equal(noisy.body.params.noise_targets, 7);
+  const hashes = [];
+  for (const s of [plain, noisy]) {
+    hashes.push((await J('POST', `/v1/sessions/${s.body.id}/edits`, { op: 'step', count: 6 })).body.hash);
+  }
+  assert.notEqual(hashes[0], hashes[1]);
+  const g = await J('GET', `/v1/sessions/${noisy.body.id}/snapshot.glb`);
+  assert.equal(g.status, 200);
+  artifact('noise-model.glb', g.raw);
+  const p = await J('GET', '/v1/presets');
+  const row = p.body.parameters.find((f) => f.name === 'noise_amplitude');
+  assert.deepEqual([row.model, row.min, row.max, row.default], ['', 0, 2, 0]);
 });

@@ -11,6 +11,7 @@
 #include "core/array.h"
 #include "core/bytes.h"
 #include "core/vec.h"
+#include "env/noise.h"
 #include "models/runions/runions.h"
 
 static mer_result runions_validate(const mer_params *p, mer_error *err)
@@ -86,7 +87,7 @@ static mer_result mark_eligible(merp_model *m, merp_skeleton *sk, mer_error *err
 
 /* The new node c from node i's end along unit d, in i's first free slot. */
 static void place(merp_skeleton *sk, const mer_params *p, uint32_t i, uint32_t c,
-                  const float start[3], const float d[3])
+                  const float start[3], const float d[3], float l)
 {
     uint32_t k = (uint32_t)free_slot(sk, i);
     sk->parent[c] = i;
@@ -94,7 +95,7 @@ static void place(merp_skeleton *sk, const mer_params *p, uint32_t i, uint32_t c
     sk->child[3 * i + k] = c;
     memcpy(sk->pos + 3 * c, start, 3 * sizeof *start);
     memcpy(sk->dir + 3 * c, d, 3 * sizeof *d);
-    sk->len[c] = p->D;
+    sk->len[c] = l;
     sk->order[c] = sk->order[i] + (k > 0 ? 1u : 0u);
     sk->plant[c] = sk->plant[i];
     merp_side_next(sk->side + 3 * i, d, p->divergence, sk->side + 3 * c);
@@ -109,20 +110,21 @@ static mer_result grow(merp_model *m, const merp_world *w, uint32_t n, mer_error
     for (uint32_t i = 0; i < n; i++) {
         if (m->count[i] == 0)
             continue;
-        float d[3], start[3], end[3];
+        float d[3], start[3], end[3], l = w->p->D;
         memcpy(d, m->sum + 3 * i, sizeof d);
         if (!v3_normalize(d))
             continue;
         merp_skel_node_end(sk, i, start);
+        merp_noise_internode(w->noise, w->p, start, d, &l);
         for (int a = 0; a < 3; a++)
-            end[a] = start[a] + d[a] * w->p->D;
+            end[a] = start[a] + d[a] * l;
         if (merp_env_blocked(w->env, end))
             continue;
         uint32_t c;
         mer_result rc = merp_skel_node_new(sk, w->step, &c, err);
         if (rc != MER_OK)
             return rc;
-        place(sk, w->p, i, c, start, d);
+        place(sk, w->p, i, c, start, d, l);
         mer_markers_remove_sphere(w->env->markers, end, w->p->d_k);
     }
     return MER_OK;

@@ -9,7 +9,8 @@
  *  2. every other point associates with the closest tree node within the radius
  *     of influence d_i;
  *  3. every node with points grows one new node at distance D along the
- *     normalized sum of the unit vectors towards its points;
+ *     normalized sum of the unit vectors towards its points (both through the
+ *     scene's Perlin noise, env/noise.h, which is off by default);
  *  4. the points within d_k of the new nodes are removed.
  * Growth ends when no point is associated (the step report says no-markers) or
  * when the client stops stepping.
