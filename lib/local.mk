@@ -26,6 +26,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/env/volumes.c \
 	lib/env/noise.h \
 	lib/env/noise.c \
+	lib/env/poisson.c \
+	lib/env/voronoi.c \
 	lib/models/model.h \
 	lib/models/registry.c \
 	lib/models/p09/p09.h \
@@ -101,4 +103,5 @@ meristeminclude_HEADERS = \
 	lib/meristem/presets.h \
 	lib/meristem/version.h \
 	lib/meristem/gltf.h \
-	lib/meristem/mesh.h
+	lib/meristem/mesh.h \
+	lib/meristem/sow.h

@@ -173,3 +173,8 @@ check_PROGRAMS += tests/unit/test_noise
 tests_unit_test_noise_SOURCES = tests/unit/test_noise.c tests/unit/scene_helpers.h
 tests_unit_test_noise_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_noise_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_sow
+tests_unit_test_sow_SOURCES = tests/unit/test_sow.c
+tests_unit_test_sow_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_sow_LDADD = $(UNIT_LDADD)
