@@ -7,6 +7,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/core/array.h \
 	lib/core/bytes.h \
 	lib/core/hash.h \
+	lib/core/perlin.h \
+	lib/core/perlin.c \
 	lib/core/vec.h \
 	lib/result.c \
 	lib/rng.c \
@@ -22,6 +24,10 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/env/solid.c \
 	lib/env/obstacles.c \
 	lib/env/volumes.c \
+	lib/env/noise.h \
+	lib/env/noise.c \
+	lib/env/poisson.c \
+	lib/env/voronoi.c \
 	lib/models/model.h \
 	lib/models/registry.c \
 	lib/models/p09/p09.h \
@@ -34,6 +40,9 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/p09/shoot.c \
 	lib/models/p09/shedding.c \
 	lib/models/p09/params_p09.c \
+	lib/models/runions/runions.h \
+	lib/models/runions/runions.c \
+	lib/models/runions/associate.c \
 	lib/models/lsystem/lsystem.h \
 	lib/models/lsystem/lsystem_private.h \
 	lib/models/lsystem/expr.c \
@@ -94,4 +103,5 @@ meristeminclude_HEADERS = \
 	lib/meristem/presets.h \
 	lib/meristem/version.h \
 	lib/meristem/gltf.h \
-	lib/meristem/mesh.h
+	lib/meristem/mesh.h \
+	lib/meristem/sow.h

@@ -19,5 +19,6 @@
 #include <meristem/edit.h>
 #include <meristem/presets.h>
 #include <meristem/gltf.h>
+#include <meristem/sow.h>
 
 #endif

@@ -26,9 +26,12 @@ typedef struct field {
 } field;
 
 /* W: read by every model (the world: skeleton, environment, initial scene);
- * P: read by P09 alone. */
+ * P: read by P09 alone; R: by the Runions 2007 model alone; N: the Perlin noise
+ * every model reads. */
 #define W MERP_ROWS_WORLD
 #define P MERP_ROWS_P09
+#define R MERP_ROWS_RUNIONS
+#define N MERP_ROWS_NOISE
 #define FF(rows, name, sym, member, def, lo, hi, open) \
     { name, sym, offsetof(mer_params, member), F_FLOAT, def, lo, hi, open, rows }
 #define FU(rows, name, sym, member, def, lo, hi) \
@@ -74,6 +77,13 @@ static const field fields[] = {
     FF(P, "shed_threshold", "", shed_threshold, 0.0, 0.0, 1e6, 0),
     FF(W, "pipe_n", "n", pipe_n, 2.5, 1.0, 10.0, 0),
     FF(W, "leaf_diameter", "d_leaf", leaf_diameter, 0.05, 0.0, 100.0, 1),
+    FF(R, "d_i", "d_i", d_i, 6.0, 0.0, 1000.0, 1),
+    FF(R, "d_k", "d_k", d_k, 2.0, 0.0, 1000.0, 1),
+    FF(R, "D", "D", D, 1.0, 0.0, 100.0, 1),
+    FF(N, "noise_amplitude", "A", noise_amplitude, 0.0, 0.0, 2.0, 0),
+    FF(N, "noise_scale", "", noise_scale, 0.2, 0.0, 100.0, 1),
+    FU(N, "noise_octaves", "", noise_octaves, 3, 1, 8),
+    FU(N, "noise_targets", "", noise_targets, 7, 0, 7),
     FU(W, "seedlings", "", seedlings, 1, 0, 1000),
     FF(W, "seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
     FU(W, "marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),
@@ -104,6 +114,8 @@ static const field fields[] = {
 
 #undef W
 #undef P
+#undef R
+#undef N
 
 #define NFIELDS (sizeof fields / sizeof fields[0])
 
@@ -257,6 +269,19 @@ const char *mer_params_field_model(size_t i)
         if (merp_model_ops_of(k)->param_rows & fields[i].rows)
             return merp_model_ops_of(k)->name;
     return "";
+}
+
+int mer_params_field_used(const mer_params *p, size_t i)
+{
+    assert(p != NULL);
+    if (i >= NFIELDS)
+        return 0;
+    if (fields[i].rows & MERP_ROWS_WORLD)
+        return 1;
+    if (fields[i].rows & MERP_ROWS_NOISE)
+        return p->noise_amplitude > 0.0f;
+    const merp_model_ops *ops = merp_model_ops_of(p->model);
+    return ops != NULL && (ops->param_rows & fields[i].rows) != 0;
 }
 
 void mer_params_field_range(size_t i, double *min, double *max)

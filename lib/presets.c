@@ -168,6 +168,28 @@ static void fig4_colonization(mer_params *p)
     bh(p, 0.5f);
 }
 
+/* P09 Fig. 21a, the original space colonization (Runions et al. 2007), in the
+ * envelope of fig4-colonization so that the two can be compared side by side:
+ * d_k = ρ = 2 and D = l0 = 1 as there; d_i = 6 reaches from the seedling's tip
+ * to the ellipsoid's lowest points (y = 2). */
+static void runions_2007(mer_params *p)
+{
+    p->model = MER_MODEL_RUNIONS;
+    p->environment = MER_ENV_MARKERS;
+    p->d_i = 6.0f;
+    p->d_k = 2.0f;
+    p->D = 1.0f;
+}
+
+/* The survey's §VII-A: the default tree with Perlin noise bending its shoots,
+ * varying its internode lengths and its branch radii (lib/env/noise.h). */
+static void perlin_noise(mer_params *p)
+{
+    p->noise_amplitude = 0.25f;
+    p->noise_scale = 0.3f;
+    p->noise_octaves = 3;
+}
+
 static const preset presets[] = {
     {"default", "the defaults: shadow propagation, extended BH with λ = 0.5", p_default},
     {"fig7-bh-0.46", "Fig. 7: extended BH, λ = 0.46, α = 2 (decurrent)", fig7_046},
@@ -194,6 +216,8 @@ static const preset presets[] = {
     {"fig14-tall-bole", "Fig. 14: shedding (threshold 0.6) under an excurrent crown (λ 0.54) raises a tall bole; grow 18 steps", fig14},
     {"fig15-brushed", "Fig. 15: space colonization from a seedling and one light stroke; brush to go on", fig15_brushed},
     {"fig4-colonization", "Fig. 4: space colonization in an ellipsoid of 20000 markers", fig4_colonization},
+    {"perlin-noise", "Survey §VII-A: the default tree with Perlin noise (amplitude 0.25, scale 0.3, 3 octaves) on directions, lengths and radii", perlin_noise},
+    {"runions-2007", "Fig. 21a: the original space colonization of Runions et al. 2007 (d_i 6, d_k 2, D 1) in fig4-colonization's ellipsoid: no buds, no apical control", runions_2007},
 };
 
 #define NPRESETS (sizeof presets / sizeof presets[0])

@@ -13,7 +13,7 @@
 
 merp_world merp_scene_world(mer_scene *s)
 {
-    merp_world w = {&s->sk, &s->env, &s->rng, &s->p, s->step};
+    merp_world w = {&s->sk, &s->env, &s->rng, &s->p, s->step, &s->noise};
     return w;
 }
 
@@ -47,6 +47,8 @@ mer_result merp_scene_new_with(const merp_model_ops *ops, const mer_params *para
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a scene");
     mer_params_resolve(params, &s->p);
     mer_rng_seed(&s->rng, seed);
+    s->seed = seed;
+    merp_perlin_init(&s->noise, seed);
     merp_skel_init(&s->sk, &s->p, merp_env_bud_changed, &s->env);
     s->ops = ops;
     rc = merp_env_init(&s->env, &s->p, err);

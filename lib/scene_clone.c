@@ -20,6 +20,8 @@ mer_result mer_scene_clone(const mer_scene *s, mer_scene **out, mer_error *err)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a scene");
     c->p = s->p;
     c->rng = s->rng;
+    c->seed = s->seed;
+    c->noise = s->noise;
     c->step = s->step;
     c->last = s->last;
     c->ops = s->ops;

@@ -3,7 +3,7 @@
  *   header   "MERSCENE", u32 version, u32 0x01020304 (byte order), u64 payload
  *            size, u64 FNV-1a of the payload
  *   payload  params (u32 size, then the scene's and the environment's), rng,
- *            step, skeleton (nodes by id, plants, constraint), environment
+ *            seed (u64, the noise permutation's), step, skeleton (nodes by id, plants, constraint), environment
  *            (epoch, markers by index, the shadow grid's voxels, obstacles with
  *            mesh triangles), the model's state (its ops' save)
  * The shadow grid could be recast from the buds and obstacles exactly (its sums
@@ -21,7 +21,7 @@
 #include "scene_private.h"
 
 #define MAGIC "MERSCENE"
-#define CHECKPOINT_VERSION 1u
+#define CHECKPOINT_VERSION 2u
 #define BYTE_ORDER_MARK UINT32_C(0x01020304)
 #define HEADER (8 + 4 + 4 + 8 + 8)
 
@@ -88,6 +88,7 @@ mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer
     merp_put(&o, &s->p, sizeof s->p);
     merp_put(&o, &s->env.p, sizeof s->env.p);
     merp_put(&o, s->rng.s, sizeof s->rng.s);
+    merp_put(&o, &s->seed, sizeof s->seed);
     merp_put_u32(&o, s->step);
     save_skeleton(&s->sk, &o);
     save_env(&s->env, &o);
@@ -257,6 +258,8 @@ static mer_result load_body(mer_scene *s, merp_bytes_in *in, const mer_params *e
                             mer_error *err)
 {
     merp_get(in, s->rng.s, sizeof s->rng.s);
+    merp_get(in, &s->seed, sizeof s->seed);
+    merp_perlin_init(&s->noise, s->seed);
     s->step = merp_get_u32(in);
     load_skeleton(&s->sk, in);
     uint32_t epoch = 0;

@@ -12,6 +12,7 @@
 #include <meristem/rng.h>
 #include <meristem/scene.h>
 
+#include "core/perlin.h"
 #include "env/env.h"
 #include "models/model.h"
 #include "skeleton/skeleton.h"
@@ -19,6 +20,8 @@
 struct mer_scene {
     mer_params p;
     mer_rng rng;
+    uint64_t seed;      /* the creation seed: the noise permutation's */
+    merp_perlin noise;  /* Perlin noise of the seed (env/noise.h) */
     uint32_t step;
     merp_skeleton sk;
     merp_env env;

@@ -4,6 +4,7 @@
 #include <assert.h>
 #include <string.h>
 
+#include "env/noise.h"
 #include "scene_private.h"
 
 uint32_t mer_scene_node_bound(const mer_scene *s) { return s->sk.n; }
@@ -33,7 +34,7 @@ mer_result mer_scene_node(const mer_scene *s, uint32_t id, mer_node *out, mer_er
     merp_skel_bud_dir(sk, id, 1, out->bud_dir[0]);
     merp_skel_bud_dir(sk, id, 2, out->bud_dir[1]);
     out->length = sk->len[id];
-    out->diameter = merp_pipe_diameter(sk, id);
+    out->diameter = merp_pipe_diameter(sk, id) * merp_noise_diameter(&s->noise, &s->p, out->base);
     out->q = sk->q[id];
     return MER_OK;
 }

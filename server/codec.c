@@ -75,6 +75,8 @@ json_t *merd_json_params(const mer_params *p)
     for (size_t i = 0; i < mer_params_field_count(); i++) {
         const char *name = mer_params_field_name(i);
         double v;
+        if (!mer_params_field_used(p, i))
+            continue; /* another model's row, or noise while it is off */
         if (!merd_param_in_schedule(name) && mer_params_get(p, name, &v, NULL) == MER_OK)
             json_object_set_new(o, name, merd_json_param(v));
     }

@@ -26,7 +26,9 @@ json_t *merd_json_float(float x);
  * others as merd_json_float (parameters are floats). */
 json_t *merd_json_param(double v);
 
-/* Every named parameter but those of the schedule, by name (new reference). */
+/* Every named parameter that bears on a scene of `p` (mer_params_field_used: its
+ * model's and every model's, noise's while it is on), but those of the schedule,
+ * by name (new reference). */
 json_t *merd_json_params(const mer_params *p);
 
 /* The apical-control schedule: apical_off by order (null: never),

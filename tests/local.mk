@@ -46,6 +46,7 @@ TESTS += tests/api/stall-spread.test.js
 TESTS += tests/api/history.test.js
 TESTS += tests/api/skeleton.test.js
 TESTS += tests/api/hygiene.test.js
+TESTS += tests/api/models.test.js
 TESTS += tests/api/smoke.sh
 TESTS += tests/browser/page.test.js
 TESTS += tests/browser/brush.test.js
@@ -58,6 +59,7 @@ TESTS += tests/conformance/validate.test.js
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
 tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_mesh.log \
 	tests/api/cli.test.log tests/api/sessions.test.log tests/api/smoke.log \
+	tests/api/models.test.log \
 	tests/conformance/importers.test.log
 
 EXTRA_DIST += \
@@ -84,6 +86,7 @@ EXTRA_DIST += \
 	tests/api/history.test.js \
 	tests/api/skeleton.test.js \
 	tests/api/hygiene.test.js \
+	tests/api/models.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \

@@ -50,8 +50,16 @@ extern "C" {
 /* The growth model a scene runs. 0 is P09, so all-zero parameters, and every
  * request or journal written before models could be chosen, mean P09. */
 typedef enum mer_model_kind {
-    MER_MODEL_P09 = 0     /* self-organizing trees, Palubicki et al. 2009 (default) */
+    MER_MODEL_P09 = 0,    /* self-organizing trees, Palubicki et al. 2009 (default) */
+    MER_MODEL_RUNIONS = 1 /* space colonization, Runions, Lane & Prusinkiewicz 2007 */
 } mer_model_kind;
+
+/* What Perlin noise perturbs: the bits of mer_params.noise_targets. */
+enum {
+    MER_NOISE_DIRECTIONS = 1u << 0, /* a new internode's direction */
+    MER_NOISE_LENGTHS = 1u << 1,    /* a new internode's length */
+    MER_NOISE_RADII = 1u << 2       /* every internode's diameter (pipe model × noise) */
+};
 
 typedef enum mer_env_kind {
     MER_ENV_SHADOW = 0,   /* shadow propagation, P09 §4.1 (default) */
@@ -150,6 +158,19 @@ typedef struct mer_params {
     float pipe_n;             /* n in d^n = d1^n + d2^n; 2.5 (2 to 3); [1, 10] */
     float leaf_diameter;      /* diameter of a leaf-bearing tip internode; 0.05; (0, 100] */
 
+    /* space colonization of Runions, Lane & Prusinkiewicz 2007 (model "runions"):
+     * attraction points are the markers; see lib/models/runions/runions.h */
+    float d_i;                /* d_i, radius of influence; 6; (0, 1000] */
+    float d_k;                /* d_k, kill distance; 2; (0, 1000], below d_i */
+    float D;                  /* D, node length (distance between nodes); 1; (0, 100] */
+
+    /* Perlin noise perturbing growth, for every model (the survey's §VII-A; see
+     * lib/env/noise.h): improved noise, 3-D, its permutation shuffled from the seed */
+    float noise_amplitude;    /* A; 0 = off: no scene changes at all; [0, 2] */
+    float noise_scale;        /* frequency: noise cells per world unit; 0.2; (0, 100] */
+    uint32_t noise_octaves;   /* fBm octaves; 3; 1..8 */
+    uint32_t noise_targets;   /* MER_NOISE_* bits; 7 (directions, lengths, radii); 0..7 */
+
     /* initial scene: read by mer_scene_new only (set_params leaves the scene as it is) */
     uint32_t seedlings;       /* plants placed along x at creation; 1; 0..1000 */
     float seedling_spacing;   /* distance between them; 10; [0, 1e4] */
@@ -194,6 +215,10 @@ void mer_params_field_range(size_t i, double *min, double *max);
 /* The name of the growth model that reads the i-th field ("p09"), or "" when every
  * model does (bounds, grids, ground, pipe model, initial scene). NULL out of range. */
 const char *mer_params_field_model(size_t i);
+/* 1 if the i-th field bears on a scene of parameters `p` (resolved): the model
+ * of `p` reads it (its own rows and every model's), and, for an optional effect
+ * (Perlin noise), the effect is on (noise_amplitude > 0). Summaries list these. */
+int mer_params_field_used(const mer_params *p, size_t i);
 
 /* The model called `name` ("p09") into `*model` (mer_model_kind). MER_ERR_INVALID
  * naming the models there are when `name` is NULL or unknown. O(models). */

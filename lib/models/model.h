@@ -18,6 +18,7 @@
 #include <meristem/result.h>
 #include <meristem/rng.h>
 
+#include "core/perlin.h"
 #include "env/env.h"
 #include "skeleton/skeleton.h"
 
@@ -28,6 +29,9 @@ typedef struct merp_world {
     mer_rng *rng;        /* the scene's one deterministic stream */
     const mer_params *p; /* the scene's parameters, resolved and valid */
     uint32_t step;       /* the step being grown (new nodes are born at it) */
+    /* the scene's Perlin noise: a model passes each new internode's direction and
+     * length through merp_noise_internode (env/noise.h) */
+    const merp_perlin *noise;
 } merp_world;
 
 /* Each model's own state, defined in its folder. */
@@ -65,12 +69,19 @@ typedef struct merp_model_ops {
 
 /* The row groups of the parameter table: a row read by every model, or only by
  * the models whose param_rows include its group. */
-enum { MERP_ROWS_WORLD = 1u << 0, MERP_ROWS_P09 = 1u << 1 };
+enum {
+    MERP_ROWS_WORLD = 1u << 0,
+    MERP_ROWS_P09 = 1u << 1,
+    MERP_ROWS_RUNIONS = 1u << 2,
+    MERP_ROWS_NOISE = 1u << 3 /* every model's, and only while noise_amplitude > 0 */
+};
 
 /* The ops of model `kind` (mer_model_kind), or NULL when there is none. */
 const merp_model_ops *merp_model_ops_of(uint32_t kind);
 
 /* models/p09/p09.c */
 extern const merp_model_ops merp_p09_ops;
+/* models/runions/runions.c */
+extern const merp_model_ops merp_runions_ops;
 
 #endif

@@ -48,7 +48,8 @@ static void build_presets(void)
     for (size_t i = 0; i < mer_preset_count(); i++) {
         mer_params p;
         mer_preset_params(mer_preset_name(i), &p, NULL);
-        json_array_append_new(presets, json_pack("{s:s, s:s, s:o, s:o}", "name", mer_preset_name(i),
+        json_array_append_new(presets, json_pack("{s:s, s:s, s:s, s:o, s:o}", "name", mer_preset_name(i),
+                                                 "model", mer_model_name(p.model),
                                                  "description", mer_preset_description(i),
                                                  "params", merd_json_params(&p),
                                                  "schedule", merd_json_schedule(&p.schedule)));
@@ -61,7 +62,8 @@ static void build_presets(void)
         double lo, hi, v = 0;
         mer_params_field_range(f, &lo, &hi);
         mer_params_get(&d, name, &v, NULL);
-        json_array_append_new(fields, json_pack("{s:s, s:s, s:o, s:o, s:o}", "name", name, "symbol",
+        json_array_append_new(fields, json_pack("{s:s, s:s, s:s, s:o, s:o, s:o}", "name", name,
+                                                "model", mer_params_field_model(f), "symbol",
                                                 mer_params_field_symbol(f), "min", merd_json_param(lo),
                                                 "max", merd_json_param(hi), "default",
                                                 merd_json_param(v)));

@@ -1,5 +1,6 @@
 /* meristem benchmark: the Table 1 workloads of Palubicki et al. 2009 (§6), space
- * colonization with a million markers, and a forest of 100 trees growing together.
+ * colonization with a million markers (P09's and Runions et al. 2007's), and a
+ * forest of 100 trees growing together.
  * Each workload grows until it has its number of internodes (the paper's, for
  * Table 1) and prints how many steps that took beside the paper's step count, so
  * the figures read the same whatever pace the presets grow at. Columns:
@@ -41,6 +42,7 @@ static const workload workloads[] = {
     {"table1-right", "table1-right", 68, 225000, 0, 1},
     {"colonization-1M-markers", "fig4-colonization", 0, 500000, 1000000, 1},
     {"forest-100-trees", "default", 0, 500000, 0, 100},
+    {"runions-1M-markers", "runions-2007", 0, 50000, 1000000, 1},
 };
 
 #define NWORK (sizeof workloads / sizeof workloads[0])

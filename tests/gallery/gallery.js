@@ -1,7 +1,8 @@
 'use strict';
 // `make gallery`: grows every preset for a few tens of steps in a real meristemd and
 // renders it to OUT/PRESET.png with headless Chromium through the brush client itself
-// (the page at /?session=ID&view=gallery). usage: node gallery.js OUT [STEPS]
+// (the page at /?session=ID&view=gallery). usage: node gallery.js OUT [STEPS] [PRESET,...]
+// (the presets named, or all of them)
 const fs = require('node:fs');
 const path = require('node:path');
 const { chromium } = require('playwright-core');
@@ -26,7 +27,8 @@ const BRUSHED = {
     args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'] });
   const rows = [];
   try {
-    const { presets } = (await api(d.url, 'GET', '/v1/presets')).body;
+    const only = process.argv[4] ? new Set(process.argv[4].split(',')) : null;
+    const presets = (await api(d.url, 'GET', '/v1/presets')).body.presets.filter((p) => !only || only.has(p.name));
     const page = await browser.newPage({ viewport: { width: 720, height: 720 } });
     page.on('pageerror', (e) => console.error(String(e)));
     for (const p of presets) {

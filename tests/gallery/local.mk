@@ -4,8 +4,10 @@ gallery: all
 	$(MKDIR_P) gallery
 	MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_builddir)/webroot' \
 	CHROMIUM='$(CHROMIUM)' NODE_PATH='$(NODE_MODULES_DIR)' \
-	  '$(NODE)' '$(abs_top_srcdir)/tests/gallery/gallery.js' gallery $(GALLERY_STEPS)
+	  '$(NODE)' '$(abs_top_srcdir)/tests/gallery/gallery.js' gallery $(GALLERY_STEPS) $(GALLERY_PRESETS)
 GALLERY_STEPS = 30
+# A comma-separated list of presets to render (empty: all of them).
+GALLERY_PRESETS =
 clean-local: clean-gallery
 clean-gallery:
 	-rm -rf gallery

@@ -163,3 +163,18 @@ check_PROGRAMS += tests/unit/test_lsystem_turtle
 tests_unit_test_lsystem_turtle_SOURCES = tests/unit/test_lsystem_turtle.c
 tests_unit_test_lsystem_turtle_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_turtle_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_runions
+tests_unit_test_runions_SOURCES = tests/unit/test_runions.c tests/unit/scene_helpers.h
+tests_unit_test_runions_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_runions_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_noise
+tests_unit_test_noise_SOURCES = tests/unit/test_noise.c tests/unit/scene_helpers.h
+tests_unit_test_noise_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_noise_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_sow
+tests_unit_test_sow_SOURCES = tests/unit/test_sow.c
+tests_unit_test_sow_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_sow_LDADD = $(UNIT_LDADD)

@@ -238,11 +238,12 @@ static void test_model_names(void **state)
     assert_null(s);
 }
 
-/* Each row says which model reads it: λ and κ are P09's, the bounds everyone's. */
+/* Each row says which model reads it: λ and κ are P09's, d_i is Runions', the
+ * bounds and the noise everyone's; a summary lists the noise only while it is on. */
 static void test_rows_per_model(void **state)
 {
     (void)state;
-    size_t p09 = 0, world = 0;
+    size_t p09 = 0, world = 0, runions = 0;
     for (size_t i = 0; i < mer_params_field_count(); i++) {
         const char *m = mer_params_field_model(i);
         assert_non_null(m);
@@ -251,11 +252,25 @@ static void test_rows_per_model(void **state)
             assert_string_equal(m, "p09");
         if (strcmp(name, "bounds_min.x") == 0 || strcmp(name, "pipe_n") == 0)
             assert_string_equal(m, "");
+        if (strcmp(name, "d_i") == 0)
+            assert_string_equal(m, "runions");
+        mer_params p = mer_params_default();
+        int used = mer_params_field_used(&p, i);
+        if (strcmp(name, "noise_scale") == 0) {
+            assert_string_equal(m, "");
+            assert_false(used);
+            p.noise_amplitude = 0.1f;
+            assert_true(mer_params_field_used(&p, i));
+        } else {
+            assert_int_equal(used, strcmp(m, "runions") != 0 && strncmp(name, "noise_", 6) != 0);
+        }
         p09 += strcmp(m, "p09") == 0;
         world += m[0] == '\0';
+        runions += strcmp(m, "runions") == 0;
     }
     assert_true(p09 > 0 && world > 0);
-    assert_int_equal(p09 + world, mer_params_field_count());
+    assert_int_equal(runions, 3);
+    assert_int_equal(p09 + world + runions, mer_params_field_count());
     assert_null(mer_params_field_model(mer_params_field_count()));
 }
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/vec.h"
+#include "env/noise.h"
 #include "models/p09/p09.h"
 
 /* Tropism (P09 §4.3, Fig. 12): the direction T is up, and η's sign and size (by
@@ -64,11 +65,12 @@ mer_result merp_p09_grow_shoot(const merp_world *w, uint32_t i, uint32_t k, uint
     memcpy(side_prev, sk->side + 3 * i, sizeof side_prev);
     uint32_t cur = i, made = 0;
     for (uint32_t j = 0; j < n; j++) {
-        float d[3];
+        float d[3], lj = l;
         shoot_direction(d_prev, p->xi, V, eta, T, d);
+        merp_noise_internode(w->noise, p, start, d, &lj);
         float end[3];
         for (int a = 0; a < 3; a++)
-            end[a] = start[a] + d[a] * l;
+            end[a] = start[a] + d[a] * lj;
         if (merp_env_blocked(w->env, end))
             break;
         uint32_t c;
@@ -78,7 +80,7 @@ mer_result merp_p09_grow_shoot(const merp_world *w, uint32_t i, uint32_t k, uint
         uint32_t slot = j == 0 ? k : 0;
         if (j == 0)
             merp_skel_bud_set(sk, i, k, MER_BUD_NONE);
-        place_metamer(sk, p, c, cur, slot, i, start, d, l, order, side_prev);
+        place_metamer(sk, p, c, cur, slot, i, start, d, lj, order, side_prev);
         memcpy(start, end, sizeof start);
         memcpy(d_prev, d, sizeof d);
         memcpy(side_prev, sk->side + 3 * c, sizeof side_prev);
