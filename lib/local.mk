@@ -41,6 +41,9 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/lsystem/parse.c \
 	lib/models/lsystem/derive.c \
 	lib/models/lsystem/turtle.c \
+	lib/models/lsystem/model_private.h \
+	lib/models/lsystem/model.c \
+	lib/models/lsystem/draw.c \
 	lib/scene.c \
 	lib/scene_clone.c \
 	lib/scene_io.c \

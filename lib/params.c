@@ -26,9 +26,10 @@ typedef struct field {
 } field;
 
 /* W: read by every model (the world: skeleton, environment, initial scene);
- * P: read by P09 alone. */
+ * P: read by P09 alone; L: by the L-system model alone. */
 #define W MERP_ROWS_WORLD
 #define P MERP_ROWS_P09
+#define L MERP_ROWS_LSYSTEM
 #define FF(rows, name, sym, member, def, lo, hi, open) \
     { name, sym, offsetof(mer_params, member), F_FLOAT, def, lo, hi, open, rows }
 #define FU(rows, name, sym, member, def, lo, hi) \
@@ -74,6 +75,11 @@ static const field fields[] = {
     FF(P, "shed_threshold", "", shed_threshold, 0.0, 0.0, 1e6, 0),
     FF(W, "pipe_n", "n", pipe_n, 2.5, 1.0, 10.0, 0),
     FF(W, "leaf_diameter", "d_leaf", leaf_diameter, 0.05, 0.0, 100.0, 1),
+    FF(L, "ls_delta", "δ", ls_delta, 90.0, 0.0, 360.0, 0),
+    FF(L, "ls_step", "", ls_step, 1.0, 0.0, 1e4, 1),
+    FF(L, "ls_width", "", ls_width, 0.0, 0.0, 1e4, 0),
+    FF(L, "ls_width_scale", "", ls_width_scale, 1.0, 0.0, 1e4, 1),
+    FF(L, "ls_elasticity", "e", ls_elasticity, 0.0, -10.0, 10.0, 0),
     FU(W, "seedlings", "", seedlings, 1, 0, 1000),
     FF(W, "seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
     FU(W, "marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),
@@ -104,6 +110,7 @@ static const field fields[] = {
 
 #undef W
 #undef P
+#undef L
 
 #define NFIELDS (sizeof fields / sizeof fields[0])
 

@@ -72,9 +72,13 @@ bool merd_param_in_schedule(const char *name)
 json_t *merd_json_params(const mer_params *p)
 {
     json_t *o = json_object();
+    const char *model = mer_model_name(p->model);
     for (size_t i = 0; i < mer_params_field_count(); i++) {
-        const char *name = mer_params_field_name(i);
+        const char *name = mer_params_field_name(i), *reader = mer_params_field_model(i);
         double v;
+        // Every model's rows and the world's; not another model's.
+        if (reader[0] != '\0' && (model == NULL || strcmp(reader, model) != 0))
+            continue;
         if (!merd_param_in_schedule(name) && mer_params_get(p, name, &v, NULL) == MER_OK)
             json_object_set_new(o, name, merd_json_param(v));
     }

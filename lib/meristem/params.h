@@ -50,7 +50,8 @@ extern "C" {
 /* The growth model a scene runs. 0 is P09, so all-zero parameters, and every
  * request or journal written before models could be chosen, mean P09. */
 typedef enum mer_model_kind {
-    MER_MODEL_P09 = 0     /* self-organizing trees, Palubicki et al. 2009 (default) */
+    MER_MODEL_P09 = 0,    /* self-organizing trees, Palubicki et al. 2009 (default) */
+    MER_MODEL_LSYSTEM = 1 /* L-systems after ABOP, in cpfg's syntax (a definition text) */
 } mer_model_kind;
 
 typedef enum mer_env_kind {
@@ -149,6 +150,13 @@ typedef struct mer_params {
     /* pipe model, P09 §4.5 */
     float pipe_n;             /* n in d^n = d1^n + d2^n; 2.5 (2 to 3); [1, 10] */
     float leaf_diameter;      /* diameter of a leaf-bearing tip internode; 0.05; (0, 100] */
+
+    /* L-systems, ABOP §1.5, §2.2: the turtle's defaults */
+    float ls_delta;           /* δ, the angle of + - & ^ \ / without a parameter, degrees; 90; [0, 360] */
+    float ls_step;            /* the step of F, f, G without a parameter; 1; (0, 1e4] */
+    float ls_width;           /* the width before any !(w); 0: the pipe model's diameters where ! sets none; [0, 1e4] */
+    float ls_width_scale;     /* diameter per unit of !(w) (cpfg widths are pixels); 1; (0, 1e4] */
+    float ls_elasticity;      /* e, tropism susceptibility towards T = -y (ABOP §2.2); 0; [-10, 10] */
 
     /* initial scene: read by mer_scene_new only (set_params leaves the scene as it is) */
     uint32_t seedlings;       /* plants placed along x at creation; 1; 0..1000 */

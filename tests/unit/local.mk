@@ -163,3 +163,9 @@ check_PROGRAMS += tests/unit/test_lsystem_turtle
 tests_unit_test_lsystem_turtle_SOURCES = tests/unit/test_lsystem_turtle.c
 tests_unit_test_lsystem_turtle_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_turtle_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_lsystem_model
+tests_unit_test_lsystem_model_SOURCES = tests/unit/test_lsystem_model.c
+nodist_EXTRA_tests_unit_test_lsystem_model_SOURCES = lib/link-as-cxx.cc
+tests_unit_test_lsystem_model_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_lsystem_model_LDADD = $(UNIT_LDADD)

@@ -224,7 +224,7 @@ static void test_model_names(void **state)
     assert_int_equal(k, MER_MODEL_P09);
     assert_string_equal(mer_model_name(MER_MODEL_P09), "p09");
     assert_null(mer_model_name(1000));
-    assert_int_equal(mer_model_parse("lsystem", &k, &err), MER_ERR_INVALID);
+    assert_int_equal(mer_model_parse("no-such-model", &k, &err), MER_ERR_INVALID);
     assert_string_equal(err.field, "model");
     assert_non_null(strstr(err.message, "p09"));
     assert_int_equal(mer_model_parse(NULL, &k, &err), MER_ERR_INVALID);
@@ -242,7 +242,7 @@ static void test_model_names(void **state)
 static void test_rows_per_model(void **state)
 {
     (void)state;
-    size_t p09 = 0, world = 0;
+    size_t p09 = 0, world = 0, ls = 0;
     for (size_t i = 0; i < mer_params_field_count(); i++) {
         const char *m = mer_params_field_model(i);
         assert_non_null(m);
@@ -251,11 +251,14 @@ static void test_rows_per_model(void **state)
             assert_string_equal(m, "p09");
         if (strcmp(name, "bounds_min.x") == 0 || strcmp(name, "pipe_n") == 0)
             assert_string_equal(m, "");
+        if (strcmp(name, "ls_delta") == 0)
+            assert_string_equal(m, "lsystem");
         p09 += strcmp(m, "p09") == 0;
+        ls += strcmp(m, "lsystem") == 0;
         world += m[0] == '\0';
     }
-    assert_true(p09 > 0 && world > 0);
-    assert_int_equal(p09 + world, mer_params_field_count());
+    assert_true(p09 > 0 && world > 0 && ls > 0);
+    assert_int_equal(p09 + ls + world, mer_params_field_count());
     assert_null(mer_params_field_model(mer_params_field_count()));
 }
 

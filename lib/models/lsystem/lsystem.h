@@ -97,6 +97,10 @@ size_t merp_lstr_count(const merp_lstr *s, merp_sym sym);
 /* Writes the string as text, parameters with %g ("A(1,2.5)B"), NUL-terminated,
  * truncated to `cap`; returns the full length (like snprintf). O(n). */
 size_t merp_lstr_format(const merp_lstr *s, char *buf, size_t cap);
+/* The index of the ']' closing the branch that holds module i (i itself when
+ * it is that ']'), or s->n when i is on the main path. O(length of the rest of
+ * the branch). */
+size_t merp_lstr_branch_end(const merp_lstr *s, size_t i);
 /* Fills match[i] with the index of the bracket matching s->sym[i] for every '['
  * and ']' (SIZE_MAX when unbalanced); other entries are left as SIZE_MAX.
  * `match` has s->n entries. O(n) time, O(depth) extra memory; -1 when out of
@@ -147,11 +151,13 @@ typedef struct merp_ls_turtle {
     double tropism[3], elasticity;
 } merp_ls_turtle;
 
-/* One drawn internode: from base to tip, the segment drawn before it on the
- * same path (parent, UINT32_MAX for the first), its branching order (bracket
- * depth), width and colour index from ! and ', and the module that drew it. */
+/* One drawn internode: from base to tip, the turtle's heading H and left L as
+ * it drew it, the segment drawn before it on the same path (parent, UINT32_MAX
+ * for the first), its branching order (bracket depth), width and colour index
+ * from ! and ', and the module that drew it. */
 typedef struct merp_ls_seg {
     float base[3], tip[3];
+    float head[3], left[3];
     float width;
     uint32_t parent, module;
     uint16_t order, color;
