@@ -55,6 +55,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/symmetry.c \
 	lib/symmetry.h \
 	lib/presets.c \
+	lib/presets_lsystem.h \
+	lib/presets_lsystem.c \
 	lib/mesh/mesh_private.h \
 	lib/mesh/build.c \
 	lib/mesh/axes.c \
