@@ -355,10 +355,14 @@ test('GET /v1/presets matches presets.json, and the examples use its names', asy
   }
   assert.ok(used.length > 0);
   for (const [f, k] of used) assert.ok(params.has(k), `${f}: no parameter ${k}`);
-  // The summary's params are the named parameters less the schedule's.
-  const s = await J('POST', '/v1/sessions', {});
-  const expected = [...params].filter((n) => !/^(apical_off|eta_order_scale)\./.test(n)).sort();
-  assert.deepEqual(Object.keys(s.body.params).sort(), expected);
+  // The summary's params are the named parameters its model reads (its own and
+  // every model's), less the schedule's.
+  for (const model of ['p09', 'lsystem']) {
+    const s = await J('POST', '/v1/sessions', model === 'p09' ? {} : { preset: 'abop-1.24a' });
+    const expected = r.body.parameters.filter((p) => p.model === '' || p.model === model).map((p) => p.name)
+      .filter((n) => !/^(apical_off|eta_order_scale)\./.test(n)).sort();
+    assert.deepEqual(Object.keys(s.body.params).sort(), expected, model);
+  }
 });
 
 test('a quarantined session is a list item of its own', () => {
