@@ -1,5 +1,5 @@
 /* meristem — the growth-model interface (private to lib). A growth model (a
- * paradigm: P09's self-organizing trees, later L-systems, the inverse model) grows
+ * paradigm: P09's self-organizing trees, L-systems, later the inverse model) grows
  * the shared skeleton in the shared environment, one step (a season) at a time.
  * The scene owns the world and calls the model through its ops table; after the
  * model's step the scene updates the pipe model's diameters and counts the step.

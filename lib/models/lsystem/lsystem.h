@@ -5,8 +5,8 @@
  * Four parts, one file each: expr.c (the arithmetic of ABOP §1.10 parametric
  * L-systems, compiled once), string.c (the module string, linear memory), parse.c
  * (cpfg text -> rules) and derive.c (one parallel rewriting step, ABOP §1.2, §1.7,
- * §1.8, §1.10). This is not yet a growth model: the model ops (lib/models/model.h)
- * and the interpretation onto the shared skeleton come next.
+ * §1.8, §1.10), and turtle.c (the interpretation into segments). The growth model
+ * built on them (model.c, draw.c) is in model_private.h.
  */
 #ifndef MERISTEM_LSYSTEM_H
 #define MERISTEM_LSYSTEM_H
