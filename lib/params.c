@@ -80,6 +80,7 @@ static const field fields[] = {
     FF(L, "ls_width", "", ls_width, 0.0, 0.0, 1e4, 0),
     FF(L, "ls_width_scale", "", ls_width_scale, 1.0, 0.0, 1e4, 1),
     FF(L, "ls_elasticity", "e", ls_elasticity, 0.0, -10.0, 10.0, 0),
+    FU(L, "ls_blocking", "", ls_blocking, 0, 0, 1),
     FU(W, "seedlings", "", seedlings, 1, 0, 1000),
     FF(W, "seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
     FU(W, "marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),

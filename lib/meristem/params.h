@@ -157,6 +157,8 @@ typedef struct mer_params {
     float ls_width;           /* the width before any !(w); 0: the pipe model's diameters where ! sets none; [0, 1e4] */
     float ls_width_scale;     /* diameter per unit of !(w) (cpfg widths are pixels); 1; (0, 1e4] */
     float ls_elasticity;      /* e, tropism susceptibility towards T = -y (ABOP §2.2); 0; [-10, 10] */
+    uint32_t ls_blocking;     /* 1: the ground and obstacles stop a segment whose end they hold, and
+                               * the rest of its branch, as they stop P09's shoots; 0 */
 
     /* initial scene: read by mer_scene_new only (set_params leaves the scene as it is) */
     uint32_t seedlings;       /* plants placed along x at creation; 1; 0..1000 */

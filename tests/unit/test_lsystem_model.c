@@ -246,6 +246,28 @@ static void test_bend_lasts(void **state)
     mer_scene_free(s);
 }
 
+/* ls_blocking: an obstacle stops a segment whose end it holds and the rest of
+ * its branch, and the ground one that points down; off, both are drawn. */
+static void test_blocking(void **state)
+{
+    (void)state;
+    for (uint32_t on = 0; on < 2; on++) {
+        mer_params p = mer_params_default();
+        p.model = MER_MODEL_LSYSTEM;
+        p.ls_blocking = on;
+        mer_scene *s = NULL;
+        mer_error err;
+        assert_int_equal(mer_scene_new(&p, 1, &s, &err), MER_OK);
+        const float lo[3] = {-1, 2.5f, -1}, hi[3] = {1, 4, 1};
+        assert_int_equal(mer_scene_add_box(s, lo, hi, &err), MER_OK);
+        static const char text[] = "axiom: [&(150)F]A\nA -> FA\n";
+        assert_int_equal(mer_scene_set_definition(s, text, strlen(text), &err), MER_OK);
+        step(s, 5);
+        assert_true(stat(s, "segments") == (on ? 2 : 6));
+        mer_scene_free(s);
+    }
+}
+
 /* Fig. 1.27: the same seed gives the same plant, another seed another. */
 static void test_stochastic_seeds(void **state)
 {
@@ -364,6 +386,7 @@ int main(void)
         cmocka_unit_test(test_joints),
         cmocka_unit_test(test_prune_lasts),
         cmocka_unit_test(test_bend_lasts),
+        cmocka_unit_test(test_blocking),
         cmocka_unit_test(test_stochastic_seeds),
         cmocka_unit_test(test_parse_error),
         cmocka_unit_test(test_new_rules_keep_string),

@@ -96,6 +96,24 @@ static void spec_of(const merp_model *m, const merp_ls_seg *g, const mer_params 
     ns->module = module;
 }
 
+/* Marks in `tail` a segment not drawn (ls_blocking). */
+#define BLOCKED (UINT32_MAX - 1)
+
+/* Whether the ground or an obstacle stops segment g (its end inside), or
+ * stopped its parent. */
+static int blocked(const merp_world *w, const merp_ls_seg *g, const node_spec *ns,
+                   const uint32_t *tail)
+{
+    if (!w->p->ls_blocking)
+        return 0;
+    if (g->parent != UINT32_MAX && tail[g->parent] == BLOCKED)
+        return 1;
+    float end[3];
+    for (int k = 0; k < 3; k++)
+        end[k] = ns->pos[k] + ns->dir[k] * ns->len;
+    return merp_env_blocked(w->env, end);
+}
+
 mer_result merp_lsm_build(merp_model *m, const merp_world *w, const merp_ls_segs *segs,
                           mer_error *err)
 {
@@ -110,6 +128,10 @@ mer_result merp_lsm_build(merp_model *m, const merp_world *w, const merp_ls_segs
         const merp_ls_seg *g = &segs->seg[k];
         node_spec ns;
         spec_of(m, g, w->p, g->module, &ns);
+        if (blocked(w, g, &ns, tail)) {
+            tail[k] = BLOCKED;
+            continue;
+        }
         uint32_t at = g->parent == UINT32_MAX ? MER_NO_NODE : tail[g->parent], slot = 0;
         if (at != MER_NO_NODE && g->order != sk->order[at]) { /* a branch */
             if (sk->child[3 * at + 1] == MER_NO_NODE)

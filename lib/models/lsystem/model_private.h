@@ -8,7 +8,10 @@
  * (what prune and bend name) and renumbered by a step. Every F (or G) is an
  * internode: parent (the segment drawn before it on its path), order (bracket
  * depth), base, direction, length; its width is !(w) times ls_width_scale where
- * a ! (or ls_width) gives one, else the pipe model's diameter.
+ * a ! (or ls_width) gives one, else the pipe model's diameter. With ls_blocking,
+ * a segment whose end is below the ground or inside an obstacle is not drawn,
+ * nor the rest of its branch (the string is not changed: moved obstacles let
+ * it be drawn again).
  *
  * Children. A skeleton node has three slots: 0 the main continuation, 1 and 2
  * laterals. A segment's unbracketed successor is its main child (slot 0), its
