@@ -50,6 +50,9 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/lsystem/parse.c \
 	lib/models/lsystem/derive.c \
 	lib/models/lsystem/turtle.c \
+	lib/models/lsystem/model_private.h \
+	lib/models/lsystem/model.c \
+	lib/models/lsystem/draw.c \
 	lib/scene.c \
 	lib/scene_clone.c \
 	lib/scene_io.c \
@@ -61,6 +64,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/symmetry.c \
 	lib/symmetry.h \
 	lib/presets.c \
+	lib/presets_lsystem.h \
+	lib/presets_lsystem.c \
 	lib/mesh/mesh_private.h \
 	lib/mesh/build.c \
 	lib/mesh/axes.c \

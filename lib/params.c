@@ -26,12 +26,13 @@ typedef struct field {
 } field;
 
 /* W: read by every model (the world: skeleton, environment, initial scene);
- * P: read by P09 alone; R: by the Runions 2007 model alone; N: the Perlin noise
- * every model reads. */
+ * P: read by P09 alone; R: by the Runions 2007 model alone; L: by the L-system
+ * model alone; N: the Perlin noise every model reads. */
 #define W MERP_ROWS_WORLD
 #define P MERP_ROWS_P09
 #define R MERP_ROWS_RUNIONS
 #define N MERP_ROWS_NOISE
+#define L MERP_ROWS_LSYSTEM
 #define FF(rows, name, sym, member, def, lo, hi, open) \
     { name, sym, offsetof(mer_params, member), F_FLOAT, def, lo, hi, open, rows }
 #define FU(rows, name, sym, member, def, lo, hi) \
@@ -84,6 +85,12 @@ static const field fields[] = {
     FF(N, "noise_scale", "", noise_scale, 0.2, 0.0, 100.0, 1),
     FU(N, "noise_octaves", "", noise_octaves, 3, 1, 8),
     FU(N, "noise_targets", "", noise_targets, 7, 0, 7),
+    FF(L, "ls_delta", "δ", ls_delta, 90.0, 0.0, 360.0, 0),
+    FF(L, "ls_step", "", ls_step, 1.0, 0.0, 1e4, 1),
+    FF(L, "ls_width", "", ls_width, 0.0, 0.0, 1e4, 0),
+    FF(L, "ls_width_scale", "", ls_width_scale, 1.0, 0.0, 1e4, 1),
+    FF(L, "ls_elasticity", "e", ls_elasticity, 0.0, -10.0, 10.0, 0),
+    FU(L, "ls_blocking", "", ls_blocking, 0, 0, 1),
     FU(W, "seedlings", "", seedlings, 1, 0, 1000),
     FF(W, "seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
     FU(W, "marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),
@@ -116,6 +123,7 @@ static const field fields[] = {
 #undef P
 #undef R
 #undef N
+#undef L
 
 #define NFIELDS (sizeof fields / sizeof fields[0])
 

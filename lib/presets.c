@@ -1,9 +1,12 @@
-/* meristem — presets named after the paper's figures. */
+/* meristem — presets named after the papers' figures: P09's here, the
+ * L-systems' of ABOP in presets_lsystem.c. */
 #include "config.h"
 
 #include <string.h>
 
 #include <meristem/presets.h>
+
+#include "presets_lsystem.h"
 
 typedef struct preset {
     const char *name;
@@ -222,13 +225,27 @@ static const preset presets[] = {
 
 #define NPRESETS (sizeof presets / sizeof presets[0])
 
-size_t mer_preset_count(void) { return NPRESETS; }
+/* P09's presets first, then the L-systems' (presets_lsystem.c). */
+size_t mer_preset_count(void) { return NPRESETS + merp_ls_preset_count(); }
 
-const char *mer_preset_name(size_t i) { return i < NPRESETS ? presets[i].name : NULL; }
+const char *mer_preset_name(size_t i)
+{
+    const merp_ls_preset *ls = i >= NPRESETS ? merp_ls_preset_at(i - NPRESETS) : NULL;
+    return i < NPRESETS ? presets[i].name : ls != NULL ? ls->name : NULL;
+}
 
 const char *mer_preset_description(size_t i)
 {
-    return i < NPRESETS ? presets[i].description : NULL;
+    const merp_ls_preset *ls = i >= NPRESETS ? merp_ls_preset_at(i - NPRESETS) : NULL;
+    return i < NPRESETS ? presets[i].description : ls != NULL ? ls->description : NULL;
+}
+
+static const merp_ls_preset *ls_preset(const char *name)
+{
+    for (size_t i = 0; name != NULL && i < merp_ls_preset_count(); i++)
+        if (strcmp(merp_ls_preset_at(i)->name, name) == 0)
+            return merp_ls_preset_at(i);
+    return NULL;
 }
 
 mer_result mer_preset_params(const char *name, mer_params *out, mer_error *err)
@@ -240,6 +257,18 @@ mer_result mer_preset_params(const char *name, mer_params *out, mer_error *err)
             return MER_OK;
         }
     }
+    const merp_ls_preset *ls = ls_preset(name);
+    if (ls != NULL) {
+        *out = mer_params_default();
+        merp_ls_preset_apply(ls, out);
+        return MER_OK;
+    }
     return mer_error_set(err, MER_ERR_INVALID, "preset", "unknown preset '%s'",
                          name != NULL ? name : "(null)");
+}
+
+const char *mer_preset_definition(const char *name)
+{
+    const merp_ls_preset *ls = ls_preset(name);
+    return ls != NULL ? ls->source : NULL;
 }

@@ -30,6 +30,7 @@ mer_result mer_error_set(mer_error *err, mer_result code, const char *field,
     if (err == NULL)
         return code;
     err->code = code;
+    err->line = err->column = 0;
     snprintf(err->field, sizeof err->field, "%s", field != NULL ? field : "");
     va_list ap;
     va_start(ap, fmt);

@@ -133,19 +133,56 @@ mer_result mer_scene_set_schedule(mer_scene *s, const mer_schedule *schedule, me
     return MER_OK;
 }
 
+/* The pipe model's diameters, then the ones the model sets itself. */
+static void diameters(mer_scene *s, const merp_world *w)
+{
+    merp_pipe_update(&s->sk, &s->p);
+    if (s->ops->diameters != NULL)
+        s->ops->diameters(s->model, w);
+}
+
 static mer_result one_step(mer_scene *s, mer_error *err)
 {
     merp_world w = merp_scene_world(s);
     uint32_t before = s->sk.n;
     mer_result rc = s->ops->step(s->model, &w, err);
-    merp_pipe_update(&s->sk, &s->p);
+    diameters(s, &w);
     /* mer_scene_step_index counts completed steps, as *done does: not a step
-     * cut short by a failure. */
+     * cut short by a failure. A model that rebuilds its skeleton may end with
+     * fewer ids than it began with (an L-system after a prune). */
     if (rc == MER_OK) {
         s->step++;
-        merp_scene_report_step(s, s->sk.n - before);
+        merp_scene_report_step(s, s->sk.n > before ? s->sk.n - before : 0);
     }
     return rc;
+}
+
+mer_result mer_scene_set_definition(mer_scene *s, const char *text, size_t len,
+                                    mer_error *err)
+{
+    assert(s != NULL && (text != NULL || len == 0));
+    if (s->ops->set_definition == NULL)
+        return mer_error_set(err, MER_ERR_INVALID, "definition",
+                             "the model '%s' takes no definition", s->ops->name);
+    merp_world w = merp_scene_world(s);
+    mer_result rc = s->ops->set_definition(s->model, &w, text != NULL ? text : "", len, err);
+    if (rc == MER_OK)
+        diameters(s, &w);
+    return rc;
+}
+
+const char *mer_scene_definition(const mer_scene *s, size_t *len)
+{
+    assert(s != NULL);
+    if (len != NULL)
+        *len = 0;
+    return s->ops->definition != NULL ? s->ops->definition(s->model, len) : NULL;
+}
+
+size_t mer_scene_model_stats(const mer_scene *s, mer_model_stat *out, size_t cap)
+{
+    assert(s != NULL && (out != NULL || cap == 0));
+    return s->ops->stats != NULL ? s->ops->stats(s->model, out, cap) : 0;
 }
 
 mer_result mer_scene_step(mer_scene *s, uint32_t count, mer_progress_fn progress, void *ctx,

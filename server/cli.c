@@ -131,6 +131,13 @@ static int grow(const grow_args *a)
     if (mer_scene_new(&params, a->seed, &scene, &err) != MER_OK)
         return fail("cannot create the scene", &err);
     int status = 0;
+    // An L-system preset starts from its source.
+    const char *source = mer_preset_definition(a->preset);
+    if (source != NULL && params.model == MER_MODEL_LSYSTEM &&
+        mer_scene_set_definition(scene, source, strlen(source), &err) != MER_OK) {
+        status = fail("--preset", &err);
+        goto done;
+    }
     if (mer_scene_step(scene, a->steps, NULL, NULL, NULL, NULL, &err) != MER_OK) {
         status = fail("growth stopped", &err);
         goto done;

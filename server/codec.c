@@ -31,7 +31,51 @@ static json_t *vec3(const float v[3])
     return json_pack("[o, o, o]", merd_json_float(v[0]), merd_json_float(v[1]), merd_json_float(v[2]));
 }
 
+#define MERD_MODEL_STATS_MAX 600 /* an L-system: 4 numbers and up to 512 module counts */
+
+static json_t *summary_of(const mer_scene *scene);
+
+/* The model's own numbers (mer_scene_model_stats) as an object; a name
+ * "group.key" goes into a nested object "group". */
+static json_t *model_stats(const mer_scene *scene)
+{
+    mer_model_stat *st = malloc(MERD_MODEL_STATS_MAX * sizeof *st);
+    size_t n = st != NULL ? mer_scene_model_stats(scene, st, MERD_MODEL_STATS_MAX) : 0;
+    json_t *o = json_object();
+    for (size_t i = 0; i < n && i < MERD_MODEL_STATS_MAX; i++) {
+        json_t *v = json_real(st[i].value);
+        if (st[i].value == (double)(json_int_t)st[i].value)
+            json_decref(v), v = json_integer((json_int_t)st[i].value);
+        const char *dot = strchr(st[i].name, '.');
+        if (dot == NULL) {
+            json_object_set_new(o, st[i].name, v);
+            continue;
+        }
+        char group[sizeof st[i].name];
+        snprintf(group, sizeof group, "%.*s", (int)(dot - st[i].name), st[i].name);
+        json_t *g = json_object_get(o, group);
+        if (g == NULL)
+            json_object_set_new(o, group, g = json_object());
+        json_object_set_new(g, dot + 1, v);
+    }
+    free(st);
+    return o;
+}
+
 json_t *merd_json_summary(const mer_scene *scene)
+{
+    json_t *j = summary_of(scene);
+    // P09's summary is as it always was; another model names itself and adds
+    // its own numbers under its name.
+    uint32_t model = mer_scene_params(scene)->model;
+    if (model != MER_MODEL_P09 && j != NULL) {
+        json_object_set_new(j, "model", json_string(mer_model_name(model)));
+        json_object_set_new(j, mer_model_name(model), model_stats(scene));
+    }
+    return j;
+}
+
+static json_t *summary_of(const mer_scene *scene)
 {
     mer_summary s;
     mer_scene_summary(scene, &s);

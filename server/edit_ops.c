@@ -368,6 +368,27 @@ static int decode_params(const json_t *o, const char *w, merd_decode_ctx *c, mer
     return merd_params_from_json(e->params, &scratch, f, why);
 }
 
+/* An L-system's source, decoded whole: its productions are checked when it is
+ * applied (the library names the line and column). */
+static int decode_source(const json_t *o, const char *w, merd_decode_ctx *c, merd_edit *e,
+                         merd_refusal *why)
+{
+    (void)c;
+    char f[MERD_FIELD_MAX];
+    merd_path(f, sizeof f, w, "source");
+    const json_t *v = json_object_get(o, "source");
+    if (v == NULL)
+        return merd_refuse(why, 422, "missing-field", f, "%s is required", f);
+    if (!json_is_string(v))
+        return merd_refuse(why, 422, "invalid-field", f, "%s must be a string (cpfg text)", f);
+    if (json_string_length(v) > MERD_SOURCE_MAX)
+        return merd_refuse(why, 422, "out-of-range", f, "%s may hold at most %d bytes", f,
+                           MERD_SOURCE_MAX);
+    e->source = json_string_value(v);
+    e->source_len = json_string_length(v);
+    return 0;
+}
+
 /* ---------------------------------------------------------------- applying */
 
 static int lib(const merd_apply_ctx *c, mer_result rc, const mer_error *err, merd_refusal *why)
@@ -466,6 +487,17 @@ static int apply_release(const merd_edit *e, merd_apply_ctx *c, merd_refusal *wh
     return 0;
 }
 
+static int apply_lsystem(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
+{
+    mer_error err = {0};
+    mer_result rc = mer_scene_set_definition(c->scene, e->source, e->source_len, &err);
+    if (rc == MER_OK)
+        return 0;
+    if (strcmp(err.field, "definition") == 0)
+        snprintf(err.field, sizeof err.field, "source");
+    return lib(c, rc, &err, why);
+}
+
 /* The tree becomes the one of a past revision, derived anew (revisions.h): a
  * revert journals as itself, and replaying it derives the same tree again. */
 static int apply_revert(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
@@ -495,18 +527,22 @@ static const char *const schedule_fields[] = {"op", "apical_off", "eta_order_sca
 static const char *const params_fields[] = {"op", "params", NULL};
 static const char *const release_fields[] = {"op", NULL};
 static const char *const revert_fields[] = {"op", "revision", NULL};
+static const char *const lsystem_fields[] = {"op", "source", NULL};
+
+#define ANY (MERD_MODEL_P09 | MERD_MODEL_RUNIONS | MERD_MODEL_LSYSTEM)
 
 static const merd_edit_op ops[] = {
-    {"step", step_fields, "a step edit", decode_step, apply_step, MERD_MODEL_P09, MERD_OP_STEPS},
-    {"add_markers", NULL, NULL, decode_markers, apply_markers, MERD_MODEL_P09, 0},
-    {"prune", node_fields, "a prune edit", decode_node, apply_prune, MERD_MODEL_P09, 0},
-    {"bend", bend_fields, "a bend edit", decode_bend, apply_bend, MERD_MODEL_P09, 0},
+    {"step", step_fields, "a step edit", decode_step, apply_step, ANY, MERD_OP_STEPS},
+    {"add_markers", NULL, NULL, decode_markers, apply_markers, ANY, 0},
+    {"prune", node_fields, "a prune edit", decode_node, apply_prune, ANY, 0},
+    {"bend", bend_fields, "a bend edit", decode_bend, apply_bend, ANY, 0},
     {"set_apical_schedule", schedule_fields, "a set_apical_schedule edit", decode_schedule,
      apply_schedule, MERD_MODEL_P09, 0},
-    {"set_params", params_fields, "a set_params edit", decode_params, apply_params,
-     MERD_MODEL_P09, 0},
-    {"release", release_fields, "a release edit", NULL, apply_release, MERD_MODEL_P09, 0},
-    {"revert", revert_fields, "a revert edit", decode_revert, apply_revert, MERD_MODEL_P09, 0},
+    {"set_params", params_fields, "a set_params edit", decode_params, apply_params, ANY, 0},
+    {"release", release_fields, "a release edit", NULL, apply_release, ANY, 0},
+    {"revert", revert_fields, "a revert edit", decode_revert, apply_revert, ANY, 0},
+    {"set_lsystem", lsystem_fields, "a set_lsystem edit", decode_source, apply_lsystem,
+     MERD_MODEL_LSYSTEM, 0},
 };
 #define OPS (sizeof ops / sizeof ops[0])
 

@@ -37,6 +37,8 @@ typedef struct merd_edit {
     unsigned sched_mask;
     const json_t *params;  /* set_params: the object */
     uint64_t revision;     /* revert */
+    const char *source;    /* set_lsystem: the text (borrowed from json) */
+    size_t source_len;
 } merd_edit;
 
 /* What decoding one request sums over its edits, against its limits. */
@@ -58,9 +60,13 @@ typedef struct merd_apply_ctx {
     uint32_t done;              /* steps the last step edit did */
 } merd_apply_ctx;
 
-/* Which growth models accept an op (a session runs one model; P09 is the only
- * one today, so every op names it). */
-enum { MERD_MODEL_P09 = 1u << 0 };
+/* Which growth models accept an op: bit k is mer_model_kind k (a session runs
+ * one model; an op for another is refused when applied). */
+enum {
+    MERD_MODEL_P09 = 1u << MER_MODEL_P09,
+    MERD_MODEL_RUNIONS = 1u << MER_MODEL_RUNIONS,
+    MERD_MODEL_LSYSTEM = 1u << MER_MODEL_LSYSTEM
+};
 
 /* Flags of an op. */
 enum { MERD_OP_STEPS = 1u << 0 /* runs steps: counted in the outcome, may stop early */ };

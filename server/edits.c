@@ -107,7 +107,12 @@ int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *pa
             snprintf(w, sizeof w, "edits[%zu]", i);
         c.where = w;
         c.first = i == 0;
-        int rc = e->op->apply(e, &c, why);
+        uint32_t model = mer_scene_params(c.scene)->model;
+        int rc = (e->op->models & (1u << model)) != 0
+                     ? e->op->apply(e, &c, why)
+                     : merd_refuse(why, 422, "invalid-field", w[0] ? w : "op",
+                                   "%s does not apply to a %s session", e->op->what ? e->op->what : e->op->name,
+                                   mer_model_name(model));
         *scene = c.scene; /* a revert replaces it */
         if (rc != 0) {
             json_decref(*applied);

@@ -22,6 +22,8 @@
 
 /* The most edits one {"edits": [...]} batch may hold. */
 #define MERD_BATCH_EDITS_MAX 10000
+/* The longest model definition (an L-system's source) a request may give. */
+#define MERD_SOURCE_MAX (1 << 20)
 
 /* Request limits, from meristemd's settings. */
 typedef struct merd_edit_limits {

@@ -11,6 +11,7 @@ int merd_refuse(merd_refusal *why, unsigned status, const char *slug, const char
                 const char *fmt, ...)
 {
     why->status = status;
+    why->line = why->column = 0;
     snprintf(why->slug, sizeof why->slug, "%s", slug);
     snprintf(why->field, sizeof why->field, "%s", field != NULL ? field : "");
     va_list ap;
@@ -61,5 +62,8 @@ int merd_refuse_lib(merd_refusal *why, mer_result rc, const mer_error *err, cons
         status = problems[rc].status;
         slug = problems[rc].slug;
     }
-    return merd_refuse(why, status, slug, f, "%s", err->message);
+    merd_refuse(why, status, slug, f, "%s", err->message);
+    why->line = err->line;
+    why->column = err->column;
+    return -1;
 }

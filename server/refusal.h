@@ -20,9 +20,11 @@ typedef struct merd_refusal {
     char slug[40];              /* urn:meristem:problem:SLUG */
     char field[MERD_FIELD_MAX]; /* JSON path of the input at fault, or "" */
     char detail[400];
+    unsigned line, column;      /* where in a text input (an L-system's source); 0: not a text */
 } merd_refusal;
 
-/* Fills `why` and returns -1, for `return merd_refuse(...)`. `field` may be NULL. */
+/* Fills `why` (line and column 0) and returns -1, for `return merd_refuse(...)`.
+ * `field` may be NULL. */
 int merd_refuse(merd_refusal *why, unsigned status, const char *slug, const char *field,
                 const char *fmt, ...)
 #if defined(__GNUC__)
@@ -32,7 +34,7 @@ int merd_refuse(merd_refusal *why, unsigned status, const char *slug, const char
 
 /* The library's failure `rc` (not MER_OK) as a refusal, returning -1. The
  * field is `where` joined with err->field ("edits[1]" + "node"); the detail is
- * err->message. Status and type by code:
+ * err->message; err->line and err->column are carried over. Status and type by code:
  *   MER_ERR_NOT_FOUND  404 unknown-node   (a node id never issued)
  *   MER_ERR_GONE       409 dead-node      (a node pruned or shed)
  *   MER_ERR_ROOT       422 root-node      (a prune of a plant's first internode)

@@ -78,10 +78,14 @@ enum MHD_Result merd_reply_text(merd_request *req, unsigned status, char *text,
     return merd_reply(req, status, r, size);
 }
 
+static struct MHD_Response *problem_response(unsigned status, const char *slug, const char *title,
+                                             const char *detail, const char *field,
+                                             unsigned line, unsigned column, size_t *size);
+
 struct MHD_Response *merd_refusal_response(const merd_refusal *why, size_t *size)
 {
-    return merd_problem_response(why->status, why->slug, merd_status_title(why->status),
-                                 why->detail, why->field, size);
+    return problem_response(why->status, why->slug, merd_status_title(why->status), why->detail,
+                            why->field, why->line, why->column, size);
 }
 
 enum MHD_Result merd_reply_refusal(merd_request *req, const merd_refusal *why)
@@ -110,12 +114,24 @@ const char *merd_status_title(unsigned status)
 struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
                                            const char *detail, const char *field, size_t *size)
 {
+    return problem_response(status, slug, title, detail, field, 0, 0, size);
+}
+
+/* A problem+json body; `line` and `column` (when not 0) place it in a text. */
+static struct MHD_Response *problem_response(unsigned status, const char *slug, const char *title,
+                                             const char *detail, const char *field,
+                                             unsigned line, unsigned column, size_t *size)
+{
     char type[128];
     snprintf(type, sizeof type, "urn:meristem:problem:%s", slug);
     json_t *problem = json_pack("{s:s, s:s, s:i, s:s}", "type", type, "title", title, "status",
                                 (int)status, "detail", detail);
     if (problem != NULL && field != NULL && field[0] != '\0')
         json_object_set_new(problem, "field", json_string(field));
+    if (problem != NULL && line > 0) {
+        json_object_set_new(problem, "line", json_integer((json_int_t)line));
+        json_object_set_new(problem, "column", json_integer((json_int_t)column));
+    }
     char *text = problem != NULL ? merd_json_body(problem) : NULL;
     json_decref(problem);
     if (text == NULL)

@@ -189,7 +189,8 @@ static int add_plant(mer_scene *scene, const json_t *item, const char *w, merd_r
  * and *seed. The model defaults to P09, the preset's parameters' model. */
 static int decode_params(const json_t *spec, mer_params *p, uint64_t *seed, merd_refusal *why)
 {
-    static const char *const fields[] = {"model", "preset", "seed", "params", "scene", NULL};
+    static const char *const fields[] = {"model", "preset", "seed", "params", "scene", "lsystem",
+                                         NULL};
     if (!json_is_object(spec))
         return merd_refuse(why, 422, "invalid-field", "body",
                            "the body must be a JSON object ({} for defaults)");
@@ -282,13 +283,70 @@ static int add_each(mer_scene *scene, const json_t *list, const char *prefix,
     return 0;
 }
 
+/* The L-system source of a request ("lsystem": {"source"}), else its preset's;
+ * NULL when it has neither. */
+static int decode_source(const json_t *spec, const char **text, size_t *len, merd_refusal *why)
+{
+    static const char *const fields[] = {"source", NULL};
+    const json_t *ls = json_object_get(spec, "lsystem");
+    *text = NULL;
+    *len = 0;
+    if (ls == NULL) {
+        const json_t *preset = json_object_get(spec, "preset");
+        *text = preset != NULL ? mer_preset_definition(json_string_value(preset)) : NULL;
+        *len = *text != NULL ? strlen(*text) : 0;
+        return 0;
+    }
+    if (!json_is_object(ls))
+        return merd_refuse(why, 422, "invalid-field", "lsystem",
+                           "lsystem must be {\"source\": \"<cpfg text>\"}");
+    if (only(ls, fields, "lsystem", why))
+        return -1;
+    const json_t *src = json_object_get(ls, "source");
+    if (!json_is_string(src))
+        return merd_refuse(why, 422, src ? "invalid-field" : "missing-field", "lsystem.source",
+                           "lsystem.source must be a string (cpfg text)");
+    if (json_string_length(src) > MERD_SOURCE_MAX)
+        return merd_refuse(why, 422, "out-of-range", "lsystem.source",
+                           "lsystem.source may hold at most %d bytes", MERD_SOURCE_MAX);
+    *text = json_string_value(src);
+    *len = json_string_length(src);
+    return 0;
+}
+
+/* Gives an L-system scene its source: required for the model, refused for the
+ * others. */
+static int define(mer_scene *scene, const char *text, size_t len, merd_refusal *why)
+{
+    bool wants = mer_scene_params(scene)->model == MER_MODEL_LSYSTEM;
+    if (text == NULL && !wants)
+        return 0;
+    if (text == NULL)
+        return merd_refuse(why, 422, "missing-field", "lsystem.source",
+                           "an lsystem session needs \"lsystem\": {\"source\": \"<cpfg text>\"} "
+                           "or an L-system preset");
+    if (!wants)
+        return merd_refuse(why, 422, "invalid-field", "lsystem",
+                           "lsystem is for sessions of the model \"lsystem\"");
+    mer_error err = {0};
+    mer_result rc = mer_scene_set_definition(scene, text, len, &err);
+    if (rc == MER_OK)
+        return 0;
+    if (strcmp(err.field, "definition") == 0)
+        snprintf(err.field, sizeof err.field, "source");
+    return merd_refuse_lib(why, rc, &err, "lsystem");
+}
+
 mer_scene *merd_scene_from_spec(const json_t *spec, const merd_edit_limits *limits,
                                 merd_refusal *why)
 {
     mer_params p;
     uint64_t seed = 0;
     const json_t *plants = NULL, *obstacles = NULL, *markers = NULL;
-    if (decode_params(spec, &p, &seed, why) || decode_scene(spec, &plants, &obstacles, &markers, why))
+    const char *source = NULL;
+    size_t source_len = 0;
+    if (decode_params(spec, &p, &seed, why) || decode_scene(spec, &plants, &obstacles, &markers, why) ||
+        decode_source(spec, &source, &source_len, why))
         return NULL;
     if (plants != NULL)
         p.seedlings = 0;  // the given plants replace the preset's seedlings
@@ -311,7 +369,8 @@ mer_scene *merd_scene_from_spec(const json_t *spec, const merd_edit_limits *limi
     if (arrays(obstacles, markers, why) ||
         add_each(scene, obstacles, "scene.obstacles", add_obstacle, why) ||
         add_each(scene, plants, "scene.plants", add_plant, why) ||
-        add_each(scene, markers, "scene.markers", fill_volume, why)) {
+        add_each(scene, markers, "scene.markers", fill_volume, why) ||
+        define(scene, source, source_len, why)) {
         mer_scene_free(scene);
         return NULL;
     }

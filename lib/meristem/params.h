@@ -51,7 +51,8 @@ extern "C" {
  * request or journal written before models could be chosen, mean P09. */
 typedef enum mer_model_kind {
     MER_MODEL_P09 = 0,    /* self-organizing trees, Palubicki et al. 2009 (default) */
-    MER_MODEL_RUNIONS = 1 /* space colonization, Runions, Lane & Prusinkiewicz 2007 */
+    MER_MODEL_RUNIONS = 1, /* space colonization, Runions, Lane & Prusinkiewicz 2007 */
+    MER_MODEL_LSYSTEM = 2  /* L-systems after ABOP, in cpfg's syntax (a definition text) */
 } mer_model_kind;
 
 /* What Perlin noise perturbs: the bits of mer_params.noise_targets. */
@@ -170,6 +171,15 @@ typedef struct mer_params {
     float noise_scale;        /* frequency: noise cells per world unit; 0.2; (0, 100] */
     uint32_t noise_octaves;   /* fBm octaves; 3; 1..8 */
     uint32_t noise_targets;   /* MER_NOISE_* bits; 7 (directions, lengths, radii); 0..7 */
+
+    /* L-systems, ABOP §1.5, §2.2: the turtle's defaults */
+    float ls_delta;           /* δ, the angle of + - & ^ \ / without a parameter, degrees; 90; [0, 360] */
+    float ls_step;            /* the step of F, f, G without a parameter; 1; (0, 1e4] */
+    float ls_width;           /* the width before any !(w); 0: the pipe model's diameters where ! sets none; [0, 1e4] */
+    float ls_width_scale;     /* diameter per unit of !(w) (cpfg widths are pixels); 1; (0, 1e4] */
+    float ls_elasticity;      /* e, tropism susceptibility towards T = -y (ABOP §2.2); 0; [-10, 10] */
+    uint32_t ls_blocking;     /* 1: the ground and obstacles stop a segment whose end they hold, and
+                               * the rest of its branch, as they stop P09's shoots; 0 */
 
     /* initial scene: read by mer_scene_new only (set_params leaves the scene as it is) */
     uint32_t seedlings;       /* plants placed along x at creation; 1; 0..1000 */

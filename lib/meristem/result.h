@@ -32,6 +32,9 @@ typedef struct mer_error {
     mer_result code;
     char field[MER_ERROR_FIELD_MAX];     /* dotted path of the bad input, or "" */
     char message[MER_ERROR_MESSAGE_MAX]; /* one sentence, no trailing newline */
+    /* Where in a text input (a growth model's definition, mer_scene_set_definition)
+     * the failure is: 1-based line and column; 0 when it is not about a text. */
+    unsigned line, column;
 } mer_error;
 
 /* A stable lower-case name for `code` ("ok", "invalid", ...). Never NULL. */
@@ -39,7 +42,8 @@ const char *mer_result_name(mer_result code);
 
 /* Fills `err` (which may be NULL: then nothing happens) and returns `code`, so a
  * caller can write `return mer_error_set(err, MER_ERR_RANGE, "count", "...")`.
- * `field` may be NULL. Messages longer than the buffer are truncated. */
+ * `field` may be NULL. Messages longer than the buffer are truncated. The line
+ * and column are reset to 0; a caller reporting a position sets them after. */
 mer_result mer_error_set(mer_error *err, mer_result code, const char *field,
                          const char *fmt, ...)
 #if defined(__GNUC__)

@@ -137,6 +137,35 @@ const mer_params *mer_scene_params(const mer_scene *s);
  * Cost O(voxels + buds·q_max² + markers) when grids are rebuilt, else O(1). */
 mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_error *err);
 
+/* Gives the scene's growth model its definition: a text the model reads, `len`
+ * bytes (need not be NUL-terminated). An L-system scene (MER_MODEL_LSYSTEM)
+ * takes its cpfg source this way: the first definition sets the axiom as its
+ * string and draws it; a later one replaces the productions and keeps the
+ * current string (ABOP's derivation goes on under the new rules). Errors
+ * (nothing changes): MER_ERR_INVALID "definition" for a model that takes no
+ * definition, or a text that does not parse (err->line and err->column give
+ * the 1-based position), MER_ERR_NOMEM. Cost O(len + the string). */
+mer_result mer_scene_set_definition(mer_scene *s, const char *text, size_t len,
+                                    mer_error *err);
+
+/* The definition the scene's model holds (borrowed, NUL-terminated, valid until
+ * the next mer_scene_set_definition), its length in `*len` (may be NULL); NULL
+ * when there is none. O(1). */
+const char *mer_scene_definition(const mer_scene *s, size_t *len);
+
+/* A named number about the model's own state. */
+typedef struct mer_model_stat {
+    char name[24];  /* "derivation_step", "string_length", "modules.F", ... */
+    double value;
+} mer_model_stat;
+
+/* Up to `cap` of the model's numbers into `out` (may be NULL when cap is 0);
+ * returns how many it has (0 for P09). An L-system gives derivation_step,
+ * derivation_length (0: none set), string_length, segments (the internodes its
+ * turtle drew at the last drawing, joints not counted), and modules.X, the count of
+ * module X, for each module in the string in symbol order. O(string). */
+size_t mer_scene_model_stats(const mer_scene *s, mer_model_stat *out, size_t cap);
+
 /* Replaces only the developmental schedule (apical control per order, λ and η
  * keyframes, η per order), between steps; the rest of the parameters stay.
  * `schedule` not NULL. Validated as by mer_params_validate (fields are named

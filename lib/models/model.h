@@ -1,5 +1,5 @@
 /* meristem — the growth-model interface (private to lib). A growth model (a
- * paradigm: P09's self-organizing trees, later L-systems, the inverse model) grows
+ * paradigm: P09's self-organizing trees, L-systems, later the inverse model) grows
  * the shared skeleton in the shared environment, one step (a season) at a time.
  * The scene owns the world and calls the model through its ops table; after the
  * model's step the scene updates the pipe model's diameters and counts the step.
@@ -12,11 +12,13 @@
 #ifndef MERISTEM_MODEL_H
 #define MERISTEM_MODEL_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include <meristem/params.h>
 #include <meristem/result.h>
 #include <meristem/rng.h>
+#include <meristem/scene.h>
 
 #include "core/perlin.h"
 #include "env/env.h"
@@ -65,6 +67,22 @@ typedef struct merp_model_ops {
     void (*save)(const merp_model *m, merp_bytes_out *out);
     mer_result (*load)(merp_bytes_in *in, uint32_t nodes, merp_model **out, mer_error *err);
     void (*free)(merp_model *m);
+    /* A model defined by a text (an L-system's productions, an inverse model's
+     * functions) takes it here, between steps: `len` bytes, not NUL-terminated.
+     * The first definition sets the model up (and may grow the skeleton's first
+     * nodes); a later one replaces the rules and keeps what has grown. A text
+     * that does not parse is MER_ERR_INVALID with err->line and err->column set,
+     * and changes nothing. All four below may be NULL: a model without a
+     * definition. */
+    mer_result (*set_definition)(merp_model *m, const merp_world *w, const char *text,
+                                 size_t len, mer_error *err);
+    /* The definition text it holds (NUL-terminated, owned by m), NULL when none. */
+    const char *(*definition)(const merp_model *m, size_t *len);
+    /* After the pipe model's diameters (merp_pipe_update): sets the d^n of the
+     * nodes whose width the model gives explicitly. */
+    void (*diameters)(const merp_model *m, const merp_world *w);
+    /* Up to `cap` named numbers about its state (mer_scene_model_stats). */
+    size_t (*stats)(const merp_model *m, mer_model_stat *out, size_t cap);
 } merp_model_ops;
 
 /* The row groups of the parameter table: a row read by every model, or only by
@@ -73,7 +91,8 @@ enum {
     MERP_ROWS_WORLD = 1u << 0,
     MERP_ROWS_P09 = 1u << 1,
     MERP_ROWS_RUNIONS = 1u << 2,
-    MERP_ROWS_NOISE = 1u << 3 /* every model's, and only while noise_amplitude > 0 */
+    MERP_ROWS_NOISE = 1u << 3, /* every model's, and only while noise_amplitude > 0 */
+    MERP_ROWS_LSYSTEM = 1u << 4
 };
 
 /* The ops of model `kind` (mer_model_kind), or NULL when there is none. */
@@ -83,5 +102,7 @@ const merp_model_ops *merp_model_ops_of(uint32_t kind);
 extern const merp_model_ops merp_p09_ops;
 /* models/runions/runions.c */
 extern const merp_model_ops merp_runions_ops;
+/* models/lsystem/model.c */
+extern const merp_model_ops merp_lsystem_ops;
 
 #endif

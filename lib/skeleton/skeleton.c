@@ -126,19 +126,49 @@ mer_result merp_skel_node_new(merp_skeleton *sk, uint32_t step, uint32_t *id, me
     return MER_OK;
 }
 
-mer_result merp_skel_add_plant(merp_skeleton *sk, const mer_params *p, uint32_t step,
-                               const float base[3], mer_rng *rng, uint32_t *root,
-                               mer_error *err)
+static mer_result reserve_plant(merp_skeleton *sk, mer_error *err)
 {
-    assert(sk != NULL && p != NULL && base != NULL && rng != NULL);
     if (sk->nplants == sk->cap_plants) {
         uint32_t cap = sk->cap_plants ? 2 * sk->cap_plants : 8;
         if (!MERP_RESIZE(sk->roots, cap))
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for plants");
         sk->cap_plants = cap;
     }
+    return MER_OK;
+}
+
+mer_result merp_skel_add_root(merp_skeleton *sk, uint32_t id, mer_error *err)
+{
+    assert(sk != NULL && id < sk->n && sk->parent[id] == MER_NO_NODE);
+    mer_result rc = reserve_plant(sk, err);
+    if (rc != MER_OK)
+        return rc;
+    sk->plant[id] = sk->nplants;
+    sk->roots[sk->nplants++] = id;
+    return MER_OK;
+}
+
+void merp_skel_reset(merp_skeleton *sk)
+{
+    assert(sk != NULL);
+    for (uint32_t i = 0; i < sk->n; i++)
+        for (uint32_t k = 0; k < 3; k++)
+            merp_skel_bud_set(sk, i, k, MER_BUD_NONE);
+    sk->n = 0;
+    sk->nplants = 0;
+    sk->con_node = MER_NO_NODE;
+}
+
+mer_result merp_skel_add_plant(merp_skeleton *sk, const mer_params *p, uint32_t step,
+                               const float base[3], mer_rng *rng, uint32_t *root,
+                               mer_error *err)
+{
+    assert(sk != NULL && p != NULL && base != NULL && rng != NULL);
+    mer_result rc = reserve_plant(sk, err);
+    if (rc != MER_OK)
+        return rc;
     uint32_t id;
-    mer_result rc = merp_skel_node_new(sk, step, &id, err);
+    rc = merp_skel_node_new(sk, step, &id, err);
     if (rc != MER_OK)
         return rc;
     memcpy(sk->pos + 3 * id, base, 3 * sizeof *base);

@@ -67,6 +67,13 @@ mer_result merp_skel_node_new(merp_skeleton *sk, uint32_t step, uint32_t *id, me
 mer_result merp_skel_add_plant(merp_skeleton *sk, const mer_params *p, uint32_t step,
                                const float base[3], mer_rng *rng, uint32_t *root,
                                mer_error *err);
+/* Makes node `id` (no parent) the root of a new plant: its plant index is set.
+ * MER_ERR_NOMEM. Amortized O(1). */
+mer_result merp_skel_add_root(merp_skeleton *sk, uint32_t id, mer_error *err);
+/* Empties the skeleton for a model that rebuilds it whole each step (L-systems):
+ * every dormant bud goes first (on_bud is told), then ids start again at 0 and
+ * the plants and the brush constraint are dropped; memory is kept. O(nodes). */
+void merp_skel_reset(merp_skeleton *sk);
 /* The end point of node i: pos + dir·len. Inline: every step reads it for
  * every live bud. */
 static inline void merp_skel_node_end(const merp_skeleton *sk, uint32_t i, float out[3])

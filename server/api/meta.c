@@ -48,11 +48,14 @@ static void build_presets(void)
     for (size_t i = 0; i < mer_preset_count(); i++) {
         mer_params p;
         mer_preset_params(mer_preset_name(i), &p, NULL);
-        json_array_append_new(presets, json_pack("{s:s, s:s, s:s, s:o, s:o}", "name", mer_preset_name(i),
-                                                 "model", mer_model_name(p.model),
-                                                 "description", mer_preset_description(i),
-                                                 "params", merd_json_params(&p),
-                                                 "schedule", merd_json_schedule(&p.schedule)));
+        json_t *entry = json_pack("{s:s, s:s, s:s, s:o, s:o}", "name", mer_preset_name(i),
+                                  "description", mer_preset_description(i), "model",
+                                  mer_model_name(p.model), "params", merd_json_params(&p),
+                                  "schedule", merd_json_schedule(&p.schedule));
+        const char *source = mer_preset_definition(mer_preset_name(i));
+        if (entry != NULL && source != NULL)
+            json_object_set_new(entry, "lsystem", json_pack("{s:s}", "source", source));
+        json_array_append_new(presets, entry);
     }
     mer_params d = mer_params_default();
     for (size_t f = 0; f < mer_params_field_count(); f++) {
@@ -62,11 +65,11 @@ static void build_presets(void)
         double lo, hi, v = 0;
         mer_params_field_range(f, &lo, &hi);
         mer_params_get(&d, name, &v, NULL);
-        json_array_append_new(fields, json_pack("{s:s, s:s, s:s, s:o, s:o, s:o}", "name", name,
-                                                "model", mer_params_field_model(f), "symbol",
+        json_array_append_new(fields, json_pack("{s:s, s:s, s:o, s:o, s:o, s:s}", "name", name, "symbol",
                                                 mer_params_field_symbol(f), "min", merd_json_param(lo),
                                                 "max", merd_json_param(hi), "default",
-                                                merd_json_param(v)));
+                                                merd_json_param(v), "model",
+                                                mer_params_field_model(f)));
     }
     // What a length means, for every preset and every snapshot (asset.extras.units).
     json_t *units = json_pack("{s:s, s:s, s:s}", "length", "metre", "up", "+Y", "internode_length",

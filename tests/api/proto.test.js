@@ -357,10 +357,12 @@ test('GET /v1/presets matches presets.json, and the examples use its names', asy
   for (const [f, k] of used) assert.ok(params.has(k), `${f}: no parameter ${k}`);
   // The summary's params are the named parameters its model reads (its own and
   // every model's) less the schedule's, and less the noise's while it is off.
-  const s = await J('POST', '/v1/sessions', {});
-  const expected = r.body.parameters.filter((p) => p.model === '' || p.model === 'p09').map((p) => p.name)
-    .filter((n) => !/^(apical_off|eta_order_scale)\./.test(n) && !/^noise_/.test(n)).sort();
-  assert.deepEqual(Object.keys(s.body.params).sort(), expected);
+  for (const model of ['p09', 'lsystem']) {
+    const s = await J('POST', '/v1/sessions', model === 'p09' ? {} : { preset: 'abop-1.24a' });
+    const expected = r.body.parameters.filter((p) => p.model === '' || p.model === model).map((p) => p.name)
+      .filter((n) => !/^(apical_off|eta_order_scale)\./.test(n) && !/^noise_/.test(n)).sort();
+    assert.deepEqual(Object.keys(s.body.params).sort(), expected, model);
+  }
 });
 
 test('a quarantined session is a list item of its own', () => {

@@ -66,7 +66,7 @@ test('"model" names the growth model: "p09" is the default, an unknown one is re
   }
   const a = await state(plain.body.id), b = await state(named.body.id);
   assert.equal(a.hash, b.hash);
-  problem(await J('POST', '/v1/sessions', { model: 'lsystem' }), 422, 'invalid-field', /use one of p09/, 'model');
+  problem(await J('POST', '/v1/sessions', { model: 'oak' }), 422, 'invalid-field', /use one of p09, runions, lsystem/, 'model');
   problem(await J('POST', '/v1/sessions', { model: 9 }), 422, 'invalid-field', /string/, 'model');
 });
 

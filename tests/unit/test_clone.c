@@ -84,6 +84,15 @@ static void shape(mer_scene *s)
         (void)mer_scene_prune(s, n - 2, &err);
 }
 
+/* Gives an L-system preset's scenes their source (P09's need none). */
+static void define(mer_scene *s, const char *preset)
+{
+    const char *text = mer_preset_definition(preset);
+    mer_error err;
+    if (text != NULL && mer_scene_set_definition(s, text, strlen(text), &err) != MER_OK)
+        fail_msg("%s: %s", preset, err.message);
+}
+
 static void test_presets_grow_on_identically(void **state)
 {
     (void)state;
@@ -92,6 +101,8 @@ static void test_presets_grow_on_identically(void **state)
         mer_error err;
         assert_int_equal(mer_preset_params(mer_preset_name(i), &p, &err), MER_OK);
         mer_scene *a = new_scene(&p, 7 + i), *b = new_scene(&p, 7 + i);
+        define(a, mer_preset_name(i));
+        define(b, mer_preset_name(i));
         shape(a);
         shape(b);
         mer_scene *c = copy(a);
@@ -147,6 +158,8 @@ static void test_checkpoints_grow_on_identically(void **state)
         mer_error err;
         assert_int_equal(mer_preset_params(mer_preset_name(i), &p, &err), MER_OK);
         mer_scene *a = new_scene(&p, 11 + i), *b = new_scene(&p, 11 + i);
+        define(a, mer_preset_name(i));
+        define(b, mer_preset_name(i));
         shape(a);
         shape(b);
         size_t size;

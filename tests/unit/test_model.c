@@ -224,7 +224,7 @@ static void test_model_names(void **state)
     assert_int_equal(k, MER_MODEL_P09);
     assert_string_equal(mer_model_name(MER_MODEL_P09), "p09");
     assert_null(mer_model_name(1000));
-    assert_int_equal(mer_model_parse("lsystem", &k, &err), MER_ERR_INVALID);
+    assert_int_equal(mer_model_parse("no-such-model", &k, &err), MER_ERR_INVALID);
     assert_string_equal(err.field, "model");
     assert_non_null(strstr(err.message, "p09"));
     assert_int_equal(mer_model_parse(NULL, &k, &err), MER_ERR_INVALID);
@@ -243,7 +243,7 @@ static void test_model_names(void **state)
 static void test_rows_per_model(void **state)
 {
     (void)state;
-    size_t p09 = 0, world = 0, runions = 0;
+    size_t p09 = 0, world = 0, runions = 0, ls = 0;
     for (size_t i = 0; i < mer_params_field_count(); i++) {
         const char *m = mer_params_field_model(i);
         assert_non_null(m);
@@ -252,6 +252,8 @@ static void test_rows_per_model(void **state)
             assert_string_equal(m, "p09");
         if (strcmp(name, "bounds_min.x") == 0 || strcmp(name, "pipe_n") == 0)
             assert_string_equal(m, "");
+        if (strcmp(name, "ls_delta") == 0)
+            assert_string_equal(m, "lsystem");
         if (strcmp(name, "d_i") == 0)
             assert_string_equal(m, "runions");
         mer_params p = mer_params_default();
@@ -262,15 +264,16 @@ static void test_rows_per_model(void **state)
             p.noise_amplitude = 0.1f;
             assert_true(mer_params_field_used(&p, i));
         } else {
-            assert_int_equal(used, strcmp(m, "runions") != 0 && strncmp(name, "noise_", 6) != 0);
+            assert_int_equal(used, strcmp(m, "runions") != 0 && strcmp(m, "lsystem") != 0 && strncmp(name, "noise_", 6) != 0);
         }
         p09 += strcmp(m, "p09") == 0;
+        ls += strcmp(m, "lsystem") == 0;
         world += m[0] == '\0';
         runions += strcmp(m, "runions") == 0;
     }
-    assert_true(p09 > 0 && world > 0);
+    assert_true(p09 > 0 && world > 0 && ls > 0);
     assert_int_equal(runions, 3);
-    assert_int_equal(p09 + world + runions, mer_params_field_count());
+    assert_int_equal(p09 + world + runions + ls, mer_params_field_count());
     assert_null(mer_params_field_model(mer_params_field_count()));
 }
 

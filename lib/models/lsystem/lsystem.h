@@ -5,8 +5,8 @@
  * Four parts, one file each: expr.c (the arithmetic of ABOP §1.10 parametric
  * L-systems, compiled once), string.c (the module string, linear memory), parse.c
  * (cpfg text -> rules) and derive.c (one parallel rewriting step, ABOP §1.2, §1.7,
- * §1.8, §1.10). This is not yet a growth model: the model ops (lib/models/model.h)
- * and the interpretation onto the shared skeleton come next.
+ * §1.8, §1.10), and turtle.c (the interpretation into segments). The growth model
+ * built on them (model.c, draw.c) is in model_private.h.
  */
 #ifndef MERISTEM_LSYSTEM_H
 #define MERISTEM_LSYSTEM_H
@@ -97,6 +97,10 @@ size_t merp_lstr_count(const merp_lstr *s, merp_sym sym);
 /* Writes the string as text, parameters with %g ("A(1,2.5)B"), NUL-terminated,
  * truncated to `cap`; returns the full length (like snprintf). O(n). */
 size_t merp_lstr_format(const merp_lstr *s, char *buf, size_t cap);
+/* The index of the ']' closing the branch that holds module i (i itself when
+ * it is that ']'), or s->n when i is on the main path. O(length of the rest of
+ * the branch). */
+size_t merp_lstr_branch_end(const merp_lstr *s, size_t i);
 /* Fills match[i] with the index of the bracket matching s->sym[i] for every '['
  * and ']' (SIZE_MAX when unbalanced); other entries are left as SIZE_MAX.
  * `match` has s->n entries. O(n) time, O(depth) extra memory; -1 when out of
@@ -147,11 +151,13 @@ typedef struct merp_ls_turtle {
     double tropism[3], elasticity;
 } merp_ls_turtle;
 
-/* One drawn internode: from base to tip, the segment drawn before it on the
- * same path (parent, UINT32_MAX for the first), its branching order (bracket
- * depth), width and colour index from ! and ', and the module that drew it. */
+/* One drawn internode: from base to tip, the turtle's heading H and left L as
+ * it drew it, the segment drawn before it on the same path (parent, UINT32_MAX
+ * for the first), its branching order (bracket depth), width and colour index
+ * from ! and ', and the module that drew it. */
 typedef struct merp_ls_seg {
     float base[3], tip[3];
+    float head[3], left[3];
     float width;
     uint32_t parent, module;
     uint16_t order, color;

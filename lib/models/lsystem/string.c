@@ -160,3 +160,16 @@ int merp_lstr_brackets(const merp_lstr *s, size_t *match)
     merp_free(stack);
     return 0;
 }
+
+size_t merp_lstr_branch_end(const merp_lstr *s, size_t i)
+{
+    assert(s && i <= s->n);
+    size_t depth = 0;
+    for (; i < s->n; i++) {
+        if (s->sym[i] == '[')
+            depth++;
+        else if (s->sym[i] == ']' && depth-- == 0)
+            return i;
+    }
+    return s->n;
+}

@@ -117,6 +117,8 @@ static int draw(tstate *t, double len, uint32_t module, merp_ls_segs *out)
         g->base[k] = (float)t->p[k];
         t->p[k] += t->h[k] * len;
         g->tip[k] = (float)t->p[k];
+        g->head[k] = (float)t->h[k];
+        g->left[k] = (float)t->l[k];
     }
     g->width = (float)t->width;
     g->parent = t->last;
@@ -167,19 +169,6 @@ static int act(tstate *t, const merp_lstr *s, size_t i, const merp_ls_turtle *tp
     return 0;
 }
 
-/* The index of the ']' closing the branch that contains i, or s->n. */
-static size_t branch_end(const merp_lstr *s, size_t i)
-{
-    int depth = 0;
-    for (; i < s->n; i++) {
-        if (s->sym[i] == '[')
-            depth++;
-        else if (s->sym[i] == ']' && depth-- == 0)
-            return i;
-    }
-    return s->n;
-}
-
 int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs *out)
 {
     assert(s && tp && out);
@@ -207,7 +196,7 @@ int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs
             if (depth > 0)
                 t = stack[--depth];
         } else if (y == '%') {
-            i = branch_end(s, i + 1) - 1; /* the ']' comes next, or the end */
+            i = merp_lstr_branch_end(s, i + 1) - 1; /* the ']' comes next, or the end */
         } else {
             rc = act(&t, s, i, tp, out);
         }
