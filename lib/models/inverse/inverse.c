@@ -1,0 +1,150 @@
+/* meristem — the inverse model of G04 §4 as a growth model (model.h): one step
+ * is one year, and the tree after n steps is its definition at year n, rebuilt
+ * whole (the model is a function of time, build.c). The seed of its variation is
+ * drawn once from the scene's stream, at the first tree it shows. */
+#include "config.h"
+
+#include <assert.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/hash.h"
+#include "models/inverse/inverse.h"
+#include "scene_private.h"
+
+struct merp_model {
+    merp_inv_def def;
+    uint64_t seed;
+    int seeded;
+    double t; /* the time the tree shows */
+};
+
+static mer_result inverse_create(const mer_params *p, merp_model **out, mer_error *err)
+{
+    (void)p;
+    merp_model *m = merp_calloc(1, sizeof *m);
+    if (m == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    mer_result rc = merp_inv_populus(&m->def, err);
+    if (rc != MER_OK) {
+        merp_free(m);
+        return rc;
+    }
+    *out = m;
+    return MER_OK;
+}
+
+/* The world's parameters (leaf diameter, pipe exponent) are read by the scene;
+ * the tree's own are its definition's. */
+static void inverse_set_params(merp_model *m, const mer_params *p)
+{
+    (void)m;
+    (void)p;
+}
+
+/* Every plant at time t. */
+static mer_result show(merp_model *m, merp_skeleton *sk, mer_rng *rng, double t, mer_error *err)
+{
+    if (!m->seeded) {
+        m->seed = mer_rng_next(rng);
+        m->seeded = 1;
+    }
+    for (uint32_t r = 0; r < sk->nplants; r++) {
+        uint32_t root = sk->roots[r];
+        if (!sk->alive[root])
+            continue;
+        mer_result rc = merp_inv_build(&m->def, t, m->seed, sk, root, err);
+        if (rc != MER_OK)
+            return rc;
+    }
+    m->t = t;
+    return MER_OK;
+}
+
+static mer_result inverse_step(merp_model *m, const merp_world *w, mer_error *err)
+{
+    uint32_t year = w->step + 1;
+    if (year > m->def.y_max)
+        return mer_error_set(err, MER_ERR_LIMIT, "count",
+                             "this tree is defined for %u years", m->def.y_max);
+    return show(m, w->sk, w->rng, (double)year, err);
+}
+
+static void inverse_nodes_changed(merp_model *m, const merp_world *w)
+{
+    (void)m;
+    (void)w;
+}
+
+static uint64_t inverse_hash(const merp_model *m, uint64_t h)
+{
+    h = merp_fnv(h, &m->def, sizeof m->def);
+    h = merp_fnv(h, &m->seed, sizeof m->seed);
+    return merp_fnv(h, &m->t, sizeof m->t);
+}
+
+static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error *err)
+{
+    *out = merp_malloc(sizeof **out);
+    if (*out == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    memcpy(*out, m, sizeof **out);
+    return MER_OK;
+}
+
+static void inverse_free(merp_model *m) { merp_free(m); }
+
+const merp_model_ops merp_inverse_ops = {
+    .name = "inverse",
+    .param_rows = 0,
+    .validate = NULL,
+    .create = inverse_create,
+    .set_params = inverse_set_params,
+    .step = inverse_step,
+    .nodes_changed = inverse_nodes_changed,
+    .hash = inverse_hash,
+    .clone = inverse_clone,
+    .save = NULL,
+    .load = NULL,
+    .free = inverse_free,
+};
+
+mer_result merp_inverse_show(mer_scene *s, double t, mer_error *err)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    merp_model *m = s->model;
+    if (!(t >= 0.0 && t <= (double)m->def.y_max))
+        return mer_error_set(err, MER_ERR_RANGE, "t", "t must be in [0, %u] years",
+                             m->def.y_max);
+    mer_result rc = show(m, &s->sk, &s->rng, t, err);
+    merp_pipe_update(&s->sk, &s->p);
+    return rc;
+}
+
+mer_result merp_inverse_set_def(mer_scene *s, const merp_inv_def *d, mer_error *err)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops && d != NULL);
+    mer_result rc = merp_inv_def_check(d, err);
+    if (rc != MER_OK)
+        return rc;
+    if (s->step > d->y_max)
+        return mer_error_set(err, MER_ERR_RANGE, "y_max",
+                             "the tree is %u years old; y_max must be at least that", s->step);
+    merp_model *m = s->model;
+    m->def = *d;
+    for (uint32_t i = 0; i < MERP_G_COUNT; i++)
+        merp_gfunc_prepare(&m->def.g[i], NULL);
+    return s->step > 0 ? merp_inverse_show(s, (double)s->step, err) : MER_OK;
+}
+
+const merp_inv_def *merp_inverse_def(const mer_scene *s)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    return &s->model->def;
+}
+
+double merp_inverse_time(const mer_scene *s)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    return s->model->t;
+}
