@@ -16,6 +16,7 @@
 
 #include <cmocka.h>
 
+#include <meristem/edit.h>
 #include <meristem/gltf.h>
 #include <meristem/mesh.h>
 #include <meristem/scene.h>
@@ -256,6 +257,64 @@ static void test_fractional_years_are_continuous(void **state)
     mer_scene_free(s);
 }
 
+/* The live nodes of the subtree of id. */
+static uint32_t subtree_size(const merp_skeleton *sk, uint32_t id)
+{
+    uint32_t n = 1;
+    for (uint32_t k = 0; k < 3; k++) {
+        uint32_t c = sk->child[3 * id + k];
+        if (c != MER_NO_NODE && sk->alive[c])
+            n += subtree_size(sk, c);
+    }
+    return n;
+}
+
+/* The alive node of key `key`, or MER_NO_NODE. */
+static uint32_t node_of_key(const mer_scene *s, uint64_t key)
+{
+    for (uint32_t i = 0; i < s->sk.n; i++)
+        if (s->sk.alive[i] && merp_inverse_node_key(s, i) == key)
+            return i;
+    return MER_NO_NODE;
+}
+
+/* A prune outlives the yearly rebuilds: the branch stays cut in later years
+ * (and in a copy of the scene), and the rest of the tree is as it would be. */
+static void test_prunes_outlive_rebuilds(void **state)
+{
+    (void)state;
+    mer_scene *s = inverse_scene(4), *twin = inverse_scene(4);
+    step(s, 10);
+    step(twin, 10);
+    const merp_skeleton *sk = &s->sk;
+    uint32_t cut = MER_NO_NODE, most = 0; /* the biggest order-1 branch: it lives on */
+    for (uint32_t i = 0; i < sk->n; i++)
+        if (sk->alive[i] && sk->order[i] == 1 && sk->order[sk->parent[i]] == 0 &&
+            subtree_size(sk, i) > most) {
+            cut = i;
+            most = subtree_size(sk, i);
+        }
+    assert_int_not_equal(cut, MER_NO_NODE);
+    uint64_t key = merp_inverse_node_key(s, cut);
+    assert_true(key != 0);
+    mer_error err;
+    assert_int_equal(mer_scene_prune(s, cut, &err), MER_OK);
+    mer_scene *copy = NULL;
+    assert_int_equal(mer_scene_clone(s, &copy, &err), MER_OK);
+    step(s, 3);
+    step(twin, 3);
+    step(copy, 3);
+    assert_true(mer_scene_hash(copy) == mer_scene_hash(s));
+    assert_int_equal(node_of_key(s, key), MER_NO_NODE);
+    uint32_t there = node_of_key(twin, key);
+    assert_int_not_equal(there, MER_NO_NODE);
+    assert_int_equal(measure_of(&s->sk).nodes + subtree_size(&twin->sk, there),
+                     measure_of(&twin->sk).nodes);
+    mer_scene_free(s);
+    mer_scene_free(twin);
+    mer_scene_free(copy);
+}
+
 /* The tree meshes and writes as GLB like any other. */
 static void test_meshes_to_glb(void **state)
 {
@@ -284,6 +343,7 @@ int main(void)
         cmocka_unit_test(test_populus_over_its_years),
         cmocka_unit_test(test_deterministic_from_the_seed),
         cmocka_unit_test(test_fractional_years_are_continuous),
+        cmocka_unit_test(test_prunes_outlive_rebuilds),
         cmocka_unit_test(test_meshes_to_glb),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -36,6 +36,7 @@ typedef struct builder {
     uint32_t plant;
     uint32_t reuse; /* the plant's root, the trunk's first metamer */
     float *lens;    /* (order_max + 1) rows of y_max + 1: each depth's lengths by year */
+    merp_inv_keys *keys; /* may be NULL */
     mer_error *err;
 } builder;
 
@@ -114,11 +115,11 @@ static void vary(const builder *bd, uint64_t key, uint32_t k, float d[3])
 
 static mer_result grow_branch(builder *bd, const branch *b);
 
-/* The lateral of the metamer `node` (j of m in shoot y of b, `index` along b),
+/* The lateral of the metamer `node` (j of m in shoot y of b, its key `key`),
  * when G04 makes it: its scale factor (eq (15)) reaches s_min, its order is
  * built, it has been born (the year after its shoot) and not shed (eq (11)). */
 static mer_result lateral(builder *bd, const branch *b, uint32_t node, uint32_t y, uint32_t j,
-                          uint32_t m, uint32_t index)
+                          uint32_t m, uint64_t key)
 {
     const merp_inv_def *d = bd->d;
     merp_skeleton *sk = bd->sk;
@@ -134,7 +135,7 @@ static mer_result lateral(builder *bd, const branch *b, uint32_t node, uint32_t 
     if (s_b < d->s_min || !merp_inv_alive_at(a, y + 1, bd->t))
         return MER_OK;
     branch c = {.order = b->order + 1, .born = y + 1, .s_b = s_b,
-                .key = child_key(b->key, index), .attach = node, .slot = 1};
+                .key = child_key(key, 0), .attach = node, .slot = 1};
     float *l = bd->lens + (size_t)c.order * (d->y_max + 1);
     merp_inv_branch_lengths(d, b->l, x, c.born, c.order, s_b, l);
     c.l = l;
@@ -152,10 +153,46 @@ static mer_result lateral(builder *bd, const branch *b, uint32_t node, uint32_t 
     return grow_branch(bd, &c);
 }
 
+/* Whether the metamer of key `key` was cut (a binary search of the sorted cuts). */
+static int is_cut(const merp_inv_keys *keys, uint64_t key)
+{
+    if (keys == NULL)
+        return 0;
+    uint32_t lo = 0, hi = keys->ncut;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (keys->cut[mid] < key)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < keys->ncut && keys->cut[lo] == key;
+}
+
+/* Records `key` as node id's. */
+static mer_result keep_key(builder *bd, uint32_t id, uint64_t key)
+{
+    merp_inv_keys *k = bd->keys;
+    if (k == NULL)
+        return MER_OK;
+    if (id >= k->cap) {
+        uint32_t cap = k->cap ? k->cap : 1024;
+        while (cap <= id)
+            cap *= 2;
+        uint64_t *of = merp_realloc(k->of, (size_t)cap * sizeof *of);
+        if (of == NULL)
+            return mer_error_set(bd->err, MER_ERR_NOMEM, NULL, "out of memory for node keys");
+        k->of = of;
+        k->cap = cap;
+    }
+    k->of[id] = key;
+    return MER_OK;
+}
+
 /* A new node (or the plant's root, for the trunk's first metamer) after `prev`
- * (slot `slot`) with its geometry. */
+ * (slot `slot`) with its geometry and key. */
 static mer_result put_node(builder *bd, const branch *b, uint32_t prev, uint32_t slot,
-                           uint32_t y, uint32_t *out)
+                           uint32_t y, uint64_t key, uint32_t *out)
 {
     merp_skeleton *sk = bd->sk;
     uint32_t id = bd->reuse;
@@ -167,6 +204,9 @@ static mer_result put_node(builder *bd, const branch *b, uint32_t prev, uint32_t
         sk->slot[id] = (uint8_t)slot;
         sk->child[3 * prev + slot] = id;
     }
+    mer_result rc = keep_key(bd, id, key);
+    if (rc != MER_OK)
+        return rc;
     bd->reuse = MER_NO_NODE;
     sk->born[id] = y;
     sk->plant[id] = bd->plant;
@@ -176,7 +216,7 @@ static mer_result put_node(builder *bd, const branch *b, uint32_t prev, uint32_t
 }
 
 /* The metamers of b at the build's time, each headed by eqs (8)–(9), with their
- * laterals; the tip keeps a terminal bud. */
+ * laterals; the tip keeps a terminal bud. A cut metamer ends the branch. */
 static mer_result grow_branch(builder *bd, const branch *b)
 {
     const merp_inv_def *d = bd->d;
@@ -188,17 +228,21 @@ static mer_result grow_branch(builder *bd, const branch *b)
     memcpy(pos, b->base, sizeof pos);
     memcpy(side, b->side, sizeof side);
     uint32_t prev = b->attach, slot = b->slot, index = 0;
-    for (uint32_t y = b->born; y <= bd->year; y++) {
+    int cut = 0;
+    for (uint32_t y = b->born; y <= bd->year && !cut; y++) {
         float l_i;
         uint32_t m = shoot_plan(bd, b, y, &l_i);
         for (uint32_t j = 0; j < m; j++, index++) {
             float len = metamer_length(bd, y, j, m, l_i);
             if (!(len > 0.0f))
                 break; /* it and the metamers above it have not started */
+            uint64_t key = child_key(b->key, index);
+            if ((cut = is_cut(bd->keys, key)) != 0)
+                break;
             float theta = merp_inv_heading(&d->g[MERP_G_O1], &d->g[MERP_G_O2], s_theta,
                                            (along + 0.5f * len) / L, d->theta_max);
             uint32_t id;
-            mer_result rc = put_node(bd, b, prev, slot, y, &id);
+            mer_result rc = put_node(bd, b, prev, slot, y, key, &id);
             if (rc != MER_OK)
                 return rc;
             float *dir = sk->dir + 3 * id;
@@ -210,14 +254,14 @@ static mer_result grow_branch(builder *bd, const branch *b)
             sk->len[id] = len;
             merp_skel_node_end(sk, id, pos);
             along += len;
-            rc = lateral(bd, b, id, y, j, m, index);
+            rc = lateral(bd, b, id, y, j, m, key);
             if (rc != MER_OK)
                 return rc;
             prev = id;
             slot = 0;
         }
     }
-    if (prev != b->attach)
+    if (prev != b->attach && !cut)
         merp_skel_bud_set(sk, prev, 0, MER_BUD_DORMANT);
     return MER_OK;
 }
@@ -240,7 +284,7 @@ static mer_result clear(merp_skeleton *sk, uint32_t root, mer_error *err)
 }
 
 mer_result merp_inv_build(const merp_inv_def *d, double t, uint64_t seed, merp_skeleton *sk,
-                          uint32_t root, mer_error *err)
+                          uint32_t root, merp_inv_keys *keys, mer_error *err)
 {
     assert(d != NULL && sk != NULL && root < sk->n && sk->alive[root]);
     assert(t >= 0.0 && t <= (double)d->y_max);
@@ -248,7 +292,7 @@ mer_result merp_inv_build(const merp_inv_def *d, double t, uint64_t seed, merp_s
     if (rc != MER_OK)
         return rc;
     builder bd = {.d = d, .sk = sk, .t = t, .plant = sk->plant[root],
-                  .reuse = root, .err = err};
+                  .reuse = root, .keys = keys, .err = err};
     bd.year = t > 0.0 ? (uint32_t)ceil(t) : 0;
     bd.f = t > 0.0 ? (float)(t - (double)(bd.year - 1)) : 1.0f;
     size_t row = d->y_max + 1;

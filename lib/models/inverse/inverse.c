@@ -1,7 +1,12 @@
 /* meristem — the inverse model of G04 §4 as a growth model (model.h): one step
  * is one year, and the tree after n steps is its definition at year n, rebuilt
  * whole (the model is a function of time, build.c). The seed of its variation is
- * drawn once from the scene's stream, at the first tree it shows. */
+ * drawn once from the scene's stream, at the first tree it shows.
+ *
+ * Prunes outlive the rebuilds: when nodes are removed, the keys of the metamers
+ * cut (build.c) are kept, and every later tree ends those branches there, in any
+ * year and under any definition where the metamer still exists. A bend lasts
+ * until the next rebuild: the headings are the functions'. */
 #include "config.h"
 
 #include <assert.h>
@@ -16,7 +21,11 @@ struct merp_model {
     merp_inv_def def;
     uint64_t seed;
     int seeded;
-    double t; /* the time the tree shows */
+    double t;       /* the time the tree shows */
+    merp_inv_keys keys;
+    uint64_t *cuts; /* keys.cut's storage, sorted */
+    uint32_t cap_cuts;
+    uint32_t first; /* the first id the last build made (the roots are before it) */
 };
 
 static mer_result inverse_create(const mer_params *p, merp_model **out, mer_error *err)
@@ -49,11 +58,12 @@ static mer_result show(merp_model *m, merp_skeleton *sk, mer_rng *rng, double t,
         m->seed = mer_rng_next(rng);
         m->seeded = 1;
     }
+    m->first = sk->n;
     for (uint32_t r = 0; r < sk->nplants; r++) {
         uint32_t root = sk->roots[r];
         if (!sk->alive[root])
             continue;
-        mer_result rc = merp_inv_build(&m->def, t, m->seed, sk, root, err);
+        mer_result rc = merp_inv_build(&m->def, t, m->seed, sk, root, &m->keys, err);
         if (rc != MER_OK)
             return rc;
     }
@@ -70,29 +80,83 @@ static mer_result inverse_step(merp_model *m, const merp_world *w, mer_error *er
     return show(m, w->sk, w->rng, (double)year, err);
 }
 
+/* Adds `key` to the sorted cuts; 0 when out of memory. */
+static int add_cut(merp_model *m, uint64_t key)
+{
+    uint32_t at = 0, n = m->keys.ncut;
+    while (at < n && m->cuts[at] < key)
+        at++;
+    if (at < n && m->cuts[at] == key)
+        return 1;
+    if (n == m->cap_cuts) {
+        uint32_t cap = m->cap_cuts ? 2 * m->cap_cuts : 16;
+        uint64_t *cuts = merp_realloc(m->cuts, (size_t)cap * sizeof *cuts);
+        if (cuts == NULL)
+            return 0;
+        m->cuts = cuts;
+        m->cap_cuts = cap;
+    }
+    memmove(m->cuts + at + 1, m->cuts + at, (size_t)(n - at) * sizeof *m->cuts);
+    m->cuts[at] = key;
+    m->keys.cut = m->cuts;
+    m->keys.ncut = n + 1;
+    return 1;
+}
+
+/* A removed node whose parent lives is where a prune cut: its key joins the
+ * cuts. Out of memory, a cut is forgotten at the next rebuild (this hook cannot
+ * fail); the tree shown now keeps it either way. O(nodes of the last build). */
 static void inverse_nodes_changed(merp_model *m, const merp_world *w)
 {
-    (void)m;
-    (void)w;
+    const merp_skeleton *sk = w->sk;
+    for (uint32_t i = m->first; i < sk->n && i < m->keys.cap; i++) {
+        uint32_t p = sk->parent[i];
+        if (!sk->alive[i] && p != MER_NO_NODE && sk->alive[p])
+            (void)add_cut(m, m->keys.of[i]);
+    }
 }
 
 static uint64_t inverse_hash(const merp_model *m, uint64_t h)
 {
     h = merp_fnv(h, &m->def, sizeof m->def);
     h = merp_fnv(h, &m->seed, sizeof m->seed);
-    return merp_fnv(h, &m->t, sizeof m->t);
+    h = merp_fnv(h, &m->t, sizeof m->t);
+    return merp_fnv(h, m->cuts, (size_t)m->keys.ncut * sizeof *m->cuts);
+}
+
+static void inverse_free(merp_model *m)
+{
+    if (m == NULL)
+        return;
+    merp_free(m->keys.of);
+    merp_free(m->cuts);
+    merp_free(m);
 }
 
 static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error *err)
 {
-    *out = merp_malloc(sizeof **out);
-    if (*out == NULL)
+    merp_model *c = merp_malloc(sizeof *c);
+    if (c == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
-    memcpy(*out, m, sizeof **out);
+    memcpy(c, m, sizeof *c);
+    c->keys.of = NULL;
+    c->cuts = NULL;
+    if (m->keys.cap > 0)
+        c->keys.of = merp_malloc((size_t)m->keys.cap * sizeof *c->keys.of);
+    if (m->cap_cuts > 0)
+        c->cuts = merp_malloc((size_t)m->cap_cuts * sizeof *c->cuts);
+    if ((m->keys.cap > 0 && c->keys.of == NULL) || (m->cap_cuts > 0 && c->cuts == NULL)) {
+        inverse_free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    }
+    if (m->keys.cap > 0)
+        memcpy(c->keys.of, m->keys.of, (size_t)m->keys.cap * sizeof *c->keys.of);
+    if (m->keys.ncut > 0)
+        memcpy(c->cuts, m->cuts, (size_t)m->keys.ncut * sizeof *c->cuts);
+    c->keys.cut = c->cuts;
+    *out = c;
     return MER_OK;
 }
-
-static void inverse_free(merp_model *m) { merp_free(m); }
 
 const merp_model_ops merp_inverse_ops = {
     .name = "inverse",
@@ -147,4 +211,11 @@ double merp_inverse_time(const mer_scene *s)
 {
     assert(s != NULL && s->ops == &merp_inverse_ops);
     return s->model->t;
+}
+
+uint64_t merp_inverse_node_key(const mer_scene *s, uint32_t id)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    const merp_model *m = s->model;
+    return id < m->keys.cap && id < s->sk.n && m->seeded ? m->keys.of[id] : 0;
 }

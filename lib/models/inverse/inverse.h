@@ -170,13 +170,24 @@ float merp_inv_metamer_start(uint32_t j, uint32_t m, float span);
  * by the growth curve g (G_e, G_lg or G_bg) over its own growing time. */
 float merp_inv_growth(const merp_gfunc *g, float f, uint32_t j, uint32_t m, float span);
 
-/* build.c — the tree at time t (years, 0..y_max, fractional allowed) onto plant
- * `root` of sk: root's subtree is replaced (the old nodes die, unremembered by
- * the pipe model) by the tree of `d` at t, its nodes born at the year of their
- * shoot. Deterministic in (d, t, seed): the same branch gets the same variation
- * in every year. MER_ERR_LIMIT past MER_NODES_MAX, MER_ERR_NOMEM. O(nodes). */
+/* build.c — every metamer has a key, a function of the seed and its place in
+ * the tree (its branch's key and its index along the branch), the same in every
+ * year and at every t: what lets a prune outlive the rebuilds. */
+typedef struct merp_inv_keys {
+    uint64_t *of;        /* of[id]: the key of node id, for the nodes builds made */
+    uint32_t cap;        /* entries of `of` (merp_malloc'd; builds grow it) */
+    const uint64_t *cut; /* the keys of cut metamers, sorted: a build stops there */
+    uint32_t ncut;
+} merp_inv_keys;
+/* The tree at time t (years, 0..y_max, fractional allowed) onto plant `root`
+ * of sk: root's subtree is replaced (the old nodes die, unremembered by the pipe
+ * model) by the tree of `d` at t, its nodes born at the year of their shoot.
+ * Deterministic in (d, t, seed): the same branch gets the same variation in
+ * every year. With `keys` (may be NULL), each node's key is recorded and a
+ * branch ends below a cut metamer. MER_ERR_LIMIT past MER_NODES_MAX,
+ * MER_ERR_NOMEM. O(nodes). */
 mer_result merp_inv_build(const merp_inv_def *d, double t, uint64_t seed, merp_skeleton *sk,
-                          uint32_t root, mer_error *err);
+                          uint32_t root, merp_inv_keys *keys, mer_error *err);
 
 /* inverse.c — the growth model (model.h): a step is a year; the scene's tree is
  * its definition at year = steps done (the Populus of G04 §5 until
@@ -195,5 +206,9 @@ mer_result merp_inverse_set_def(mer_scene *s, const merp_inv_def *d, mer_error *
 const merp_inv_def *merp_inverse_def(const mer_scene *s);
 /* The time its tree shows. */
 double merp_inverse_time(const mer_scene *s);
+/* The key of node id (build.c): the same metamer has the same key in every
+ * year's tree, though its id changes with every rebuild. 0 for an id no build
+ * made (the plants' roots before the first step). */
+uint64_t merp_inverse_node_key(const mer_scene *s, uint32_t id);
 
 #endif
