@@ -315,6 +315,40 @@ static void test_prunes_outlive_rebuilds(void **state)
     mer_scene_free(copy);
 }
 
+/* Leaves (G04 §4.3): this year's metamers bear them, sized by G_l(x_s) once
+ * grown; last year's have none; early in the year they are still small. */
+static void test_leaves_grow_within_the_year(void **state)
+{
+    (void)state;
+    mer_scene *s = inverse_scene(6);
+    mer_error err;
+    assert_int_equal(merp_inverse_show(s, 12.0, &err), MER_OK);
+    const merp_skeleton *sk = &s->sk;
+    const merp_inv_def *d = merp_inverse_def(s);
+    uint32_t leafy = 0;
+    double full = 0.0;
+    for (uint32_t i = 0; i < sk->n; i++) {
+        if (!sk->alive[i])
+            continue;
+        float leaf = merp_inverse_leaf_size(s, i);
+        if (sk->born[i] == 12) {
+            assert_true(leaf > 0.0f && leaf <= d->leaf_size);
+            leafy++;
+            full += (double)leaf;
+        } else {
+            assert_float_equal(leaf, 0.0f, 0.0f);
+        }
+    }
+    assert_true(leafy > 50);
+    assert_int_equal(merp_inverse_show(s, 11.3, &err), MER_OK);
+    double early = 0.0;
+    for (uint32_t i = 0; i < sk->n; i++)
+        if (sk->alive[i] && sk->born[i] == 12)
+            early += (double)merp_inverse_leaf_size(s, i);
+    assert_true(early > 0.0 && early < 0.5 * full);
+    mer_scene_free(s);
+}
+
 /* The tree meshes and writes as GLB like any other. */
 static void test_meshes_to_glb(void **state)
 {
@@ -344,6 +378,7 @@ int main(void)
         cmocka_unit_test(test_deterministic_from_the_seed),
         cmocka_unit_test(test_fractional_years_are_continuous),
         cmocka_unit_test(test_prunes_outlive_rebuilds),
+        cmocka_unit_test(test_leaves_grow_within_the_year),
         cmocka_unit_test(test_meshes_to_glb),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -169,8 +169,8 @@ static int is_cut(const merp_inv_keys *keys, uint64_t key)
     return lo < keys->ncut && keys->cut[lo] == key;
 }
 
-/* Records `key` as node id's. */
-static mer_result keep_key(builder *bd, uint32_t id, uint64_t key)
+/* Records node id's key and leaf size. */
+static mer_result keep_key(builder *bd, uint32_t id, uint64_t key, float leaf)
 {
     merp_inv_keys *k = bd->keys;
     if (k == NULL)
@@ -180,19 +180,35 @@ static mer_result keep_key(builder *bd, uint32_t id, uint64_t key)
         while (cap <= id)
             cap *= 2;
         uint64_t *of = merp_realloc(k->of, (size_t)cap * sizeof *of);
-        if (of == NULL)
+        if (of != NULL)
+            k->of = of;
+        float *lf = of != NULL ? merp_realloc(k->leaf, (size_t)cap * sizeof *lf) : NULL;
+        if (lf == NULL)
             return mer_error_set(bd->err, MER_ERR_NOMEM, NULL, "out of memory for node keys");
-        k->of = of;
+        k->leaf = lf;
         k->cap = cap;
     }
     k->of[id] = key;
+    k->leaf[id] = leaf;
     return MER_OK;
+}
+
+/* The leaf of metamer j of m in shoot y at the build's time: sized by G_l(x_s)
+ * (§4.3) as far as G_lg has grown it; last year's leaves have fallen (Populus
+ * is deciduous; Fig. 13's succession is within one year). */
+static float leaf_of(const builder *bd, uint32_t y, uint32_t j, uint32_t m)
+{
+    if (y < bd->year)
+        return 0.0f;
+    const merp_inv_def *d = bd->d;
+    return merp_inv_leaf_size(&d->g[MERP_G_L], merp_inv_x_s(j, m), d->leaf_size) *
+           merp_inv_growth(&d->g[MERP_G_LG], bd->f, j, m, d->span);
 }
 
 /* A new node (or the plant's root, for the trunk's first metamer) after `prev`
  * (slot `slot`) with its geometry and key. */
 static mer_result put_node(builder *bd, const branch *b, uint32_t prev, uint32_t slot,
-                           uint32_t y, uint64_t key, uint32_t *out)
+                           uint32_t y, uint64_t key, float leaf, uint32_t *out)
 {
     merp_skeleton *sk = bd->sk;
     uint32_t id = bd->reuse;
@@ -204,7 +220,7 @@ static mer_result put_node(builder *bd, const branch *b, uint32_t prev, uint32_t
         sk->slot[id] = (uint8_t)slot;
         sk->child[3 * prev + slot] = id;
     }
-    mer_result rc = keep_key(bd, id, key);
+    mer_result rc = keep_key(bd, id, key, leaf);
     if (rc != MER_OK)
         return rc;
     bd->reuse = MER_NO_NODE;
@@ -242,7 +258,7 @@ static mer_result grow_branch(builder *bd, const branch *b)
             float theta = merp_inv_heading(&d->g[MERP_G_O1], &d->g[MERP_G_O2], s_theta,
                                            (along + 0.5f * len) / L, d->theta_max);
             uint32_t id;
-            mer_result rc = put_node(bd, b, prev, slot, y, key, &id);
+            mer_result rc = put_node(bd, b, prev, slot, y, key, leaf_of(bd, y, j, m), &id);
             if (rc != MER_OK)
                 return rc;
             float *dir = sk->dir + 3 * id;

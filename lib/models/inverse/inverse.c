@@ -129,6 +129,7 @@ static void inverse_free(merp_model *m)
     if (m == NULL)
         return;
     merp_free(m->keys.of);
+    merp_free(m->keys.leaf);
     merp_free(m->cuts);
     merp_free(m);
 }
@@ -140,17 +141,24 @@ static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
     memcpy(c, m, sizeof *c);
     c->keys.of = NULL;
+    c->keys.leaf = NULL;
     c->cuts = NULL;
-    if (m->keys.cap > 0)
-        c->keys.of = merp_malloc((size_t)m->keys.cap * sizeof *c->keys.of);
+    size_t cap = m->keys.cap;
+    if (cap > 0) {
+        c->keys.of = merp_malloc(cap * sizeof *c->keys.of);
+        c->keys.leaf = merp_malloc(cap * sizeof *c->keys.leaf);
+    }
     if (m->cap_cuts > 0)
         c->cuts = merp_malloc((size_t)m->cap_cuts * sizeof *c->cuts);
-    if ((m->keys.cap > 0 && c->keys.of == NULL) || (m->cap_cuts > 0 && c->cuts == NULL)) {
+    if ((cap > 0 && (c->keys.of == NULL || c->keys.leaf == NULL)) ||
+        (m->cap_cuts > 0 && c->cuts == NULL)) {
         inverse_free(c);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
     }
-    if (m->keys.cap > 0)
-        memcpy(c->keys.of, m->keys.of, (size_t)m->keys.cap * sizeof *c->keys.of);
+    if (cap > 0) {
+        memcpy(c->keys.of, m->keys.of, cap * sizeof *c->keys.of);
+        memcpy(c->keys.leaf, m->keys.leaf, cap * sizeof *c->keys.leaf);
+    }
     if (m->keys.ncut > 0)
         memcpy(c->cuts, m->cuts, (size_t)m->keys.ncut * sizeof *c->cuts);
     c->keys.cut = c->cuts;
@@ -218,4 +226,12 @@ uint64_t merp_inverse_node_key(const mer_scene *s, uint32_t id)
     assert(s != NULL && s->ops == &merp_inverse_ops);
     const merp_model *m = s->model;
     return id < m->keys.cap && id < s->sk.n && m->seeded ? m->keys.of[id] : 0;
+}
+
+float merp_inverse_leaf_size(const mer_scene *s, uint32_t id)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    const merp_model *m = s->model;
+    return id < m->keys.cap && id < s->sk.n && s->sk.alive[id] && m->seeded ? m->keys.leaf[id]
+                                                                            : 0.0f;
 }

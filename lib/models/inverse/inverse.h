@@ -175,7 +175,8 @@ float merp_inv_growth(const merp_gfunc *g, float f, uint32_t j, uint32_t m, floa
  * year and at every t: what lets a prune outlive the rebuilds. */
 typedef struct merp_inv_keys {
     uint64_t *of;        /* of[id]: the key of node id, for the nodes builds made */
-    uint32_t cap;        /* entries of `of` (merp_malloc'd; builds grow it) */
+    float *leaf;         /* leaf[id]: its leaf's size, m (G_l, G_lg; 0: none) */
+    uint32_t cap;        /* entries of `of` and `leaf` (merp_malloc'd; builds grow them) */
     const uint64_t *cut; /* the keys of cut metamers, sorted: a build stops there */
     uint32_t ncut;
 } merp_inv_keys;
@@ -210,5 +211,9 @@ double merp_inverse_time(const mer_scene *s);
  * year's tree, though its id changes with every rebuild. 0 for an id no build
  * made (the plants' roots before the first step). */
 uint64_t merp_inverse_node_key(const mer_scene *s, uint32_t id);
+/* The size (m) of node id's leaf in the tree shown: G_l(x_s) as grown by G_lg
+ * so far this year (§4.3); 0 for last year's metamers and ids no build made.
+ * For a mesher that sizes leaves per node (lib/mesh/ sizes them all alike). */
+float merp_inverse_leaf_size(const mer_scene *s, uint32_t id);
 
 #endif
