@@ -127,6 +127,15 @@ static void test_trunk_follows_G_h(void **state)
         before = now;
     }
     assert_int_equal(merp_inverse_show(s, 28.0, &err), MER_ERR_RANGE);
+    /* A new G_h regrows the tree shown (year 12) at once. */
+    const float taller[][2] = {{0, 0}, {1, 1}};
+    assert_int_equal(merp_gfunc_make(&d->g[MERP_G_H], "G_h", MERP_GF_LINEAR, 2, taller, 2, &err),
+                     MER_OK);
+    assert_int_equal(merp_inverse_set_def(s, d, &err), MER_OK);
+    assert_float_equal(measure_of(&s->sk).trunk, d->h_max * 12.0f / 27.0f, 1e-3f);
+    d->y_max = 11;
+    assert_int_equal(merp_inverse_set_def(s, d, &err), MER_ERR_RANGE);
+    assert_string_equal(err.field, "y_max");
     free(d);
     mer_scene_free(s);
 }

@@ -296,6 +296,17 @@ static void test_definition_checks(void **state)
     assert_int_equal(merp_inv_def_functions(d, shorter, strlen(shorter), &err), MER_ERR_INVALID);
     assert_non_null(strstr(err.message, "G_bg is missing"));
     free(shorter);
+    /* Written out and read back, the preset's functions are the same. */
+    assert_int_equal(merp_inv_populus(d, &err), MER_OK);
+    size_t need = merp_fset_write(d->g, MERP_G_COUNT, NULL, 0);
+    char *text2 = malloc(need + 1);
+    merp_fset_write(d->g, MERP_G_COUNT, text2, need + 1);
+    merp_inv_def *e = def_new();
+    assert_int_equal(merp_inv_def_functions(e, text2, need, &err), MER_OK);
+    for (uint32_t i = 0; i < MERP_G_COUNT; i++)
+        assert_true(merp_gfunc_equal(&d->g[i], &e->g[i]));
+    free(text2);
+    free(e);
     free(d);
 }
 

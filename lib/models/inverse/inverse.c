@@ -199,14 +199,16 @@ mer_result merp_inverse_set_def(mer_scene *s, const merp_inv_def *d, mer_error *
     mer_result rc = merp_inv_def_check(d, err);
     if (rc != MER_OK)
         return rc;
-    if (s->step > d->y_max)
-        return mer_error_set(err, MER_ERR_RANGE, "y_max",
-                             "the tree is %u years old; y_max must be at least that", s->step);
     merp_model *m = s->model;
+    if ((double)s->step > (double)d->y_max || m->t > (double)d->y_max)
+        return mer_error_set(err, MER_ERR_RANGE, "y_max",
+                             "the tree shows year %g; y_max must be at least that",
+                             (double)s->step > m->t ? (double)s->step : m->t);
     m->def = *d;
     for (uint32_t i = 0; i < MERP_G_COUNT; i++)
         merp_gfunc_prepare(&m->def.g[i], NULL);
-    return s->step > 0 ? merp_inverse_show(s, (double)s->step, err) : MER_OK;
+    /* The tree shown, shown again under the new functions. */
+    return m->seeded ? merp_inverse_show(s, m->t, err) : MER_OK;
 }
 
 const merp_inv_def *merp_inverse_def(const mer_scene *s)

@@ -201,7 +201,9 @@ extern const merp_model_ops merp_inverse_ops;
  * outside 0..y_max; as merp_inv_build. O(nodes). */
 mer_result merp_inverse_show(mer_scene *s, double t, mer_error *err);
 /* Replaces the scene's definition (checked: merp_inv_def_check) and shows the
- * tree at the current step under it. As merp_inverse_show otherwise. */
+ * tree of the time shown last under it (nothing to show before the first
+ * step or show). MER_ERR_RANGE when its y_max is below that time. As
+ * merp_inverse_show otherwise. */
 mer_result merp_inverse_set_def(mer_scene *s, const merp_inv_def *d, mer_error *err);
 /* The scene's definition, borrowed. */
 const merp_inv_def *merp_inverse_def(const mer_scene *s);
