@@ -21,6 +21,7 @@
 #include <meristem/mesh.h>
 #include <meristem/scene.h>
 
+#include "core/bytes.h"
 #include "models/inverse/inverse.h"
 #include "scene_private.h"
 
@@ -358,6 +359,44 @@ static void test_leaves_grow_within_the_year(void **state)
     mer_scene_free(s);
 }
 
+/* The model's state round-trips through its checkpoint bytes, cuts and all,
+ * and grows on as before; damaged bytes are refused. */
+static void test_checkpoint_state(void **state)
+{
+    (void)state;
+    mer_scene *s = inverse_scene(8), *twin = inverse_scene(8);
+    step(s, 9);
+    step(twin, 9);
+    mer_error err;
+    uint32_t cut = s->sk.n - 1;
+    while (!s->sk.alive[cut] || s->sk.order[cut] == 0)
+        cut--;
+    assert_int_equal(mer_scene_prune(s, cut, &err), MER_OK);
+    assert_int_equal(mer_scene_prune(twin, cut, &err), MER_OK);
+    merp_bytes_out out = {0};
+    merp_inverse_ops.save(s->model, &out);
+    assert_false(out.oom);
+    merp_bytes_in in = {out.buf, out.n, 0, 0};
+    merp_model *back = NULL;
+    assert_int_equal(merp_inverse_ops.load(&in, s->sk.n, &back, &err), MER_OK);
+    assert_int_equal(in.at, out.n);
+    assert_true(merp_inverse_ops.hash(back, 1) == merp_inverse_ops.hash(s->model, 1));
+    merp_inverse_ops.free(s->model);
+    s->model = back;
+    step(s, 4);
+    step(twin, 4);
+    assert_true(mer_scene_hash(s) == mer_scene_hash(twin));
+    /* Cut short, or with a node count it cannot fit, it is refused. */
+    merp_bytes_in shortened = {out.buf, out.n - 3, 0, 0};
+    assert_int_equal(merp_inverse_ops.load(&shortened, s->sk.n, &back, &err), MER_ERR_FORMAT);
+    merp_bytes_in few = {out.buf, out.n, 0, 0};
+    assert_int_equal(merp_inverse_ops.load(&few, 5, &back, &err), MER_ERR_FORMAT);
+    assert_null(back);
+    free(out.buf);
+    mer_scene_free(s);
+    mer_scene_free(twin);
+}
+
 /* The tree meshes and writes as GLB like any other. */
 static void test_meshes_to_glb(void **state)
 {
@@ -388,6 +427,7 @@ int main(void)
         cmocka_unit_test(test_fractional_years_are_continuous),
         cmocka_unit_test(test_prunes_outlive_rebuilds),
         cmocka_unit_test(test_leaves_grow_within_the_year),
+        cmocka_unit_test(test_checkpoint_state),
         cmocka_unit_test(test_meshes_to_glb),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -190,6 +190,8 @@ static mer_result keep_key(builder *bd, uint32_t id, uint64_t key, float leaf)
     }
     k->of[id] = key;
     k->leaf[id] = leaf;
+    if (id >= k->used)
+        k->used = id + 1;
     return MER_OK;
 }
 

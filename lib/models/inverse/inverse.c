@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/bytes.h"
 #include "core/hash.h"
 #include "models/inverse/inverse.h"
 #include "scene_private.h"
@@ -166,6 +167,68 @@ static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error
     return MER_OK;
 }
 
+/* The checkpoint: the definition (its samples are recomputed on loading), the
+ * seed, the time shown, the first id of the last build, each built node's key
+ * and leaf, and the cuts. Host byte order, as every checkpoint. */
+static void inverse_save(const merp_model *m, merp_bytes_out *out)
+{
+    merp_put(out, &m->def, sizeof m->def);
+    merp_put_u64(out, m->seed);
+    merp_put_u32(out, (uint32_t)m->seeded);
+    merp_put(out, &m->t, sizeof m->t);
+    merp_put_u32(out, m->first);
+    merp_put_u32(out, m->keys.used);
+    merp_put(out, m->keys.of, (size_t)m->keys.used * sizeof *m->keys.of);
+    merp_put(out, m->keys.leaf, (size_t)m->keys.used * sizeof *m->keys.leaf);
+    merp_put_u32(out, m->keys.ncut);
+    merp_put(out, m->cuts, (size_t)m->keys.ncut * sizeof *m->cuts);
+}
+
+/* Whether what was read holds together: a valid definition, a time in its
+ * range, ids within the skeleton's, cuts sorted. */
+static int loaded_ok(merp_model *m, uint32_t nodes)
+{
+    if (merp_inv_def_check(&m->def, NULL) != MER_OK || m->seeded > 1 ||
+        !(m->t >= 0.0 && m->t <= (double)m->def.y_max) || m->first > nodes ||
+        m->keys.used > nodes)
+        return 0;
+    for (uint32_t i = 1; i < m->keys.ncut; i++)
+        if (m->cuts[i - 1] >= m->cuts[i])
+            return 0;
+    for (uint32_t i = 0; i < MERP_G_COUNT; i++)
+        merp_gfunc_prepare(&m->def.g[i], NULL);
+    return 1;
+}
+
+static mer_result inverse_load(merp_bytes_in *in, uint32_t nodes, merp_model **out,
+                               mer_error *err)
+{
+    *out = NULL;
+    merp_model *m = merp_calloc(1, sizeof *m);
+    if (m == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    merp_get(in, &m->def, sizeof m->def);
+    m->seed = merp_get_u64(in);
+    m->seeded = (int)merp_get_u32(in);
+    merp_get(in, &m->t, sizeof m->t);
+    m->first = merp_get_u32(in);
+    uint32_t used = merp_get_u32(in);
+    (void)(MERP_GET_ARRAY(in, m->keys.of, used) && MERP_GET_ARRAY(in, m->keys.leaf, used));
+    m->keys.cap = m->keys.used = in->bad ? 0 : used;
+    uint32_t ncut = merp_get_u32(in);
+    (void)MERP_GET_ARRAY(in, m->cuts, ncut);
+    m->cap_cuts = m->keys.ncut = in->bad ? 0 : ncut;
+    m->keys.cut = m->cuts;
+    if (in->bad || !loaded_ok(m, nodes)) {
+        int oom = in->bad == 2;
+        inverse_free(m);
+        return oom ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model")
+                   : mer_error_set(err, MER_ERR_FORMAT, "model", "damaged inverse-model state");
+    }
+    *out = m;
+    return MER_OK;
+}
+
 const merp_model_ops merp_inverse_ops = {
     .name = "inverse",
     .param_rows = 0,
@@ -176,8 +239,8 @@ const merp_model_ops merp_inverse_ops = {
     .nodes_changed = inverse_nodes_changed,
     .hash = inverse_hash,
     .clone = inverse_clone,
-    .save = NULL,
-    .load = NULL,
+    .save = inverse_save,
+    .load = inverse_load,
     .free = inverse_free,
 };
 

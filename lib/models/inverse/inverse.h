@@ -177,6 +177,7 @@ typedef struct merp_inv_keys {
     uint64_t *of;        /* of[id]: the key of node id, for the nodes builds made */
     float *leaf;         /* leaf[id]: its leaf's size, m (G_l, G_lg; 0: none) */
     uint32_t cap;        /* entries of `of` and `leaf` (merp_malloc'd; builds grow them) */
+    uint32_t used;       /* one past the highest id a build recorded */
     const uint64_t *cut; /* the keys of cut metamers, sorted: a build stops there */
     uint32_t ncut;
 } merp_inv_keys;
