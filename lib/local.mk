@@ -57,6 +57,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/inverse/build.c \
 	lib/models/inverse/inverse.c \
 	lib/models/inverse/populus.c \
+	lib/models/inverse/species.c \
 	lib/scene.c \
 	lib/scene_clone.c \
 	lib/scene_io.c \

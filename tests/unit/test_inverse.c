@@ -397,6 +397,80 @@ static void test_checkpoint_state(void **state)
     mer_scene_free(twin);
 }
 
+/* Of the order-1 branches longer than 1.5 m, the fraction whose tip hangs
+ * below their base. */
+static float hanging(const merp_skeleton *sk)
+{
+    uint32_t long_ones = 0, below = 0;
+    for (uint32_t i = 0; i < sk->n; i++) {
+        if (!sk->alive[i] || sk->order[i] != 1 || sk->order[sk->parent[i]] != 0)
+            continue;
+        float len = sk->len[i], tip[3];
+        uint32_t j = i;
+        while (sk->child[3 * j] != MER_NO_NODE && sk->alive[sk->child[3 * j]]) {
+            j = sk->child[3 * j];
+            len += sk->len[j];
+        }
+        merp_skel_node_end(sk, j, tip);
+        if (len > 1.5f) {
+            long_ones++;
+            below += tip[1] < sk->pos[3 * i + 1];
+        }
+    }
+    return long_ones > 0 ? (float)below / (float)long_ones : 0.0f;
+}
+
+/* The widest spread of order >= 1 wood between heights lo and hi. */
+static float width_between(const merp_skeleton *sk, float lo, float hi)
+{
+    float w = 0.0f;
+    for (uint32_t i = 0; i < sk->n; i++) {
+        float e[3];
+        merp_skel_node_end(sk, i, e);
+        if (sk->alive[i] && sk->order[i] >= 1 && e[1] >= lo && e[1] < hi) {
+            float r = sqrtf(e[0] * e[0] + e[2] * e[2]);
+            w = r > w ? r : w;
+        }
+    }
+    return 2.0f * w;
+}
+
+/* The two other species show the model's range: the conifer is a spire, wide
+ * at the base and narrow at the top; the weeping form's long branches hang,
+ * where the Populus's turn up. */
+static void test_species_range(void **state)
+{
+    (void)state;
+    mer_error err;
+    merp_inv_def *d = malloc(sizeof *d);
+    mer_scene *s = inverse_scene(9);
+    assert_int_equal(merp_inv_conifer(d, &err), MER_OK);
+    assert_int_equal(merp_inverse_set_def(s, d, &err), MER_OK);
+    step(s, 27);
+    measure m = measure_of(&s->sk);
+    float third = (m.height - m.crown_low) / 3.0f;
+    float base = width_between(&s->sk, m.crown_low, m.crown_low + third);
+    float top = width_between(&s->sk, m.crown_low + 2.0f * third, m.height + 1.0f);
+    print_message("conifer: crown h/w %.2f, widths base %.2f top %.2f\n",
+                  (double)((m.height - m.crown_low) / m.width), (double)base, (double)top);
+    assert_true((m.height - m.crown_low) / m.width > 1.5f);
+    assert_true(base > 1.5f * top);
+    mer_scene_free(s);
+
+    s = inverse_scene(9);
+    step(s, 20);
+    float populus = hanging(&s->sk);
+    assert_int_equal(merp_inv_weeping(d, &err), MER_OK);
+    assert_int_equal(merp_inverse_set_def(s, d, &err), MER_OK);
+    float weeping = hanging(&s->sk);
+    print_message("hanging long branches: populus %.2f, weeping %.2f\n", (double)populus,
+                  (double)weeping);
+    assert_true(populus < 0.3f);
+    assert_true(weeping > 0.6f);
+    mer_scene_free(s);
+    free(d);
+}
+
 /* The tree meshes and writes as GLB like any other. */
 static void test_meshes_to_glb(void **state)
 {
@@ -428,6 +502,7 @@ int main(void)
         cmocka_unit_test(test_prunes_outlive_rebuilds),
         cmocka_unit_test(test_leaves_grow_within_the_year),
         cmocka_unit_test(test_checkpoint_state),
+        cmocka_unit_test(test_species_range),
         cmocka_unit_test(test_meshes_to_glb),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -71,8 +71,9 @@ mer_result merp_inv_def_check(const merp_inv_def *d, mer_error *err)
     return check_scalars(d, err);
 }
 
-mer_result merp_inv_def_functions(merp_inv_def *d, const char *fset, size_t len,
-                                  mer_error *err)
+/* The functions of a .fset into d by name; with `all`, every one must be there. */
+static mer_result read_functions(merp_inv_def *d, const char *fset, size_t len, int all,
+                                 mer_error *err)
 {
     assert(d != NULL && fset != NULL);
     enum { CAP = 2 * MERP_G_COUNT };
@@ -81,7 +82,7 @@ mer_result merp_inv_def_functions(merp_inv_def *d, const char *fset, size_t len,
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for functions");
     uint32_t n = 0;
     mer_result rc = merp_fset_read(fset, len, fs, CAP, &n, err);
-    uint32_t seen = 0;
+    uint32_t seen = 0, at[CAP];
     for (uint32_t i = 0; i < n && rc == MER_OK; i++) {
         uint32_t k = 0;
         while (k < MERP_G_COUNT && strcmp(fs[i].name, merp_inv_fn_names[k]) != 0)
@@ -93,15 +94,25 @@ mer_result merp_inv_def_functions(merp_inv_def *d, const char *fset, size_t len,
             rc = mer_error_set(err, MER_ERR_INVALID, "functions", "%s given twice",
                                fs[i].name);
         seen |= 1u << k;
+        at[i] = k;
     }
-    for (uint32_t k = 0; k < MERP_G_COUNT && rc == MER_OK; k++)
+    for (uint32_t k = 0; k < MERP_G_COUNT && rc == MER_OK && all; k++)
         if (!(seen & (1u << k)))
             rc = mer_error_set(err, MER_ERR_INVALID, "functions", "%s is missing",
                                merp_inv_fn_names[k]);
     for (uint32_t i = 0; i < n && rc == MER_OK; i++)
-        for (uint32_t k = 0; k < MERP_G_COUNT; k++)
-            if (strcmp(fs[i].name, merp_inv_fn_names[k]) == 0)
-                d->g[k] = fs[i];
+        d->g[at[i]] = fs[i];
     merp_free(fs);
     return rc;
+}
+
+mer_result merp_inv_def_functions(merp_inv_def *d, const char *fset, size_t len,
+                                  mer_error *err)
+{
+    return read_functions(d, fset, len, 1, err);
+}
+
+mer_result merp_inv_def_replace(merp_inv_def *d, const char *fset, size_t len, mer_error *err)
+{
+    return read_functions(d, fset, len, 0, err);
 }

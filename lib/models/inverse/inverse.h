@@ -15,7 +15,7 @@
  *   development.c continuous development within a year (G04 §4.3, Figs. 12–13)
  * and build.c puts them together into a tree at any (fractional) time on the
  * shared skeleton; inverse.c is the growth model (model.h) around it, populus.c
- * the Populus deltoides definition of G04 §5.
+ * the Populus deltoides definition of G04 §5, species.c two more of our own.
  *
  * Units: lengths in metres, angles in degrees, time in years. A function's
  * value is in [0, 1] (or [-1, 1] for headings) and a scalar of the definition
@@ -88,10 +88,19 @@ mer_result merp_inv_def_check(const merp_inv_def *d, mer_error *err);
  * merp_fset_read, MER_ERR_INVALID for a missing or unknown name. */
 mer_result merp_inv_def_functions(merp_inv_def *d, const char *fset, size_t len,
                                   mer_error *err);
+/* Replaces the functions a .fset text names (any subset, each at most once);
+ * the others stay. Errors as merp_inv_def_functions; d is unchanged then. */
+mer_result merp_inv_def_replace(merp_inv_def *d, const char *fset, size_t len, mer_error *err);
 /* The Populus deltoides of G04 §5 (populus.c): 27 years. Its functions as .fset
  * text, and the whole definition. */
 extern const char merp_inv_populus_fset[];
 mer_result merp_inv_populus(merp_inv_def *d, mer_error *err);
+/* species.c: two more trees that show the model's range, each the Populus with
+ * some functions and scalars changed: an excurrent conifer (a spire of short,
+ * level branches in whorl-like tiers) and a weeping form (long branches that arch
+ * over and hang). */
+mer_result merp_inv_conifer(merp_inv_def *d, mer_error *err);
+mer_result merp_inv_weeping(merp_inv_def *d, mer_error *err);
 
 /* silhouette.c — eqs (5)–(7). */
 /* t_y = y / y_max (§4). */
