@@ -53,6 +53,23 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/lsystem/model_private.h \
 	lib/models/lsystem/model.c \
 	lib/models/lsystem/draw.c \
+	lib/models/inverse/gfunc.h \
+	lib/models/inverse/gfunc.c \
+	lib/models/inverse/funcfile.c \
+	lib/models/inverse/inverse.h \
+	lib/models/inverse/def.c \
+	lib/models/inverse/silhouette.c \
+	lib/models/inverse/order.c \
+	lib/models/inverse/heading.c \
+	lib/models/inverse/scale.c \
+	lib/models/inverse/lifespan.c \
+	lib/models/inverse/shoot.c \
+	lib/models/inverse/phyllotaxis.c \
+	lib/models/inverse/development.c \
+	lib/models/inverse/build.c \
+	lib/models/inverse/inverse.c \
+	lib/models/inverse/populus.c \
+	lib/models/inverse/species.c \
 	lib/scene.c \
 	lib/scene_clone.c \
 	lib/scene_io.c \

@@ -5,6 +5,8 @@
 #    internodes, steps (and the paper's), seconds (min and median of
 #    BENCH_RUNS runs), internodes per second, peak memory (each run in a
 #    process of its own), the scene's hash.
+#  - bench_inverse: the inverse model's Populus (G04 §4) grown through its 27
+#    years, and shown at the fractional year 12.25: seconds, internodes, hash.
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
 #    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
 # `make table1`: see below.
@@ -14,16 +16,20 @@
 # real meristemd, in bench-restore-data/; needs node).
 # `make bench-page`: the brush client loading and drawing 10,000-internode
 # snapshots in headless Chromium (needs node, the npm test tools, chromium).
-EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh tests/bench/table1
+EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh tests/bench/table1 \
+	tests/bench/bench_inverse
 tests_bench_bench_SOURCES = tests/bench/bench.c
 tests_bench_bench_LDADD = lib/libmeristem-core.la
 tests_bench_bench_mesh_SOURCES = tests/bench/bench_mesh.c
+tests_bench_bench_inverse_SOURCES = tests/bench/bench_inverse.c
+tests_bench_bench_inverse_LDADD = lib/libmeristem-core.la
 tests_bench_table1_SOURCES = tests/bench/table1.c
 tests_bench_table1_LDADD = lib/libmeristem-core.la
 tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
-CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/table1$(EXEEXT)
+CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/table1$(EXEEXT) \
+	tests/bench/bench_inverse$(EXEEXT)
 EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js \
 	tests/bench/restore.js
 
@@ -31,9 +37,10 @@ BENCH_WORKLOADS = table1-left table1-center table1-right \
   colonization-1M-markers forest-100-trees runions-1M-markers
 BENCH_RUNS = 3
 
-bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT)
+bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/bench_inverse$(EXEEXT)
 	@./tests/bench/bench$(EXEEXT) --header
 	@for w in $(BENCH_WORKLOADS); do ./tests/bench/bench$(EXEEXT) $$w $(BENCH_RUNS) || exit 1; done
+	@./tests/bench/bench_inverse$(EXEEXT) $(BENCH_RUNS)
 	@./tests/bench/bench_mesh$(EXEEXT) 10000
 	@./tests/bench/bench_mesh$(EXEEXT) 10000 2 compact
 	@./tests/bench/bench_mesh$(EXEEXT) 700000

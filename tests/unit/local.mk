@@ -183,3 +183,19 @@ tests_unit_test_lsystem_model_SOURCES = tests/unit/test_lsystem_model.c
 nodist_EXTRA_tests_unit_test_lsystem_model_SOURCES = lib/link-as-cxx.cc
 tests_unit_test_lsystem_model_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_model_LDADD = $(UNIT_LDADD)
+check_PROGRAMS += tests/unit/test_gfunc
+tests_unit_test_gfunc_SOURCES = tests/unit/test_gfunc.c
+tests_unit_test_gfunc_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_gfunc_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_inverse_eqs
+tests_unit_test_inverse_eqs_SOURCES = tests/unit/test_inverse_eqs.c
+tests_unit_test_inverse_eqs_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_inverse_eqs_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_inverse
+tests_unit_test_inverse_SOURCES = tests/unit/test_inverse.c
+# It writes GLB: link with the C++ driver (tinygltf needs libstdc++).
+nodist_EXTRA_tests_unit_test_inverse_SOURCES = tests/unit/link-as-cxx.cc
+tests_unit_test_inverse_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_inverse_LDADD = $(UNIT_LDADD)

@@ -1,0 +1,302 @@
+/* meristem — the inverse model of G04 §4 as a growth model (model.h): one step
+ * is one year, and the tree after n steps is its definition at year n, rebuilt
+ * whole (the model is a function of time, build.c). The seed of its variation is
+ * drawn once from the scene's stream, at the first tree it shows.
+ *
+ * Prunes outlive the rebuilds: when nodes are removed, the keys of the metamers
+ * cut (build.c) are kept, and every later tree ends those branches there, in any
+ * year and under any definition where the metamer still exists. A bend lasts
+ * until the next rebuild: the headings are the functions'. */
+#include "config.h"
+
+#include <assert.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/bytes.h"
+#include "core/hash.h"
+#include "models/inverse/inverse.h"
+#include "scene_private.h"
+
+struct merp_model {
+    merp_inv_def def;
+    uint64_t seed;
+    int seeded;
+    double t;       /* the time the tree shows */
+    merp_inv_keys keys;
+    uint64_t *cuts; /* keys.cut's storage, sorted */
+    uint32_t cap_cuts;
+    uint32_t first; /* the first id the last build made (the roots are before it) */
+};
+
+static mer_result inverse_create(const mer_params *p, merp_model **out, mer_error *err)
+{
+    (void)p;
+    merp_model *m = merp_calloc(1, sizeof *m);
+    if (m == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    mer_result rc = merp_inv_populus(&m->def, err);
+    if (rc != MER_OK) {
+        merp_free(m);
+        return rc;
+    }
+    *out = m;
+    return MER_OK;
+}
+
+/* The world's parameters (leaf diameter, pipe exponent) are read by the scene;
+ * the tree's own are its definition's. */
+static void inverse_set_params(merp_model *m, const mer_params *p)
+{
+    (void)m;
+    (void)p;
+}
+
+/* Every plant at time t. */
+static mer_result show(merp_model *m, merp_skeleton *sk, mer_rng *rng, double t, mer_error *err)
+{
+    if (!m->seeded) {
+        m->seed = mer_rng_next(rng);
+        m->seeded = 1;
+    }
+    m->first = sk->n;
+    for (uint32_t r = 0; r < sk->nplants; r++) {
+        uint32_t root = sk->roots[r];
+        if (!sk->alive[root])
+            continue;
+        mer_result rc = merp_inv_build(&m->def, t, m->seed, sk, root, &m->keys, err);
+        if (rc != MER_OK)
+            return rc;
+    }
+    m->t = t;
+    return MER_OK;
+}
+
+static mer_result inverse_step(merp_model *m, const merp_world *w, mer_error *err)
+{
+    uint32_t year = w->step + 1;
+    if (year > m->def.y_max)
+        return mer_error_set(err, MER_ERR_LIMIT, "count",
+                             "this tree is defined for %u years", m->def.y_max);
+    return show(m, w->sk, w->rng, (double)year, err);
+}
+
+/* Adds `key` to the sorted cuts; 0 when out of memory. */
+static int add_cut(merp_model *m, uint64_t key)
+{
+    uint32_t at = 0, n = m->keys.ncut;
+    while (at < n && m->cuts[at] < key)
+        at++;
+    if (at < n && m->cuts[at] == key)
+        return 1;
+    if (n == m->cap_cuts) {
+        uint32_t cap = m->cap_cuts ? 2 * m->cap_cuts : 16;
+        uint64_t *cuts = merp_realloc(m->cuts, (size_t)cap * sizeof *cuts);
+        if (cuts == NULL)
+            return 0;
+        m->cuts = cuts;
+        m->cap_cuts = cap;
+    }
+    memmove(m->cuts + at + 1, m->cuts + at, (size_t)(n - at) * sizeof *m->cuts);
+    m->cuts[at] = key;
+    m->keys.cut = m->cuts;
+    m->keys.ncut = n + 1;
+    return 1;
+}
+
+/* A removed node whose parent lives is where a prune cut: its key joins the
+ * cuts. Out of memory, a cut is forgotten at the next rebuild (this hook cannot
+ * fail); the tree shown now keeps it either way. O(nodes of the last build). */
+static void inverse_nodes_changed(merp_model *m, const merp_world *w)
+{
+    const merp_skeleton *sk = w->sk;
+    for (uint32_t i = m->first; i < sk->n && i < m->keys.cap; i++) {
+        uint32_t p = sk->parent[i];
+        if (!sk->alive[i] && p != MER_NO_NODE && sk->alive[p])
+            (void)add_cut(m, m->keys.of[i]);
+    }
+}
+
+static uint64_t inverse_hash(const merp_model *m, uint64_t h)
+{
+    h = merp_fnv(h, &m->def, sizeof m->def);
+    h = merp_fnv(h, &m->seed, sizeof m->seed);
+    h = merp_fnv(h, &m->t, sizeof m->t);
+    return merp_fnv(h, m->cuts, (size_t)m->keys.ncut * sizeof *m->cuts);
+}
+
+static void inverse_free(merp_model *m)
+{
+    if (m == NULL)
+        return;
+    merp_free(m->keys.of);
+    merp_free(m->keys.leaf);
+    merp_free(m->cuts);
+    merp_free(m);
+}
+
+static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error *err)
+{
+    merp_model *c = merp_malloc(sizeof *c);
+    if (c == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    memcpy(c, m, sizeof *c);
+    c->keys.of = NULL;
+    c->keys.leaf = NULL;
+    c->cuts = NULL;
+    size_t cap = m->keys.cap;
+    if (cap > 0) {
+        c->keys.of = merp_malloc(cap * sizeof *c->keys.of);
+        c->keys.leaf = merp_malloc(cap * sizeof *c->keys.leaf);
+    }
+    if (m->cap_cuts > 0)
+        c->cuts = merp_malloc((size_t)m->cap_cuts * sizeof *c->cuts);
+    if ((cap > 0 && (c->keys.of == NULL || c->keys.leaf == NULL)) ||
+        (m->cap_cuts > 0 && c->cuts == NULL)) {
+        inverse_free(c);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    }
+    if (cap > 0) {
+        memcpy(c->keys.of, m->keys.of, cap * sizeof *c->keys.of);
+        memcpy(c->keys.leaf, m->keys.leaf, cap * sizeof *c->keys.leaf);
+    }
+    if (m->keys.ncut > 0)
+        memcpy(c->cuts, m->cuts, (size_t)m->keys.ncut * sizeof *c->cuts);
+    c->keys.cut = c->cuts;
+    *out = c;
+    return MER_OK;
+}
+
+/* The checkpoint: the definition (its samples are recomputed on loading), the
+ * seed, the time shown, the first id of the last build, each built node's key
+ * and leaf, and the cuts. Host byte order, as every checkpoint. */
+static void inverse_save(const merp_model *m, merp_bytes_out *out)
+{
+    merp_put(out, &m->def, sizeof m->def);
+    merp_put_u64(out, m->seed);
+    merp_put_u32(out, (uint32_t)m->seeded);
+    merp_put(out, &m->t, sizeof m->t);
+    merp_put_u32(out, m->first);
+    merp_put_u32(out, m->keys.used);
+    merp_put(out, m->keys.of, (size_t)m->keys.used * sizeof *m->keys.of);
+    merp_put(out, m->keys.leaf, (size_t)m->keys.used * sizeof *m->keys.leaf);
+    merp_put_u32(out, m->keys.ncut);
+    merp_put(out, m->cuts, (size_t)m->keys.ncut * sizeof *m->cuts);
+}
+
+/* Whether what was read holds together: a valid definition, a time in its
+ * range, ids within the skeleton's, cuts sorted. */
+static int loaded_ok(merp_model *m, uint32_t nodes)
+{
+    if (merp_inv_def_check(&m->def, NULL) != MER_OK || m->seeded > 1 ||
+        !(m->t >= 0.0 && m->t <= (double)m->def.y_max) || m->first > nodes ||
+        m->keys.used > nodes)
+        return 0;
+    for (uint32_t i = 1; i < m->keys.ncut; i++)
+        if (m->cuts[i - 1] >= m->cuts[i])
+            return 0;
+    for (uint32_t i = 0; i < MERP_G_COUNT; i++)
+        merp_gfunc_prepare(&m->def.g[i], NULL);
+    return 1;
+}
+
+static mer_result inverse_load(merp_bytes_in *in, uint32_t nodes, merp_model **out,
+                               mer_error *err)
+{
+    *out = NULL;
+    merp_model *m = merp_calloc(1, sizeof *m);
+    if (m == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
+    merp_get(in, &m->def, sizeof m->def);
+    m->seed = merp_get_u64(in);
+    m->seeded = (int)merp_get_u32(in);
+    merp_get(in, &m->t, sizeof m->t);
+    m->first = merp_get_u32(in);
+    uint32_t used = merp_get_u32(in);
+    (void)(MERP_GET_ARRAY(in, m->keys.of, used) && MERP_GET_ARRAY(in, m->keys.leaf, used));
+    m->keys.cap = m->keys.used = in->bad ? 0 : used;
+    uint32_t ncut = merp_get_u32(in);
+    (void)MERP_GET_ARRAY(in, m->cuts, ncut);
+    m->cap_cuts = m->keys.ncut = in->bad ? 0 : ncut;
+    m->keys.cut = m->cuts;
+    if (in->bad || !loaded_ok(m, nodes)) {
+        int oom = in->bad == 2;
+        inverse_free(m);
+        return oom ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model")
+                   : mer_error_set(err, MER_ERR_FORMAT, "model", "damaged inverse-model state");
+    }
+    *out = m;
+    return MER_OK;
+}
+
+const merp_model_ops merp_inverse_ops = {
+    .name = "inverse",
+    .param_rows = 0,
+    .validate = NULL,
+    .create = inverse_create,
+    .set_params = inverse_set_params,
+    .step = inverse_step,
+    .nodes_changed = inverse_nodes_changed,
+    .hash = inverse_hash,
+    .clone = inverse_clone,
+    .save = inverse_save,
+    .load = inverse_load,
+    .free = inverse_free,
+};
+
+mer_result merp_inverse_show(mer_scene *s, double t, mer_error *err)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    merp_model *m = s->model;
+    if (!(t >= 0.0 && t <= (double)m->def.y_max))
+        return mer_error_set(err, MER_ERR_RANGE, "t", "t must be in [0, %u] years",
+                             m->def.y_max);
+    mer_result rc = show(m, &s->sk, &s->rng, t, err);
+    merp_pipe_update(&s->sk, &s->p);
+    return rc;
+}
+
+mer_result merp_inverse_set_def(mer_scene *s, const merp_inv_def *d, mer_error *err)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops && d != NULL);
+    mer_result rc = merp_inv_def_check(d, err);
+    if (rc != MER_OK)
+        return rc;
+    merp_model *m = s->model;
+    if ((double)s->step > (double)d->y_max || m->t > (double)d->y_max)
+        return mer_error_set(err, MER_ERR_RANGE, "y_max",
+                             "the tree shows year %g; y_max must be at least that",
+                             (double)s->step > m->t ? (double)s->step : m->t);
+    m->def = *d;
+    for (uint32_t i = 0; i < MERP_G_COUNT; i++)
+        merp_gfunc_prepare(&m->def.g[i], NULL);
+    /* The tree shown, shown again under the new functions. */
+    return m->seeded ? merp_inverse_show(s, m->t, err) : MER_OK;
+}
+
+const merp_inv_def *merp_inverse_def(const mer_scene *s)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    return &s->model->def;
+}
+
+double merp_inverse_time(const mer_scene *s)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    return s->model->t;
+}
+
+uint64_t merp_inverse_node_key(const mer_scene *s, uint32_t id)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    const merp_model *m = s->model;
+    return id < m->keys.cap && id < s->sk.n && m->seeded ? m->keys.of[id] : 0;
+}
+
+float merp_inverse_leaf_size(const mer_scene *s, uint32_t id)
+{
+    assert(s != NULL && s->ops == &merp_inverse_ops);
+    const merp_model *m = s->model;
+    return id < m->keys.cap && id < s->sk.n && s->sk.alive[id] && m->seeded ? m->keys.leaf[id]
+                                                                            : 0.0f;
+}
