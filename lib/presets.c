@@ -21,16 +21,22 @@ static void set_apical(mer_params *p, uint32_t main_stem, uint32_t first, uint32
 
 /* Extended BH (P09 §4.2, Fig. 7): at each branch point v goes to the main axis and
  * the lateral in proportion to λQ_m and (1 − λ)Q_l, Q being the light of the whole
- * supported branch, and a bud given v makes n = ⌊v⌋ metamers. α = 2 is the paper's;
- * the default grid and shoot cap are kept: a bud's share stays near α, so shoots of
- * 1–2 metamers are the rule and the cap binds only at λ = 0.54 (caps of 3 and 4 give
- * the same trees from 0.46 to 0.52; a cap of 2 costs 0.54 its leader in all 8 seeds).
- * Measured over 8 seeds after 16 steps (4,600–8,500 internodes): the largest
- * first-order limb holds 82, 66, 33, 21, 11 % of the tree from λ 0.46 to 0.54, and
- * height/width rises from 0.80 at λ 0.5 to 1.20. The leader is lost in every seed
- * below 0.5 and kept from 0.5 on, at any age from 8 steps: at the top branch point
- * the lateral bud gets (1 − λ)/λ of the terminal bud's v, and ⌊v⌋ turns that edge
- * into a whole metamer every season; that follows from the paper's equations. */
+ * supported branch, and a bud given v makes n = ⌊v⌋ metamers. α = 2 is the paper's.
+ * Why the leader is lost below λ = 0.5 (this follows from the paper's equations, it is
+ * no deviation): a bud's light is at most C + a = 1.1, so the trunk's terminal bud gets
+ * v ≈ 1.8 at λ = 0.5 and makes one long metamer a season; below 0.5 every branch point
+ * on the trunk multiplies its share by λ(Q_m + Q_l)/(λQ_m + (1 − λ)Q_l) < 1, so after a
+ * few seasons v < 1, ⌊v⌋ = 0, a lateral overtops it and its shade keeps it dormant.
+ * Above 0.5 the same factor favours every axis's apex. The paper gives no branching
+ * angle; we take 60°, a botanist's usual figure for broadleaves, not the default 45°:
+ * laterals at 45° climb to the apex's height within a season, so the slightest bias
+ * against the apex cost it the lead (leader lost at 0.48 as early as at 0.46, and the
+ * crown's height/width flat from 0.46 to 0.50). At 60° the leader holds longer the
+ * nearer λ is to 0.5, and the progression is gradual over the whole series. Measured
+ * over 8 seeds after 16 steps (5,400–10,800 internodes), λ 0.46 → 0.54: height/width
+ * 0.69, 0.74, 0.78, 0.89, 1.15; largest first-order limb 77, 60, 35, 24, 11 % of the
+ * tree; trunk top at 0.34, 0.60, 1, 1, 1 of the height. The default grid and shoot cap
+ * are kept: shoots of 1–2 metamers are the rule. */
 static void bh(mer_params *p, float lambda)
 {
     p->fate = MER_FATE_BH;
@@ -38,12 +44,18 @@ static void bh(mer_params *p, float lambda)
     p->lambda = lambda;
 }
 
+static void fig7(mer_params *p, float lambda)
+{
+    bh(p, lambda);
+    p->branch_angle = 60.0f;
+}
+
 static void p_default(mer_params *p) { (void)p; }
-static void fig7_046(mer_params *p) { bh(p, 0.46f); }
-static void fig7_048(mer_params *p) { bh(p, 0.48f); }
-static void fig7_050(mer_params *p) { bh(p, 0.50f); }
-static void fig7_052(mer_params *p) { bh(p, 0.52f); }
-static void fig7_054(mer_params *p) { bh(p, 0.54f); }
+static void fig7_046(mer_params *p) { fig7(p, 0.46f); }
+static void fig7_048(mer_params *p) { fig7(p, 0.48f); }
+static void fig7_050(mer_params *p) { fig7(p, 0.50f); }
+static void fig7_052(mer_params *p) { fig7(p, 0.52f); }
+static void fig7_054(mer_params *p) { fig7(p, 0.54f); }
 
 /* The priority model at the paper's scale, calibrated on Table 1 (P09 §6: Fig. 10's
  * three trees reach 700,000, 642,000 and 225,000 internodes in 106, 90 and 68

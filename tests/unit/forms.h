@@ -36,6 +36,14 @@ static inline float form_leader_margin(const mer_scene *s)
     return h > 0.0f ? (trunk - lateral) / h : 0.0f;
 }
 
+/* Leader height: the trunk's top over the tree's height (1 while the leader leads;
+ * the lower, the earlier a lateral took over). */
+static inline float form_leader_height(const mer_scene *s)
+{
+    float m = form_leader_margin(s);
+    return m < 0.0f ? 1.0f + m : 1.0f;
+}
+
 /* Share of the internodes in the order-k axes (k = 1: the first-order branches). */
 static inline float form_order_share(const mer_scene *s, uint32_t k)
 {
