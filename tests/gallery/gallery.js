@@ -1,14 +1,30 @@
 'use strict';
-// `make gallery`: grows every preset for a few tens of steps in a real meristemd and
+// `make gallery`: grows every preset to the size of its figure in a real meristemd and
 // renders it to OUT/PRESET.png with headless Chromium through the brush client itself
-// (the page at /?session=ID&view=gallery). usage: node gallery.js OUT [STEPS] [PRESET,...]
-// (the presets named, or all of them)
+// (the page at /?session=ID&view=gallery). usage: node gallery.js OUT [STEPS]
+// (STEPS, when given, replaces every preset's own step count).
 const fs = require('node:fs');
 const path = require('node:path');
 const { chromium } = require('playwright-core');
 const { startDaemon, api } = require('../support/daemon.js');
 
-const MAX_INTERNODES = 12000;   // keeps a picture quick to grow and to draw
+/** Steps to the size each figure shows: Table 1's step counts for Fig. 10, the step
+ * counts the form tests measure (tests/unit/test_forms*.c) for the others. */
+const STEPS = {
+  default: 16,
+  'fig7-bh-0.46': 16, 'fig7-bh-0.48': 16, 'fig7-bh-0.50': 16, 'fig7-bh-0.52': 16, 'fig7-bh-0.54': 16,
+  'fig9-priority-k0.5': 30, 'fig9-priority-k0.35': 30,
+  'fig10-left': 106, 'fig10-center': 90, 'fig10-right': 68,
+  'fig11-animation': 50,
+  'fig6-sylleptic': 12, 'fig6-sympodial': 12,
+  fig12a: 20, fig12b: 20, fig12c: 20, fig12d: 20,
+  'fig13-tropism-late': 26,
+  'fig14-tall-bole': 18,
+  'fig15-brushed': 30,
+  'fig4-colonization': 30,
+};
+/** Presets that grow the same tree as another (Table 1 is Fig. 10 at full size). */
+const SAME_AS = { 'table1-left': 'fig10-left', 'table1-center': 'fig10-center', 'table1-right': 'fig10-right' };
 
 /** Fig. 15: the crown is laid with broad heavy strokes before the tree grows into it. */
 const BRUSHED = {
@@ -20,30 +36,31 @@ const BRUSHED = {
 
 (async () => {
   const out = path.resolve(process.argv[2] || 'gallery');
-  const steps = Number(process.argv[3] || 30);
+  const only = process.env.GALLERY_ONLY ? process.env.GALLERY_ONLY.split(',') : null;
   fs.mkdirSync(out, { recursive: true });
   const d = await startDaemon(['--quiet', '--max-request-seconds', '600']);
   const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
     args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'] });
   const rows = [];
   try {
-    const only = process.argv[4] ? new Set(process.argv[4].split(',')) : null;
-    const presets = (await api(d.url, 'GET', '/v1/presets')).body.presets.filter((p) => !only || only.has(p.name));
+    const presets = (await api(d.url, 'GET', '/v1/presets')).body.presets;
     const page = await browser.newPage({ viewport: { width: 720, height: 720 } });
     page.on('pageerror', (e) => console.error(String(e)));
     for (const p of presets) {
+      if (SAME_AS[p.name] || (only && !only.includes(p.name))) continue;
+      const steps = Number(process.argv[3] || STEPS[p.name] || 30);
       const s = (await api(d.url, 'POST', '/v1/sessions', { preset: p.name, seed: 1 })).body;
       let summary = s;
-      for (let done = 0; done < steps && summary.internodes < MAX_INTERNODES;) {
+      for (let done = 0; done < steps;) {
         if (done === 8 && BRUSHED[p.name]) {
           await api(d.url, 'POST', `/v1/sessions/${s.id}/edits`, { edits: BRUSHED[p.name] });
         }
-        const n = Math.min(done < 8 ? 8 - done : 2, steps - done);
+        const n = Math.min(done < 8 ? 8 - done : 10, steps - done);
         summary = (await api(d.url, 'POST', `/v1/sessions/${s.id}/edits`, { op: 'step', count: n })).body;
         done += n;
       }
       await page.goto(`${d.url}/?session=${s.id}&view=gallery&leaves=1&detail=3`);
-      await page.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null, null, { timeout: 120000 });
+      await page.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null, null, { timeout: 1800000 });
       const file = path.join(out, `${p.name}.png`);
       await page.screenshot({ path: file });
       rows.push({ preset: p.name, description: p.description, step: summary.step, internodes: summary.internodes,

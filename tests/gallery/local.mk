@@ -1,13 +1,11 @@
-# `make gallery`: every preset grown for a few tens of steps and rendered to
+# `make gallery`: every preset grown to its figure's size and rendered to
 # gallery/PRESET.png through the brush client in headless Chromium (README.md, section Gallery).
 gallery: all
 	$(MKDIR_P) gallery
 	MERISTEMD='$(abs_top_builddir)/server/meristemd' MER_WEB_ROOT='$(abs_top_builddir)/webroot' \
 	CHROMIUM='$(CHROMIUM)' NODE_PATH='$(NODE_MODULES_DIR)' \
-	  '$(NODE)' '$(abs_top_srcdir)/tests/gallery/gallery.js' gallery $(GALLERY_STEPS) $(GALLERY_PRESETS)
-GALLERY_STEPS = 30
-# A comma-separated list of presets to render (empty: all of them).
-GALLERY_PRESETS =
+	  '$(NODE)' '$(abs_top_srcdir)/tests/gallery/gallery.js' gallery $(GALLERY_STEPS)
+GALLERY_STEPS =
 clean-local: clean-gallery
 clean-gallery:
 	-rm -rf gallery

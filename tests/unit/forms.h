@@ -4,6 +4,7 @@
 #ifndef MERISTEM_TEST_FORMS_H
 #define MERISTEM_TEST_FORMS_H
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -34,6 +35,14 @@ static inline float form_leader_margin(const mer_scene *s)
     }
     float h = trunk > lateral ? trunk : lateral;
     return h > 0.0f ? (trunk - lateral) / h : 0.0f;
+}
+
+/* Leader height: the trunk's top over the tree's height (1 while the leader leads;
+ * the lower, the earlier a lateral took over). */
+static inline float form_leader_height(const mer_scene *s)
+{
+    float m = form_leader_margin(s);
+    return m < 0.0f ? 1.0f + m : 1.0f;
 }
 
 /* Share of the internodes in the order-k axes (k = 1: the first-order branches). */
@@ -93,6 +102,43 @@ static inline float form_lowest_branch(const mer_scene *s)
     mer_summary m;
     mer_scene_summary(s, &m);
     return m.crown_base;
+}
+
+/* Mean vertical component of the direction of the internodes made from step `from`
+ * on: below 0 when the new growth droops (P09 Fig. 13). */
+static inline float form_new_dir_y(const mer_scene *s, uint32_t from)
+{
+    double sum = 0.0;
+    uint32_t count = 0;
+    for (uint32_t id = 0; id < mer_scene_node_bound(s); id++) {
+        mer_node n;
+        if (mer_scene_node(s, id, &n, NULL) != MER_OK || !n.alive || n.plant != 0 ||
+            n.born < from)
+            continue;
+        sum += (double)n.dir[1];
+        count++;
+    }
+    return count > 0 ? (float)(sum / count) : 0.0f;
+}
+
+/* Gnarl: the mean angle in degrees between an internode and the next one of its axis
+ * (its main child): near 0 for straight axes, large for the "highly gnarled branches"
+ * of P09 Fig. 12c, d. */
+static inline float form_gnarl(const mer_scene *s)
+{
+    double sum = 0.0;
+    uint32_t count = 0;
+    for (uint32_t id = 0; id < mer_scene_node_bound(s); id++) {
+        mer_node n, c;
+        if (mer_scene_node(s, id, &n, NULL) != MER_OK || !n.alive || n.plant != 0 ||
+            n.main_child == MER_NO_NODE ||
+            mer_scene_node(s, n.main_child, &c, NULL) != MER_OK || !c.alive)
+            continue;
+        float dot = n.dir[0] * c.dir[0] + n.dir[1] * c.dir[1] + n.dir[2] * c.dir[2];
+        sum += (double)acosf(dot > 1.0f ? 1.0f : dot < -1.0f ? -1.0f : dot) * (180.0 / 3.14159265358979);
+        count++;
+    }
+    return count > 0 ? (float)(sum / count) : 0.0f;
 }
 
 #endif

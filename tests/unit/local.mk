@@ -140,6 +140,18 @@ tests_unit_test_forms_SOURCES = tests/unit/test_forms.c tests/unit/forms.h tests
 tests_unit_test_forms_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_forms_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_forms_figs
+tests_unit_test_forms_figs_SOURCES = tests/unit/test_forms_figs.c tests/unit/forms.h \
+	tests/unit/scene_helpers.h
+tests_unit_test_forms_figs_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_forms_figs_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_forms_full
+tests_unit_test_forms_full_SOURCES = tests/unit/test_forms_full.c tests/unit/forms.h \
+	tests/unit/scene_helpers.h
+tests_unit_test_forms_full_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_forms_full_LDADD = $(UNIT_LDADD)
+
 TESTS += $(check_PROGRAMS)
 
 check_PROGRAMS += tests/unit/test_clone

@@ -24,6 +24,7 @@ typedef struct form {
     float slenderness; /* mean height / width */
     float largest;     /* mean share of the largest first-order branch */
     float order1;      /* mean share of the first-order axes */
+    float leader;      /* mean trunk top / height */
 } form;
 
 static form measure(const char *preset, uint32_t steps)
@@ -31,7 +32,7 @@ static form measure(const char *preset, uint32_t steps)
     mer_params p;
     mer_error err;
     assert_int_equal(mer_preset_params(preset, &p, &err), MER_OK);
-    form f = {1.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    form f = {1.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     for (uint64_t seed = 1; seed <= SEEDS; seed++) {
         mer_scene *s = new_scene(&p, seed);
         step(s, steps);
@@ -42,12 +43,13 @@ static form measure(const char *preset, uint32_t steps)
         f.slenderness += form_slenderness(s) / SEEDS;
         f.largest += form_largest_branch_share(s) / SEEDS;
         f.order1 += form_order_share(s, 1) / SEEDS;
+        f.leader += form_leader_height(s) / SEEDS;
         mer_scene_free(s);
     }
     print_message("%s after %u steps: leader margin %.3f (lowest %.3f), height/width %.2f, "
-                  "largest first-order branch %.3f, first order %.3f\n",
+                  "largest first-order branch %.3f, first order %.3f, leader height %.3f\n",
                   preset, steps, (double)f.margin, (double)f.margin_min, (double)f.slenderness,
-                  (double)f.largest, (double)f.order1);
+                  (double)f.largest, (double)f.order1, (double)f.leader);
     return f;
 }
 
@@ -93,13 +95,15 @@ static void test_fig10_apical_schedules(void **state)
     assert_true(right.order1 > 1.5f * center.order1);
 }
 
-/* Fig. 7: extended BH, α = 2, λ 0.46, 0.48, 0.50, 0.52, 0.54 — a progression from
- * decurrent to excurrent. After 16 steps (4,600–8,500 internodes) the largest
- * first-order branch's share of the tree falls at every step of the series, not only
- * across 0.5 (measured 0.817, 0.656, 0.325, 0.210, 0.111), and from λ = 0.5 on the
- * crown grows taller for its width (0.80, 0.95, 1.20). Below 0.5 the leader is still
- * overtopped in every seed (margins -0.74, -0.65): the progression there is carried by
- * how much of the crown one limb takes, not yet by the leader. */
+/* Fig. 7: extended BH, α = 2, λ 0.46, 0.48, 0.50, 0.52, 0.54 — a gradual progression
+ * from decurrent to excurrent, at every step of the series, not a switch at 0.5.
+ * After 16 steps (5,400–10,800 internodes) the crown grows taller for its width at
+ * every step (measured 0.69, 0.74, 0.78, 0.89, 1.15), the largest first-order limb
+ * holds less of the tree (0.77, 0.60, 0.35, 0.24, 0.11), and below 0.5, where the
+ * paper's equations cost the trunk its lead, the leader is lost the higher the
+ * nearer λ is to 0.5 (trunk top at 0.34 and 0.60 of the height; kept from 0.5 on).
+ * With 45° laterals the height/width was flat from 0.46 to 0.50 and the leader lost
+ * as low at 0.48 as at 0.46. */
 static void test_fig7_lambda_progression(void **state)
 {
     (void)state;
@@ -109,11 +113,13 @@ static void test_fig7_lambda_progression(void **state)
     for (int k = 0; k < 5; k++)
         f[k] = measure(names[k], 16);
     for (int k = 1; k < 5; k++) {
-        assert_true(f[k].largest < f[k - 1].largest - 0.05f);
+        assert_true(f[k].slenderness > f[k - 1].slenderness + 0.025f);
+        assert_true(f[k].largest < f[k - 1].largest - 0.08f);
         assert_true(f[k].margin > f[k - 1].margin);
     }
-    assert_true(f[3].slenderness > f[2].slenderness + 0.05f);
-    assert_true(f[4].slenderness > f[3].slenderness + 0.05f);
+    assert_true(f[1].leader > f[0].leader + 0.15f);
+    assert_true(f[2].leader > f[1].leader + 0.15f);
+    assert_true(f[2].margin_min > 0.0f);
 }
 
 /* Fig. 14 (P09 §4.4): shedding raises a tall bole, with the default shadow settings.

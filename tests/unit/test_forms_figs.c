@@ -1,0 +1,135 @@
+/* The paper's other figures of form as measured trends (P09 §4.2–§4.3, Figs. 6, 11,
+ * 12, 13), over 8 seeds each, with the measures of forms.h. */
+#include "config.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <meristem/presets.h>
+#include <meristem/scene.h>
+
+#include "forms.h"
+#include "scene_helpers.h"
+
+#define SEEDS 8
+
+typedef struct form {
+    float margin_max;  /* the highest leader margin over the seeds */
+    float margin_min;  /* the lowest */
+    float slenderness; /* mean height / width */
+    float width;       /* mean crown width */
+    float gnarl;       /* mean angle between consecutive internodes of an axis */
+    float dir_y;       /* mean vertical direction of the internodes made from `from` */
+    float dir_y_max;   /* its highest value over the seeds */
+} form;
+
+static form measure(const char *preset, uint32_t steps, uint32_t from)
+{
+    mer_params p;
+    assert_int_equal(mer_preset_params(preset, &p, NULL), MER_OK);
+    form f = {-1.0f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.0f};
+    for (uint64_t seed = 1; seed <= SEEDS; seed++) {
+        mer_scene *s = new_scene(&p, seed);
+        step(s, steps);
+        mer_summary m;
+        mer_scene_summary(s, &m);
+        float margin = form_leader_margin(s), dy = form_new_dir_y(s, from);
+        f.margin_max = margin > f.margin_max ? margin : f.margin_max;
+        f.margin_min = margin < f.margin_min ? margin : f.margin_min;
+        f.slenderness += form_slenderness(s) / SEEDS;
+        f.width += m.crown_width / SEEDS;
+        f.gnarl += form_gnarl(s) / SEEDS;
+        f.dir_y += dy / SEEDS;
+        f.dir_y_max = dy > f.dir_y_max ? dy : f.dir_y_max;
+        mer_scene_free(s);
+    }
+    print_message("%s after %u steps: leader margin %.3f to %.3f, height/width %.2f, width %.1f, "
+                  "gnarl %.1f°, direction y since step %u %.3f (highest %.3f)\n",
+                  preset, steps, (double)f.margin_min, (double)f.margin_max,
+                  (double)f.slenderness, (double)f.width, (double)f.gnarl, from,
+                  (double)f.dir_y, (double)f.dir_y_max);
+    return f;
+}
+
+/* Fig. 6: sylleptic development, and proleptic development with sympodial branching,
+ * make decurrent shrubs: after 12 steps every seed has lost its leader (a lateral
+ * tip above the trunk's) and the crown is lower for its width than the default
+ * tree's (measured 0.71 and 0.69 against 0.81; margins at most -0.70 and -0.84). */
+static void test_fig6_shrubs_are_decurrent(void **state)
+{
+    (void)state;
+    form def = measure("default", 12, 0);
+    form syl = measure("fig6-sylleptic", 12, 0);
+    form sym = measure("fig6-sympodial", 12, 0);
+    assert_true(def.margin_min > 0.0f);
+    assert_true(syl.margin_max < -0.3f);
+    assert_true(sym.margin_max < -0.3f);
+    assert_true(syl.slenderness < def.slenderness - 0.05f);
+    assert_true(sym.slenderness < def.slenderness - 0.05f);
+}
+
+/* Fig. 11: apical control everywhere until step 25, then removed: the young tree is
+ * excurrent (its leader leads in every seed at step 25) and the old one decurrent,
+ * lower for its width (measured 1.27 at step 25, 0.98 at step 50). */
+static void test_fig11_excurrent_young_decurrent_old(void **state)
+{
+    (void)state;
+    form young = measure("fig11-animation", 25, 0);
+    form old = measure("fig11-animation", 50, 0);
+    assert_true(young.margin_min > 0.0f);
+    assert_true(old.margin_min < 0.0f);
+    assert_true(old.slenderness < young.slenderness - 0.15f);
+}
+
+/* Fig. 12 (P09 §4.3): downward tropism (b) spreads the branches more widely than
+ * upward tropism (a); strong downward tropism (c, d) makes highly gnarled branches
+ * whose new growth points down, and with a strong pull towards light (c) a crown
+ * lower for its width. Measured after 20 steps: height/width 0.86, 0.73, 0.62, 1.07;
+ * gnarl 2.7°, 3.7°, 8.6°, 9.2° (a, b, c, d). */
+static void test_fig12_tropism(void **state)
+{
+    (void)state;
+    form a = measure("fig12a", 20, 0);
+    form b = measure("fig12b", 20, 0);
+    form c = measure("fig12c", 20, 0);
+    form d = measure("fig12d", 20, 0);
+    assert_true(b.slenderness < a.slenderness - 0.08f);
+    assert_true(b.width > a.width + 4.0f);
+    assert_true(b.dir_y < a.dir_y - 0.2f);
+    float straight = a.gnarl > b.gnarl ? a.gnarl : b.gnarl;
+    assert_true(c.gnarl > 2.0f * straight);
+    assert_true(d.gnarl > 2.0f * straight);
+    assert_true(c.dir_y_max < 0.0f);
+    assert_true(d.dir_y_max < 0.0f);
+    assert_true(c.slenderness < a.slenderness - 0.15f);
+}
+
+/* Fig. 13: downward tropism raised near the end of the simulation (η from 0.05 at
+ * step 18 to -1 at step 22): what grows from step 22 on droops in every seed
+ * (measured -0.69 against 0.6 for the default tree), and the tree stays inside its
+ * grid (100 wide). */
+static void test_fig13_late_tropism_droops(void **state)
+{
+    (void)state;
+    form def = measure("default", 26, 22);
+    form late = measure("fig13-tropism-late", 26, 22);
+    assert_true(def.dir_y > 0.4f);
+    assert_true(late.dir_y_max < 0.0f);
+    assert_true(late.dir_y < -0.4f);
+    assert_true(late.width < 80.0f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fig6_shrubs_are_decurrent),
+        cmocka_unit_test(test_fig11_excurrent_young_decurrent_old),
+        cmocka_unit_test(test_fig12_tropism),
+        cmocka_unit_test(test_fig13_late_tropism_droops),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
