@@ -6,16 +6,14 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
 
-#include <jansson.h>
-
 #include "server/clock.h"
-#include "server/codec.h"
 #include "server/front.h"
 #include "server/head.h"
 #include "server/request.h"
@@ -148,13 +146,8 @@ static void drain(merd_front *f, conn *c)
 /* Sends the problem and closes gracefully (front.h). */
 static void refuse(merd_front *f, conn *c, const merd_head_verdict *v)
 {
-    char type[128];
-    snprintf(type, sizeof type, "urn:meristem:problem:%s", v->slug);
     const char *title = merd_status_title(v->status);
-    json_t *problem = json_pack("{s:s, s:s, s:i, s:s}", "type", type, "title", title, "status",
-                                (int)v->status, "detail", v->detail);
-    char *body = problem != NULL ? merd_json_body(problem) : NULL;
-    json_decref(problem);
+    char *body = merd_problem_body(v->status, v->slug, title, v->detail, NULL);
     char head[320];
     int n = snprintf(head, sizeof head,
                      "HTTP/1.1 %u %s\r\nContent-Type: application/problem+json\r\n"

@@ -110,8 +110,8 @@ const char *merd_status_title(unsigned status)
     }
 }
 
-struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
-                                           const char *detail, const char *field, size_t *size)
+char *merd_problem_body(unsigned status, const char *slug, const char *title, const char *detail,
+                        const char *field)
 {
     char type[128];
     snprintf(type, sizeof type, "urn:meristem:problem:%s", slug);
@@ -121,6 +121,13 @@ struct MHD_Response *merd_problem_response(unsigned status, const char *slug, co
         json_object_set_new(problem, "field", json_string(field));
     char *text = problem != NULL ? merd_json_body(problem) : NULL;
     json_decref(problem);
+    return text;
+}
+
+struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
+                                           const char *detail, const char *field, size_t *size)
+{
+    char *text = merd_problem_body(status, slug, title, detail, field);
     if (text == NULL)
         return NULL;
     *size = strlen(text);
