@@ -39,6 +39,9 @@ void merd_guard_request_began(merd_guard *g, struct MHD_Connection *connection);
 /* The connection's request is over: it waits for the next head, idle. O(1). */
 void merd_guard_request_ended(merd_guard *g, struct MHD_Connection *connection);
 
+/* Connections started and not yet closed. O(1). */
+unsigned merd_guard_open(merd_guard *g);
+
 /* Connections cut so far (for the log and tests). */
 size_t merd_guard_cuts(merd_guard *g);
 

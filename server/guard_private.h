@@ -11,7 +11,4 @@
  * many it cut. O(listed connections). */
 size_t merd_guard_sweep(merd_guard *g, double now);
 
-/* Connections started and not yet closed. */
-unsigned merd_guard_open(merd_guard *g);
-
 #endif

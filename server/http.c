@@ -1,6 +1,9 @@
 /* meristemd — libmicrohttpd glue. Request lifecycle as in libmicrohttpd's
  * post_example: state on the first call, body chunks appended up to a hard
- * cap, dispatch on the last call, cleanup and the log line when completed. */
+ * cap, dispatch on the last call, cleanup and the log line when completed.
+ * libmicrohttpd does not listen: the front (front.h) accepts, answers the
+ * heads libmicrohttpd would refuse in HTML with problem+json, and hands the
+ * others on. */
 #include "config.h"
 
 #include <limits.h>
@@ -16,6 +19,7 @@
 
 #include "server/app.h"
 #include "server/clock.h"
+#include "server/front.h"
 #include "server/guard.h"
 #include "server/host.h"
 #include "server/http.h"
@@ -29,8 +33,8 @@
 struct merd_server {
     struct MHD_Daemon *daemon;
     merd_guard *guard;
+    merd_front *front;
     atomic_int requests;       /* begun and not completed */
-    MHD_socket listener;       /* after merd_server_quiesce: closed by merd_server_stop */
     unsigned port;             /* bound */
     merd_app *app;
     merd_settings config;
@@ -218,7 +222,6 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
         return NULL;
     server->config = *config;
     server->app = app;
-    server->listener = MHD_INVALID_SOCKET;
     atomic_init(&server->requests, 0);
     if (config->web_root[0] != '\0' && realpath(config->web_root, server->web_root) == NULL) {
         fprintf(err, "meristemd: --web-root '%s' does not exist\n", config->web_root);
@@ -233,12 +236,9 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
         return NULL;
     }
     unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG |
-                     MHD_ALLOW_SUSPEND_RESUME;
-    if (server->address.ss_family == AF_INET6)
-        flags |= MHD_USE_IPv6;
+                     MHD_ALLOW_SUSPEND_RESUME | MHD_USE_NO_LISTEN_SOCKET;
     server->daemon = MHD_start_daemon(
-        flags, (uint16_t)config->port, NULL, NULL, on_request, server,
-        MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&server->address,
+        flags, 0, NULL, NULL, on_request, server,
         MHD_OPTION_THREAD_POOL_SIZE, (unsigned)config->threads,
         // The guard keeps the count at --max-connections by closing the oldest
         // connection not in a request; the margin absorbs arrivals meanwhile.
@@ -250,16 +250,24 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, server,
         MHD_OPTION_UNESCAPE_CALLBACK, unescape_path, NULL,
         MHD_OPTION_END);
-    if (server->daemon == NULL) {
+    merd_front_config front = {
+        .head_seconds = (double)config->header_timeout,
+        .per_ip_limit = (unsigned)config->per_ip_limit,
+        .soft_limit = (unsigned)config->connection_limit,
+        .budget = (size_t)config->memory_limit / 2,
+    };
+    if (server->daemon != NULL)
+        server->front = merd_front_start(&server->address, &front, server->daemon, server->guard);
+    if (server->front == NULL) {
         fprintf(err, "meristemd: cannot listen on %s port %ld (in use, or not permitted)\n",
                 config->bind, config->port);
+        if (server->daemon != NULL)
+            MHD_stop_daemon(server->daemon);
         merd_guard_stop(server->guard);
         free(server);
         return NULL;
     }
-    const union MHD_DaemonInfo *info =
-        MHD_get_daemon_info(server->daemon, MHD_DAEMON_INFO_BIND_PORT);
-    server->port = info != NULL ? info->port : (unsigned)config->port;
+    server->port = merd_front_port(server->front);
     return server;
 }
 
@@ -270,8 +278,7 @@ unsigned merd_server_port(const merd_server *server)
 
 void merd_server_quiesce(merd_server *server)
 {
-    if (server->listener == MHD_INVALID_SOCKET)
-        server->listener = MHD_quiesce_daemon(server->daemon);
+    merd_front_quiesce(server->front);
 }
 
 bool merd_server_settle(merd_server *server, double seconds)
@@ -290,9 +297,8 @@ void merd_server_stop(merd_server *server)
 {
     if (server == NULL)
         return;
+    merd_front_stop(server->front);
     MHD_stop_daemon(server->daemon);
-    if (server->listener != MHD_INVALID_SOCKET)
-        close(server->listener);
     merd_guard_stop(server->guard);
     free(server);
 }

@@ -5,6 +5,7 @@ server_meristemd_SOURCES = \
 	server/settings.c server/settings.h \
 	server/http.c server/http.h \
 	server/guard.c server/guard.h server/guard_private.h \
+	server/front.c server/front.h server/head.c server/head.h \
 	server/host.c server/host.h \
 	server/request.c server/request.h \
 	server/routes.c server/routes.h \

@@ -103,16 +103,19 @@ const char *merd_status_title(unsigned status)
     case 405: return "Method Not Allowed";
     case 409: return "Conflict";
     case 413: return "Content Too Large";
+    case 414: return "URI Too Long";
     case 415: return "Unsupported Media Type";
     case 422: return "Unprocessable Content";
     case 429: return "Too Many Requests";
+    case 431: return "Request Header Fields Too Large";
     case 503: return "Service Unavailable";
+    case 505: return "HTTP Version Not Supported";
     default: return status >= 500 ? "Internal Server Error" : "Error";
     }
 }
 
-struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
-                                           const char *detail, const char *field, size_t *size)
+char *merd_problem_body(unsigned status, const char *slug, const char *title, const char *detail,
+                        const char *field)
 {
     return problem_response(status, slug, title, detail, field, 0, 0, size);
 }
@@ -134,6 +137,13 @@ static struct MHD_Response *problem_response(unsigned status, const char *slug, 
     }
     char *text = problem != NULL ? merd_json_body(problem) : NULL;
     json_decref(problem);
+    return text;
+}
+
+struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
+                                           const char *detail, const char *field, size_t *size)
+{
+    char *text = merd_problem_body(status, slug, title, detail, field);
     if (text == NULL)
         return NULL;
     *size = strlen(text);

@@ -53,6 +53,12 @@ void merd_request_finish(merd_request *req, unsigned status, struct MHD_Response
  * request is routed again. */
 void merd_request_reroute(merd_request *req);
 
+/* The text of an RFC 9457 problem (type urn:meristem:problem:SLUG, title,
+ * status, detail, and field unless NULL or ""), newline-terminated; the caller
+ * frees it. NULL when out of memory. */
+char *merd_problem_body(unsigned status, const char *slug, const char *title, const char *detail,
+                        const char *field);
+
 /* Builds, without queueing, an RFC 9457 body (for workers). NULL when out of memory. */
 struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
                                            const char *detail, const char *field, size_t *size);

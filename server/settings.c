@@ -46,8 +46,8 @@ static const opt_spec specs[] = {
     {"max-connections-per-ip", OPT_LONG, 1, 65536, "256", NUM(per_ip_limit),
      "open connections from one address"},
     {"connection-memory", OPT_LONG, 4096, 1L << 24, "16384", NUM(memory_limit),
-     "header buffer bytes per connection (libmicrohttpd clears it for every request, so "
-     "bigger is slower)"},
+     "buffer bytes per connection; a request head may take half (libmicrohttpd clears it for "
+     "every request, so bigger is slower)"},
     {"timeout", OPT_LONG, 1, 86400, "60", NUM(timeout), "seconds an idle connection is kept"},
     {"header-timeout", OPT_LONG, 1, 3600, "5", NUM(header_timeout),
      "seconds a client has to send its request line and headers, however it trickles them"},

@@ -1,10 +1,10 @@
 'use strict';
-// The requests libmicrohttpd refuses itself, before meristemd sees them. In
-// libmicrohttpd 0.9.75 each is answered by transmit_error_response_static()
-// in src/microhttpd/connection.c with a fixed HTML body; no option, callback or
-// access handler runs first (see proto/README.md, "Errors"). This test pins the
-// status of each so that an upgrade that changes them is noticed, and checks
-// that the daemon keeps answering after every one.
+// The requests libmicrohttpd 0.9.75 would refuse itself with a fixed HTML page
+// (transmit_error_response_static() in src/microhttpd/connection.c) before any
+// of meristemd's code runs. meristemd's front (server/front.h) sees each new
+// connection's first request head before libmicrohttpd does and answers these
+// with the same status as an RFC 9457 problem. This test sends each one on a
+// fresh connection, checks status and body, and that the daemon keeps answering.
 const test = require('node:test');
 const assert = require('node:assert/strict');
 const net = require('node:net');
@@ -26,7 +26,24 @@ function raw(port, text) {
   });
 }
 
-test('libmicrohttpd\'s own refusals keep their status, and the daemon keeps answering', async (t) => {
+/** Checks that `reply` is a whole problem+json answer with `status`. */
+function assertProblem(reply, status, name) {
+  const shown = JSON.stringify(reply.slice(0, 300));
+  const m = reply.match(/^HTTP\/1\.[01] (\d{3}) [^\r\n]*\r\n([\s\S]*?)\r\n\r\n([\s\S]*)$/);
+  assert.ok(m, `${name}: no HTTP answer in ${shown}`);
+  assert.equal(Number(m[1]), status, `${name}: ${shown}`);
+  assert.match(m[2], /^Content-Type: application\/problem\+json$/mi, `${name}: ${shown}`);
+  const length = m[2].match(/^Content-Length: (\d+)$/mi);
+  assert.ok(length, `${name}: no Content-Length in ${shown}`);
+  assert.equal(Buffer.byteLength(m[3], 'latin1'), Number(length[1]), `${name}: body length`);
+  const problem = JSON.parse(m[3]);
+  assert.equal(problem.status, status, name);
+  assert.match(problem.type, /^urn:meristem:problem:[a-z-]+$/, name);
+  assert.equal(typeof problem.title, 'string', name);
+  assert.ok(problem.detail.length > 10, `${name}: a detail that says what to do`);
+}
+
+test('the heads libmicrohttpd would refuse in HTML get problem+json, and the daemon keeps answering', async (t) => {
   const d = await startDaemon(['--quiet', '--connection-memory', String(MEMORY)]);
   t.after(() => d.stop());
   const host = `Host: 127.0.0.1:${d.port}\r\n`;
@@ -35,34 +52,58 @@ test('libmicrohttpd\'s own refusals keep their status, and the daemon keeps answ
       text: `GET /v1/health?pad=${'a'.repeat(2 * MEMORY)} HTTP/1.1\r\n${host}\r\n` },
     { name: 'header block over --connection-memory', status: 431,
       text: `GET /v1/health HTTP/1.1\r\n${host}X-Pad: ${'a'.repeat(2 * MEMORY)}\r\n\r\n` },
+    { name: 'many small header lines over --connection-memory', status: 431,
+      text: `GET /v1/health HTTP/1.1\r\n${host}${'a:\r\n'.repeat(MEMORY / 8)}\r\n` },
     { name: 'header line without a colon', status: 400,
       text: `GET /v1/health HTTP/1.1\r\n${host}no colon here\r\n\r\n` },
+    { name: 'request line without a space', status: 400, text: 'GARBAGE\r\n\r\n' },
+    { name: 'request line without a version', status: 400, text: `GET /v1/health\r\n${host}\r\n` },
     { name: 'Content-Length that is not a number', status: 400,
       text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Length: ten\r\n\r\n` },
+    { name: 'Content-Length with trailing junk', status: 400,
+      text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Length: 2x\r\n\r\n{}` },
     { name: 'Content-Length over 64 bits', status: 413,
       text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Length: 99999999999999999999999\r\n\r\n` },
     { name: 'chunk size that is not hexadecimal', status: 400,
       text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Type: application/json\r\n` +
         'Transfer-Encoding: chunked\r\n\r\nzz\r\n{}\r\n0\r\n\r\n' },
+    { name: 'chunk not followed by a line end', status: 400,
+      text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Type: application/json\r\n` +
+        'Transfer-Encoding: chunked\r\n\r\n2\r\n{}XX0\r\n\r\n' },
     { name: 'chunk size over 64 bits', status: 413,
       text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Type: application/json\r\n` +
         'Transfer-Encoding: chunked\r\n\r\nfffffffffffffffffffff\r\n{}\r\n0\r\n\r\n' },
     { name: 'unknown HTTP version', status: 505,
       text: `GET /v1/health HTTP/2.0\r\n${host}\r\n` },
+    { name: 'HTTP/0.9', status: 505, text: `GET /v1/health HTTP/0.9\r\n${host}\r\n` },
   ];
   for (const c of cases) {
-    const reply = await raw(d.port, c.text);
-    const m = reply.match(/^HTTP\/1\.[01] (\d{3}) /);
-    assert.ok(m, `${c.name}: no status line in ${JSON.stringify(reply.slice(0, 200))}`);
-    assert.equal(Number(m[1]), c.status, `${c.name}: ${JSON.stringify(reply.slice(0, 200))}`);
+    assertProblem(await raw(d.port, c.text), c.status, c.name);
     const health = await api(d.url, 'GET', '/v1/health');
     assert.equal(health.status, 200, `health after ${c.name}`);
   }
 });
 
-test('a request line without a space is closed unanswered, not answered in HTML', async (t) => {
-  const d = await startDaemon(['--quiet']);
+test('heads that libmicrohttpd takes still reach meristemd', async (t) => {
+  const d = await startDaemon(['--quiet', '--connection-memory', String(MEMORY)]);
   t.after(() => d.stop());
-  assert.equal(await raw(d.port, 'GARBAGE\r\n\r\n'), '');
-  assert.equal((await api(d.url, 'GET', '/v1/health')).status, 200);
+  const host = `Host: 127.0.0.1:${d.port}\r\n`;
+  const close = 'Connection: close\r\n';
+  const cases = [
+    { name: 'bare LF line ends', text: `GET /v1/health HTTP/1.1\n${host.replace('\r\n', '\n')}${close.replace('\r\n', '\n')}\n` },
+    { name: 'empty lines before the request', text: `\r\n\r\nGET /v1/health HTTP/1.1\r\n${host}${close}\r\n` },
+    { name: 'HTTP/1.0 without Host', text: 'GET /v1/health HTTP/1.0\r\n\r\n' },
+    { name: 'a head under half of --connection-memory',
+      text: `GET /v1/health HTTP/1.1\r\n${host}${close}X-Pad: ${'a'.repeat(MEMORY / 2 - 400)}\r\n\r\n` },
+  ];
+  for (const c of cases) {
+    const reply = await raw(d.port, c.text);
+    assert.match(reply, /^HTTP\/1\.1 200 /, `${c.name}: ${JSON.stringify(reply.slice(0, 200))}`);
+  }
+  // A chunked upload is framed right: meristemd's handler answers it.
+  const body = '{}';
+  const chunked = await raw(d.port, `POST /v1/sessions HTTP/1.1\r\n${host}${close}` +
+    `Content-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n` +
+    `${body.length.toString(16)};ext=1\r\n${body}\r\n0\r\n\r\n`);
+  assert.match(chunked, /^HTTP\/1\.1 201 /, JSON.stringify(chunked.slice(0, 300)));
 });

@@ -2,7 +2,7 @@
 # runs each over its seed corpus for a fixed number of inputs; see README.md
 # (Fuzzing) for a longer run before a release.
 FUZZ_HARNESSES = tests/fuzz/fuzz_edits tests/fuzz/fuzz_journal tests/fuzz/fuzz_gltf \
-	tests/fuzz/fuzz_spec tests/fuzz/fuzz_checkpoint
+	tests/fuzz/fuzz_spec tests/fuzz/fuzz_checkpoint tests/fuzz/fuzz_head
 # The daemon's decoding, applying and journaling code, compiled into the harnesses.
 FUZZ_SERVER = server/refusal.c server/refusal.h server/decode.c server/decode.h \
 	server/codec.c server/codec.h server/edit_ops.c server/edit_ops.h \
@@ -21,6 +21,10 @@ tests_fuzz_fuzz_journal_SOURCES = tests/fuzz/fuzz_journal.c tests/fuzz/fuzz_comm
 tests_fuzz_fuzz_gltf_SOURCES = tests/fuzz/fuzz_gltf.c tests/fuzz/fuzz_common.h
 tests_fuzz_fuzz_spec_SOURCES = tests/fuzz/fuzz_spec.c tests/fuzz/fuzz_common.h $(FUZZ_SERVER)
 tests_fuzz_fuzz_checkpoint_SOURCES = tests/fuzz/fuzz_checkpoint.c tests/fuzz/fuzz_common.h
+# The front's head check stands alone: no library, no jansson.
+tests_fuzz_fuzz_head_SOURCES = tests/fuzz/fuzz_head.c server/head.c server/head.h
+tests_fuzz_fuzz_head_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)
+tests_fuzz_fuzz_head_LDFLAGS = $(FUZZ_LDFLAGS)
 # libmeristem has C++ parts: link with the C++ driver.
 nodist_EXTRA_tests_fuzz_fuzz_edits_SOURCES = tests/fuzz/link-as-cxx.cc
 nodist_EXTRA_tests_fuzz_fuzz_journal_SOURCES = tests/fuzz/link-as-cxx.cc
