@@ -78,14 +78,15 @@ enum MHD_Result merd_reply_text(merd_request *req, unsigned status, char *text,
     return merd_reply(req, status, r, size);
 }
 
-static struct MHD_Response *problem_response(unsigned status, const char *slug, const char *title,
-                                             const char *detail, const char *field,
-                                             unsigned line, unsigned column, size_t *size);
+static char *problem_text(unsigned status, const char *slug, const char *title,
+                          const char *detail, const char *field, unsigned line, unsigned column);
+static struct MHD_Response *problem_of(char *text, size_t *size);
 
 struct MHD_Response *merd_refusal_response(const merd_refusal *why, size_t *size)
 {
-    return problem_response(why->status, why->slug, merd_status_title(why->status), why->detail,
-                            why->field, why->line, why->column, size);
+    return problem_of(problem_text(why->status, why->slug, merd_status_title(why->status),
+                                   why->detail, why->field, why->line, why->column),
+                      size);
 }
 
 enum MHD_Result merd_reply_refusal(merd_request *req, const merd_refusal *why)
@@ -117,13 +118,12 @@ const char *merd_status_title(unsigned status)
 char *merd_problem_body(unsigned status, const char *slug, const char *title, const char *detail,
                         const char *field)
 {
-    return problem_response(status, slug, title, detail, field, 0, 0, size);
+    return problem_text(status, slug, title, detail, field, 0, 0);
 }
 
 /* A problem+json body; `line` and `column` (when not 0) place it in a text. */
-static struct MHD_Response *problem_response(unsigned status, const char *slug, const char *title,
-                                             const char *detail, const char *field,
-                                             unsigned line, unsigned column, size_t *size)
+static char *problem_text(unsigned status, const char *slug, const char *title,
+                          const char *detail, const char *field, unsigned line, unsigned column)
 {
     char type[128];
     snprintf(type, sizeof type, "urn:meristem:problem:%s", slug);
@@ -140,10 +140,9 @@ static struct MHD_Response *problem_response(unsigned status, const char *slug, 
     return text;
 }
 
-struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
-                                           const char *detail, const char *field, size_t *size)
+/* The response carrying problem body `text` (taken; NULL: none). */
+static struct MHD_Response *problem_of(char *text, size_t *size)
 {
-    char *text = merd_problem_body(status, slug, title, detail, field);
     if (text == NULL)
         return NULL;
     *size = strlen(text);
@@ -155,6 +154,12 @@ struct MHD_Response *merd_problem_response(unsigned status, const char *slug, co
     }
     MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, "application/problem+json");
     return response;
+}
+
+struct MHD_Response *merd_problem_response(unsigned status, const char *slug, const char *title,
+                                           const char *detail, const char *field, size_t *size)
+{
+    return problem_of(merd_problem_body(status, slug, title, detail, field), size);
 }
 
 enum MHD_Result merd_reply_problem(merd_request *req, unsigned status, const char *slug,
