@@ -190,17 +190,23 @@ mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const floa
         return mer_markers_colonize(e->markers, n, pos, dir, p->rho, p->r, p->theta, q, v, NULL,
                                     quiet, err);
     }
-    merp_env_light(e, n, pos, q);
-    for (size_t b = 0; b < n; b++)
+    for (size_t b = 0; b < n; b++) {
+        q[b] = mer_shadow_light(e->shadow, pos + 3 * b, p->shadow_c);
         merp_env_direction(e, pos + 3 * b, dir + 3 * b, v + 3 * b);
+    }
     return MER_OK;
 }
 
-void merp_env_light(const merp_env *e, size_t n, const float *pos, float *q)
+uint32_t merp_env_cell(const merp_env *e, const float pos[3])
 {
-    assert(e != NULL && e->shadow != NULL && (n == 0 || (pos != NULL && q != NULL)));
-    for (size_t b = 0; b < n; b++)
-        q[b] = mer_shadow_light(e->shadow, pos + 3 * b, e->p.shadow_c);
+    assert(e != NULL && e->shadow != NULL && pos != NULL);
+    return merp_shadow_cell(e->shadow, pos);
+}
+
+float merp_env_light_at(const merp_env *e, uint32_t cell)
+{
+    assert(e != NULL && e->shadow != NULL);
+    return merp_shadow_light_cell(e->shadow, cell, e->p.shadow_c);
 }
 
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3])

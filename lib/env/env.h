@@ -71,10 +71,13 @@ void merp_env_drop_covered(merp_env *e, const merp_env_change *c);
  * (`quiet` may not be NULL then). O(n · neighbourhood). */
 mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const float *dir,
                              float *q, float *v, uint8_t *quiet, mer_error *err);
-/* Under shadow propagation, merp_env_perceive in two halves, so that V can be
- * computed for the buds that grow only: the light Q of `n` buds at `pos` (O(n)),
- * and the optimal direction V of one bud at `pos` facing `dir` (O(26)). */
-void merp_env_light(const merp_env *e, size_t n, const float *pos, float *q);
+/* Under shadow propagation, merp_env_perceive in parts, so that V can be
+ * computed for the buds that grow only: the voxel of a bud at `pos`, which a
+ * model may keep while merp_env_epoch stays (the grid and the buds' places are
+ * the same then); the light Q of a bud in that voxel (O(1)); and the optimal
+ * direction V of one bud at `pos` facing `dir` (O(26)). */
+uint32_t merp_env_cell(const merp_env *e, const float pos[3]);
+float merp_env_light_at(const merp_env *e, uint32_t cell);
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3]);
 /* A bud at p that may not grow still clears its occupancy zone of markers. */
 void merp_env_occupy(merp_env *e, const float p[3]);
@@ -106,6 +109,8 @@ void merp_env_batch_end(merp_env *e);
  * does), the number of voxels, and `count` casts of a bud's pyramid at a voxel
  * (negative: lifted). */
 uint32_t merp_shadow_cell(const mer_shadow *sh, const float p[3]);
+/* mer_shadow_light of a bud in voxel `cell`. */
+float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c);
 size_t merp_shadow_cells(const mer_shadow *sh);
 void merp_shadow_cast_cell(mer_shadow *sh, uint32_t cell, int32_t count);
 

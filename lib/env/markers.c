@@ -17,14 +17,21 @@
 
 #define NONE UINT32_MAX
 
+/* The bud that holds a marker so far in the competition, and its distance². */
+typedef struct claim_t {
+    uint32_t bud;
+    float d2;
+} claim_t;
+
 /* A marker as filed in the grid: its position (copied, so a cell's markers are
- * contiguous in memory) and its index, with DEAD_BIT set once it is removed. */
+ * contiguous in memory) and its index. */
 typedef struct entry {
     float p[3];
     uint32_t id;
 } entry;
 
-#define DEAD_BIT UINT32_C(0x80000000)
+/* Marker indices fit in 31 bits. */
+#define MARKERS_MAX UINT32_C(0x7fffffff)
 
 struct mer_markers {
     float bmin[3];
@@ -35,15 +42,18 @@ struct mer_markers {
     float *p;          /* 3 per marker */
     uint8_t *dead;
     size_t n, cap, alive;
-    /* CSR grid over live markers; stale when `dirty` */
+    /* CSR grid over live markers; stale when `dirty`. Cell c's live markers are
+     * items[start[c], end[c]): removals compact the cell in place (keeping index
+     * order), so that queries never step over the dead markers of a crown's
+     * consumed inside. */
     uint32_t *start;   /* ncells + 1 */
+    uint32_t *end;     /* ncells */
     entry *items;      /* live markers in cell order, positions copied for locality */
     size_t items_cap;
     int dirty;
-    size_t dead_in_grid;
-    /* colonization scratch, per marker */
-    uint32_t *best;
-    float *best_d2;
+    /* colonization scratch, per grid entry (items): a cell's markers are
+     * neighbours in memory, where claims for them land too */
+    claim_t *best;
     size_t scratch_cap;
     uint32_t *touched;
     size_t touched_cap;
@@ -81,7 +91,10 @@ mer_result mer_markers_new(const float bmin[3], const float bmax[3], float cell,
     m->inv_cell = 1.0f / cell;
     m->ncells = (size_t)dim[0] * (size_t)dim[1] * (size_t)dim[2];
     m->start = merp_calloc(m->ncells + 1, sizeof *m->start);
-    if (m->start == NULL) {
+    m->end = merp_calloc(m->ncells, sizeof *m->end);
+    if (m->start == NULL || m->end == NULL) {
+        merp_free(m->start);
+        merp_free(m->end);
         merp_free(m);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
     }
@@ -97,9 +110,9 @@ void mer_markers_free(mer_markers *m)
     merp_free(m->p);
     merp_free(m->dead);
     merp_free(m->start);
+    merp_free(m->end);
     merp_free(m->items);
     merp_free(m->best);
-    merp_free(m->best_d2);
     merp_free(m->touched);
     merp_free(m);
 }
@@ -124,7 +137,7 @@ mer_result mer_markers_add(mer_markers *m, const float *xyz, size_t count, mer_e
 {
     if (count == 0)
         return MER_OK;
-    if (m->n + count > (size_t)(DEAD_BIT - 1))
+    if (m->n + count > (size_t)MARKERS_MAX)
         return mer_error_set(err, MER_ERR_LIMIT, "markers", "too many markers");
     if (m->n + count > m->cap) {
         size_t cap = m->cap ? m->cap : 1024;
@@ -187,19 +200,18 @@ static int rebuild(mer_markers *m)
             memcpy(e->p, m->p + 3 * i, sizeof e->p);
             e->id = (uint32_t)i;
         }
-    for (size_t c = m->ncells; c > 0; c--)
+    for (size_t c = m->ncells; c > 0; c--) {
+        m->end[c - 1] = m->start[c - 1];
         m->start[c] = m->start[c - 1];
+    }
     m->start[0] = 0;
     m->dirty = 0;
-    m->dead_in_grid = 0;
     return 1;
 }
 
 static int ensure_grid(mer_markers *m)
 {
-    if (m->dirty || m->dead_in_grid > m->alive + 1024)
-        return rebuild(m);
-    return 1;
+    return m->dirty ? rebuild(m) : 1;
 }
 
 static float dist2(const float *a, const float *b)
@@ -227,17 +239,19 @@ static size_t remove_sphere_grid(mer_markers *m, const float *center, float radi
         for (int j = lo[1]; j <= hi[1]; j++)
             for (int i = lo[0]; i <= hi[0]; i++) {
                 size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
-                for (uint32_t t = m->start[c]; t < m->start[c + 1]; t++) {
-                    entry *e = &m->items[t];
-                    if (!(e->id & DEAD_BIT) && dist2(e->p, center) <= r2) {
+                uint32_t kept = m->start[c];
+                for (uint32_t t = m->start[c]; t < m->end[c]; t++) {
+                    const entry *e = &m->items[t];
+                    if (dist2(e->p, center) <= r2) {
                         m->dead[e->id] = 1;
-                        e->id |= DEAD_BIT;
                         removed++;
+                    } else {
+                        m->items[kept++] = *e;
                     }
                 }
+                m->end[c] = kept;
             }
     m->alive -= removed;
-    m->dead_in_grid += removed;
     return removed;
 }
 
@@ -295,34 +309,34 @@ int mer_in_cone(const float apex[3], const float dir[3], const float p[3], float
     return in_cone(apex, dir, p, r * r, cos_half_theta, cos_half_theta * cos_half_theta, &d2);
 }
 
-/* Scratch for the competition, sized to the markers: best bud and its distance². */
+/* Scratch for the competition, sized to the grid's entries: best bud and its
+ * distance² per entry. */
 static mer_result ensure_scratch(mer_markers *m, mer_error *err)
 {
-    if (m->n <= m->scratch_cap)
+    size_t need = m->start[m->ncells];
+    if (need <= m->scratch_cap)
         return MER_OK;
-    uint32_t *best = merp_realloc(m->best, m->n * sizeof *best);
+    claim_t *best = merp_realloc(m->best, need * sizeof *best);
     if (best == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
     m->best = best;
-    float *bd = merp_realloc(m->best_d2, m->n * sizeof *bd);
-    if (bd == NULL)
-        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
-    m->best_d2 = bd;
-    m->scratch_cap = m->n;
-    for (size_t i = 0; i < m->n; i++)
-        m->best[i] = NONE;
+    for (size_t i = m->scratch_cap; i < need; i++)
+        m->best[i].bud = NONE;
+    m->scratch_cap = need;
     return MER_OK;
 }
 
-/* Marker `id` at distance² d2 is perceived by bud b: it goes to the closest bud. The
- * markers claimed so far are listed in m->touched[0..*nt), in first-touched order. */
-static mer_result claim(mer_markers *m, uint32_t id, uint32_t b, float d2, size_t *nt,
+/* Grid entry t at distance² d2 is perceived by bud b: it goes to the closest bud.
+ * The entries claimed so far are listed in m->touched[0..*nt), in first-touched
+ * order. Entries stay in place during a competition (only removals move them). */
+static mer_result claim(mer_markers *m, uint32_t t, uint32_t b, float d2, size_t *nt,
                         mer_error *err)
 {
-    if (m->best[id] != NONE) {
-        if (d2 < m->best_d2[id]) {
-            m->best[id] = b;
-            m->best_d2[id] = d2;
+    claim_t *c = &m->best[t];
+    if (c->bud != NONE) {
+        if (d2 < c->d2) {
+            c->bud = b;
+            c->d2 = d2;
         }
         return MER_OK;
     }
@@ -331,16 +345,15 @@ static mer_result claim(mer_markers *m, uint32_t id, uint32_t b, float d2, size_
         uint32_t *tt = merp_realloc(m->touched, cap * sizeof *tt);
         if (tt == NULL) {
             for (size_t x = 0; x < *nt; x++)
-                m->best[m->touched[x]] = NONE;
-            m->best[id] = NONE;
+                m->best[m->touched[x]].bud = NONE;
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
         }
         m->touched = tt;
         m->touched_cap = cap;
     }
-    m->touched[(*nt)++] = id;
-    m->best[id] = b;
-    m->best_d2[id] = d2;
+    m->touched[(*nt)++] = t;
+    c->bud = b;
+    c->d2 = d2;
     return MER_OK;
 }
 
@@ -356,16 +369,14 @@ static mer_result compete(mer_markers *m, uint32_t b, const float *a, const floa
         for (int j = lo[1]; j <= hi[1]; j++)
             for (int i = lo[0]; i <= hi[0]; i++) {
                 size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
-                for (uint32_t t = m->start[c]; t < m->start[c + 1]; t++) {
+                for (uint32_t t = m->start[c]; t < m->end[c]; t++) {
                     const entry *e = &m->items[t];
-                    if (e->id & DEAD_BIT)
-                        continue;
                     if (quiet != NULL)
                         quiet[b] = 0; /* a live marker in the neighbourhood */
                     float d2;
                     if (!in_cone(a, db, e->p, r2, cos_half, cos2, &d2))
                         continue;
-                    mer_result rc = claim(m, e->id, b, d2, nt, err);
+                    mer_result rc = claim(m, t, b, d2, nt, err);
                     if (rc != MER_OK)
                         return rc;
                 }
@@ -379,10 +390,10 @@ static void sum_directions(mer_markers *m, size_t nt, size_t n, const float *pos
                            float *v, uint32_t *count)
 {
     for (size_t t = 0; t < nt; t++) {
-        uint32_t id = m->touched[t];
-        uint32_t b = m->best[id];
-        m->best[id] = NONE;
-        const float *p = m->p + 3 * (size_t)id, *a = pos + 3 * (size_t)b;
+        uint32_t slot = m->touched[t];
+        uint32_t b = m->best[slot].bud;
+        m->best[slot].bud = NONE;
+        const float *p = m->items[slot].p, *a = pos + 3 * (size_t)b;
         float d[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
         float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         v[3 * b] += d[0] / len;
@@ -452,16 +463,16 @@ mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error
     c->p = NULL;
     c->dead = NULL;
     c->start = NULL;
+    c->end = NULL;
     c->items = NULL;
     c->best = NULL;
-    c->best_d2 = NULL;
     c->touched = NULL;
     /* The grid and the scratch too: what the next query sees stays exactly as it was. */
     int ok = MERP_DUP(c->p, m->p, 3 * m->cap) && MERP_DUP(c->dead, m->dead, m->cap) &&
              MERP_DUP(c->start, m->start, m->ncells + 1) &&
+             MERP_DUP(c->end, m->end, m->ncells) &&
              MERP_DUP(c->items, m->items, m->items_cap) &&
              MERP_DUP(c->best, m->best, m->scratch_cap) &&
-             MERP_DUP(c->best_d2, m->best_d2, m->scratch_cap) &&
              MERP_DUP(c->touched, m->touched, m->touched_cap);
     if (!ok) {
         mer_markers_free(c);
@@ -484,7 +495,7 @@ mer_result merp_markers_load(mer_markers *m, merp_bytes_in *in, mer_error *err)
 {
     assert(m != NULL && m->n == 0);
     uint64_t n = merp_get_u64(in);
-    if (n > DEAD_BIT - 1)
+    if (n > MARKERS_MAX)
         in->bad = 1;
     float *p = NULL;
     uint8_t *dead = NULL;

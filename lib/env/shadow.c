@@ -195,12 +195,17 @@ float mer_shadow_value(const mer_shadow *sh, const int ijk[3])
     return value_raw(sh, ijk[0], ijk[1], ijk[2]);
 }
 
+float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c)
+{
+    assert(cell < sh->nvox);
+    float s = (float)(int32_t)sh->s[cell] * (sh->a / FIX);
+    float q = c - s + sh->a;  /* Q = max(C − s + a, 0) */
+    return q > 0.0f ? q : 0.0f;
+}
+
 float mer_shadow_light(const mer_shadow *sh, const float p[3], float c)
 {
-    int ijk[3];
-    mer_shadow_voxel_of(sh, p, ijk);
-    float q = c - mer_shadow_value(sh, ijk) + sh->a;  /* Q = max(C − s + a, 0) */
-    return q > 0.0f ? q : 0.0f;
+    return merp_shadow_light_cell(sh, merp_shadow_cell(sh, p), c);
 }
 
 /* The 26 neighbour offsets in (dk, dj, di) order and their unit directions

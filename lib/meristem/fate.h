@@ -50,7 +50,7 @@ float mer_priority_weight(uint32_t i, uint32_t n, float w_max, float w_min, floa
  * the weight per position, or NULL for mer_priority_weight(w_max, w_min, κ).
  * Writes the resulting list (item indices, first = highest priority) to `rank` and
  * the allocations to `out_v`; `scratch` needs n entries. All arrays caller-owned,
- * not NULL when n > 0. O(n log n). */
+ * not NULL when n > 0; `out_v` does not overlap `q`. O(n log n). */
 void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *buds,
                            uint32_t terminal, int apical, const float *weights, float w_max,
                            float w_min, float kappa, uint32_t *rank, uint32_t *scratch,

@@ -49,7 +49,32 @@ static int may_grow(const merp_model *m, const merp_world *w, uint32_t i, uint32
     return ok;
 }
 
-/* Lists the buds that may grow into the round's scratch (bkey, bpos, bdir). */
+/* The voxel of every node's end (m->cell), under shadow propagation: computed
+ * for the new nodes only while the epoch stays, as nothing else moves a bud then. */
+static mer_result update_cells(merp_model *m, const merp_world *w, mer_error *err)
+{
+    const merp_skeleton *sk = w->sk;
+    uint32_t now = merp_env_epoch(w->env) + 1;
+    if (m->cell_epoch != now) {
+        m->cell_n = 0;
+        m->cell_epoch = now;
+    }
+    if (sk->n > m->cell_cap) {
+        if (!MERP_RESIZE(m->cell, sk->cap))
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for buds");
+        m->cell_cap = sk->cap;
+    }
+    for (uint32_t i = m->cell_n; i < sk->n; i++) {
+        float e[3];
+        merp_skel_node_end(sk, i, e);
+        m->cell[i] = merp_env_cell(w->env, e);
+    }
+    m->cell_n = sk->n;
+    return MER_OK;
+}
+
+/* Lists the buds that may grow into the round's scratch (bkey, and bpos and bdir
+ * unless V waits, when their light bq is read here from the voxels kept). */
 static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis,
                                mer_error *err)
 {
@@ -57,6 +82,11 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
     int markers = w->p->environment == MER_ENV_MARKERS;
     uint32_t quiet_now = merp_env_epoch(w->env) + 1;
     m->bn = 0;
+    if (m->v_deferred) {
+        mer_result rc = update_cells(m, w, err);
+        if (rc != MER_OK)
+            return rc;
+    }
     for (uint32_t i = 0; i < sk->n; i++) {
         if (!sk->alive[i])
             continue;
@@ -66,6 +96,17 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
             if (!merp_skel_bud_exists(sk, i, k, w->p->buds_per_node))
                 continue;
             int ok = may_grow(m, w, i, k, syllepsis);
+            if (m->v_deferred) {
+                /* shadow propagation: a bud that may not grow has nothing to occupy */
+                if (!ok)
+                    continue;
+                mer_result rc = reserve_buds(m, m->bn + 1, err);
+                if (rc != MER_OK)
+                    return rc;
+                m->bkey[m->bn] = 3 * i + k;
+                m->bq[m->bn++] = merp_env_light_at(w->env, m->cell[i]);
+                continue;
+            }
             /* A bud known to have no marker near it, with no marker added and no
              * bud moved since, can neither take nor remove one: Q = 0, skip it. */
             if (markers && m->quiet[3 * i + k] == quiet_now)
@@ -82,8 +123,7 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
             size_t b = m->bn++;
             m->bkey[b] = 3 * i + k;
             memcpy(m->bpos + 3 * b, e, sizeof e);
-            if (!m->v_deferred) /* else only for the buds that grow */
-                merp_skel_bud_dir(sk, i, k, m->bdir + 3 * b);
+            merp_skel_bud_dir(sk, i, k, m->bdir + 3 * b);
         }
     }
     return MER_OK;
@@ -101,9 +141,7 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
     mer_result rc = collect_buds(m, w, syllepsis, err);
     if (rc != MER_OK)
         return rc;
-    if (m->v_deferred)
-        merp_env_light(w->env, m->bn, m->bpos, m->bq);
-    else
+    if (!m->v_deferred)
         rc = merp_env_perceive(w->env, m->bn, m->bpos, m->bdir, m->bq, m->bv, m->bquiet, err);
     if (rc != MER_OK)
         return rc;
@@ -127,8 +165,10 @@ void merp_p09_directions(merp_model *m, const merp_world *w)
         float l;
         if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, &l) == 0)
             continue;
+        float pos[3];
+        merp_skel_node_end(w->sk, key / 3, pos);
         merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * b);
-        merp_env_direction(w->env, m->bpos + 3 * b, m->bdir + 3 * b, m->bv + 3 * b);
+        merp_env_direction(w->env, pos, m->bdir + 3 * b, m->bv + 3 * b);
     }
     m->v_deferred = 0;
 }

@@ -58,13 +58,11 @@ float mer_priority_weight(uint32_t i, uint32_t n, float w_max, float w_min, floa
     return w_max + (w_min - w_max) * (x / knee);
 }
 
-/* Item a goes before item b: higher light per bud first, then lower index. */
-static int before(uint32_t a, uint32_t b, const float *q, const uint32_t *buds)
+/* Item a goes before item b: higher light per bud (key) first, then lower index. */
+static int before(uint32_t a, uint32_t b, const float *key)
 {
-    float ka = q[a] / (float)(buds[a] > 0 ? buds[a] : 1);
-    float kb = q[b] / (float)(buds[b] > 0 ? buds[b] : 1);
-    if (ka != kb)
-        return ka > kb;
+    if (key[a] != key[b])
+        return key[a] > key[b];
     return a < b;
 }
 
@@ -75,8 +73,12 @@ void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *
 {
     if (n == 0)
         return;
-    for (uint32_t i = 0; i < n; i++)
+    /* The sort keys, light per bud, computed once into out_v (written last). */
+    float *key = out_v;
+    for (uint32_t i = 0; i < n; i++) {
         rank[i] = i;
+        key[i] = q[i] / (float)(buds[i] > 0 ? buds[i] : 1);
+    }
     /* Bottom-up merge sort: stable and O(n log n), no recursion, no comparator globals. */
     uint32_t *src = rank, *dst = scratch;
     for (uint32_t width = 1; width < n; width *= 2) {
@@ -85,7 +87,7 @@ void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *
             uint32_t hi = lo + 2 * width < n ? lo + 2 * width : n;
             uint32_t a = lo, b = mid, o = lo;
             while (a < mid && b < hi)
-                dst[o++] = before(src[b], src[a], q, buds) ? src[b++] : src[a++];
+                dst[o++] = before(src[b], src[a], key) ? src[b++] : src[a++];
             while (a < mid)
                 dst[o++] = src[a++];
             while (b < hi)

@@ -30,6 +30,10 @@ struct merp_model {
     float *qb, *vb;    /* 3 per node: Q and v of each bud, last pass */
     uint32_t *quiet;   /* 3 per node: epoch + 1 when the bud's marker neighbourhood was empty */
     uint8_t *mark;     /* scratch: under the brush constraint */
+    /* scratch under shadow propagation: the voxel of each node's end (its buds'),
+     * cell[0, cell_n), kept while the environment's epoch (cell_epoch − 1) stays */
+    uint32_t *cell;
+    uint32_t cell_n, cell_cap, cell_epoch;
 
     /* per-round scratch: the buds that may grow */
     uint32_t *bkey;    /* 3·node + slot */

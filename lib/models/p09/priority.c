@@ -64,6 +64,20 @@ static mer_result list_axis(merp_model *m, const merp_world *w, uint32_t b, size
     return MER_OK;
 }
 
+/* Nothing to share along the axis based at b (a crown's deep shade): every
+ * item's share is 0 (v · qw / Σ with finite light), so its branches get 0 and its
+ * buds keep the 0 the environment gave them, without listing and sorting. */
+static void zero_axis(merp_model *m, const merp_skeleton *sk, uint32_t b)
+{
+    for (uint32_t j = b;; j = sk->child[3 * j]) {
+        for (uint32_t k = 1; k < 3; k++)
+            if (sk->child[3 * j + k] != MER_NO_NODE)
+                m->vin[sk->child[3 * j + k]] = 0.0f;
+        if (sk->child[3 * j] == MER_NO_NODE)
+            break;
+    }
+}
+
 /* Axes are visited by the id of their base node, so an axis is always allocated
  * before the branches it supports. */
 mer_result merp_p09_allocate_priority(merp_model *m, const merp_world *w, mer_error *err)
@@ -75,6 +89,10 @@ mer_result merp_p09_allocate_priority(merp_model *m, const merp_world *w, mer_er
         if (!sk->alive[b] || (sk->parent[b] != MER_NO_NODE && sk->slot[b] == 0))
             continue;
         float v = sk->parent[b] == MER_NO_NODE ? p->alpha * sk->q[b] : m->vin[b];
+        if (v == 0.0f) {
+            zero_axis(m, sk, b);
+            continue;
+        }
         size_t n;
         uint32_t terminal;
         mer_result rc = list_axis(m, w, b, &n, &terminal, err);
