@@ -22,6 +22,7 @@ const STEPS = {
   'fig14-tall-bole': 18,
   'fig15-brushed': 30,
   'fig4-colonization': 30,
+  'perlin-noise': 16,
 };
 /** Presets that grow the same tree as another (Table 1 is Fig. 10 at full size). */
 const SAME_AS = { 'table1-left': 'fig10-left', 'table1-center': 'fig10-center', 'table1-right': 'fig10-right' };
