@@ -41,6 +41,7 @@ static const route routes[] = {
     {"POST", "/v1/sessions/{id}/cancel", merd_api_cancel, false, no_query},
     {"GET", "/v1/sessions/{id}/revisions", merd_api_revisions, false, revisions_query},
     {"GET", "/v1/sessions/{id}/skeleton", merd_api_skeleton, false, skeleton_query},
+    {"GET", "/v1/sessions/{id}/functions", merd_api_functions, false, no_query},
 };
 #define N_ROUTES (sizeof routes / sizeof routes[0])
 

@@ -1,8 +1,10 @@
 /* meristemd — GET /v1/sessions/{id}/revisions (a page of the session's
  * revisions) and GET /v1/sessions/{id}/skeleton (its nodes for scripts).
- * Both read the tree's state under its work lock, so a worker answers them. */
+ * and GET /v1/sessions/{id}/functions (an inverse-model session's .fset). All
+ * read the tree's state under its work lock, so a worker answers them. */
 #include "config.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "server/api/private.h"
@@ -87,4 +89,40 @@ static int read_skeleton(merd_request *req, merd_api_job *j, merd_refusal *why)
 enum MHD_Result merd_api_skeleton(merd_request *req, const char *id)
 {
     return submit(req, id, read_skeleton, run_skeleton);
+}
+
+static void run_functions(void *arg)
+{
+    merd_api_job *j = arg;
+    size_t len = 0;
+    char *text = merd_session_functions(j->session, &len);
+    if (text == NULL) {
+        merd_refusal why = {0};
+        if (len == 1)
+            merd_refuse(&why, 503, "out-of-memory", "", "out of memory for the functions");
+        else
+            merd_refuse(&why, 422, "invalid-field", "model",
+                        "only sessions of the model \"inverse\" have functions");
+        merd_api_job_refuse(j, &why);
+        return;
+    }
+    struct MHD_Response *r = MHD_create_response_from_buffer(len, text, MHD_RESPMEM_MUST_FREE);
+    if (r == NULL)
+        free(text);
+    else
+        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "text/plain; charset=utf-8");
+    merd_api_job_finish(j, 200, r, len);
+}
+
+static int read_functions(merd_request *req, merd_api_job *j, merd_refusal *why)
+{
+    (void)req;
+    (void)j;
+    (void)why;
+    return 0;
+}
+
+enum MHD_Result merd_api_functions(merd_request *req, const char *id)
+{
+    return submit(req, id, read_functions, run_functions);
 }
