@@ -113,6 +113,15 @@ test('an inverse session: the Populus over 27 years, functions replaced, fractio
   assert.match(fn.type, /^text\/plain/);
   assert.match(fn.text, /^funcgalleryver 1 1\nitems: 13\n/);
   assert.ok(fn.text.includes('name: G_s2'));
+  const js = await api(d.url, 'GET', `/v1/sessions/${id}/functions?format=json`);
+  assert.equal(js.status, 200);
+  assert.equal(js.body.functions.length, 13);
+  const gh = js.body.functions.find((f) => f.name === 'G_h');
+  assert.equal(gh.kind, 'bspline');
+  assert.ok(gh.samples > 0 && gh.points.length >= 4, JSON.stringify(gh));
+  for (const p of gh.points) assert.equal(p.length, 3);
+  assert.equal(gh.points[0][0], 0);
+  assert.equal(gh.points[gh.points.length - 1][0], 1);
 
   // An .fset that does not read: 422 at its line and column, nothing changes.
   const before = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
