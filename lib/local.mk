@@ -58,6 +58,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/inverse/funcfile.c \
 	lib/models/inverse/inverse.h \
 	lib/models/inverse/def.c \
+	lib/models/inverse/text.c \
 	lib/models/inverse/silhouette.c \
 	lib/models/inverse/order.c \
 	lib/models/inverse/heading.c \
@@ -83,6 +84,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/presets.c \
 	lib/presets_lsystem.h \
 	lib/presets_lsystem.c \
+	lib/presets_inverse.h \
+	lib/presets_inverse.c \
 	lib/mesh/mesh_private.h \
 	lib/mesh/build.c \
 	lib/mesh/axes.c \

@@ -1,11 +1,13 @@
 /* meristem — presets named after the papers' figures: P09's here, the
- * L-systems' of ABOP in presets_lsystem.c. */
+ * L-systems' of ABOP in presets_lsystem.c, the inverse model's in
+ * presets_inverse.c. */
 #include "config.h"
 
 #include <string.h>
 
 #include <meristem/presets.h>
 
+#include "presets_inverse.h"
 #include "presets_lsystem.h"
 
 typedef struct preset {
@@ -244,19 +246,35 @@ static const preset presets[] = {
 
 #define NPRESETS (sizeof presets / sizeof presets[0])
 
-/* P09's presets first, then the L-systems' (presets_lsystem.c). */
-size_t mer_preset_count(void) { return NPRESETS + merp_ls_preset_count(); }
+/* P09's presets first, then the L-systems' (presets_lsystem.c), then the
+ * inverse model's (presets_inverse.c). */
+size_t mer_preset_count(void)
+{
+    return NPRESETS + merp_ls_preset_count() + merp_inv_preset_count();
+}
+
+/* The inverse model's preset at index i of the whole list, else NULL. */
+static const merp_inv_preset *inv_at(size_t i)
+{
+    size_t before = NPRESETS + merp_ls_preset_count();
+    return i >= before ? merp_inv_preset_at(i - before) : NULL;
+}
 
 const char *mer_preset_name(size_t i)
 {
     const merp_ls_preset *ls = i >= NPRESETS ? merp_ls_preset_at(i - NPRESETS) : NULL;
-    return i < NPRESETS ? presets[i].name : ls != NULL ? ls->name : NULL;
+    const merp_inv_preset *inv = inv_at(i);
+    return i < NPRESETS ? presets[i].name : ls != NULL ? ls->name : inv != NULL ? inv->name : NULL;
 }
 
 const char *mer_preset_description(size_t i)
 {
     const merp_ls_preset *ls = i >= NPRESETS ? merp_ls_preset_at(i - NPRESETS) : NULL;
-    return i < NPRESETS ? presets[i].description : ls != NULL ? ls->description : NULL;
+    const merp_inv_preset *inv = inv_at(i);
+    return i < NPRESETS ? presets[i].description
+           : ls != NULL ? ls->description
+           : inv != NULL ? inv->description
+                         : NULL;
 }
 
 static const merp_ls_preset *ls_preset(const char *name)
@@ -282,6 +300,12 @@ mer_result mer_preset_params(const char *name, mer_params *out, mer_error *err)
         merp_ls_preset_apply(ls, out);
         return MER_OK;
     }
+    const merp_inv_preset *inv = merp_inv_preset_find(name);
+    if (inv != NULL) {
+        *out = mer_params_default();
+        merp_inv_preset_apply(inv, out);
+        return MER_OK;
+    }
     return mer_error_set(err, MER_ERR_INVALID, "preset", "unknown preset '%s'",
                          name != NULL ? name : "(null)");
 }
@@ -289,5 +313,6 @@ mer_result mer_preset_params(const char *name, mer_params *out, mer_error *err)
 const char *mer_preset_definition(const char *name)
 {
     const merp_ls_preset *ls = ls_preset(name);
-    return ls != NULL ? ls->source : NULL;
+    const merp_inv_preset *inv = merp_inv_preset_find(name);
+    return ls != NULL ? ls->source : inv != NULL ? inv->definition : NULL;
 }

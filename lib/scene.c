@@ -9,6 +9,7 @@
 
 #include "core/alloc.h"
 #include "core/hash.h"
+#include "models/inverse/inverse.h"
 #include "scene_private.h"
 
 merp_world merp_scene_world(mer_scene *s)
@@ -224,4 +225,18 @@ void merp_scene_rebuild_shadow(mer_scene *s)
     mer_shadow_clear(s->env.shadow);
     merp_skel_cast_buds(&s->sk);
     merp_env_cast_obstacles(&s->env);
+}
+
+mer_result mer_scene_show_time(mer_scene *s, double t, mer_error *err)
+{
+    assert(s != NULL);
+    if (s->ops != &merp_inverse_ops)
+        return mer_error_set(err, MER_ERR_INVALID, "t",
+                             "the model '%s' grows in whole steps; t is for the inverse model",
+                             s->ops->name);
+    merp_world w = merp_scene_world(s);
+    mer_result rc = merp_inverse_show(s, t, err);
+    if (rc == MER_OK && s->ops->diameters != NULL)
+        s->ops->diameters(s->model, &w);
+    return rc;
 }

@@ -131,9 +131,9 @@ static int grow(const grow_args *a)
     if (mer_scene_new(&params, a->seed, &scene, &err) != MER_OK)
         return fail("cannot create the scene", &err);
     int status = 0;
-    // An L-system preset starts from its source.
+    // An L-system or inverse-model preset starts from its definition.
     const char *source = mer_preset_definition(a->preset);
-    if (source != NULL && params.model == MER_MODEL_LSYSTEM &&
+    if (source != NULL && (params.model == MER_MODEL_LSYSTEM || params.model == MER_MODEL_INVERSE) &&
         mer_scene_set_definition(scene, source, strlen(source), &err) != MER_OK) {
         status = fail("--preset", &err);
         goto done;

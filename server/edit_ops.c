@@ -370,23 +370,37 @@ static int decode_params(const json_t *o, const char *w, merd_decode_ctx *c, mer
 
 /* An L-system's source, decoded whole: its productions are checked when it is
  * applied (the library names the line and column). */
-static int decode_source(const json_t *o, const char *w, merd_decode_ctx *c, merd_edit *e,
-                         merd_refusal *why)
+/* A definition text from member `name` of o, `what` saying what text it is. */
+static int decode_text(const json_t *o, const char *w, const char *name, const char *what,
+                       merd_edit *e, merd_refusal *why)
 {
-    (void)c;
     char f[MERD_FIELD_MAX];
-    merd_path(f, sizeof f, w, "source");
-    const json_t *v = json_object_get(o, "source");
+    merd_path(f, sizeof f, w, name);
+    const json_t *v = json_object_get(o, name);
     if (v == NULL)
         return merd_refuse(why, 422, "missing-field", f, "%s is required", f);
     if (!json_is_string(v))
-        return merd_refuse(why, 422, "invalid-field", f, "%s must be a string (cpfg text)", f);
+        return merd_refuse(why, 422, "invalid-field", f, "%s must be a string (%s)", f, what);
     if (json_string_length(v) > MERD_SOURCE_MAX)
         return merd_refuse(why, 422, "out-of-range", f, "%s may hold at most %d bytes", f,
                            MERD_SOURCE_MAX);
     e->source = json_string_value(v);
     e->source_len = json_string_length(v);
     return 0;
+}
+
+static int decode_source(const json_t *o, const char *w, merd_decode_ctx *c, merd_edit *e,
+                         merd_refusal *why)
+{
+    (void)c;
+    return decode_text(o, w, "source", "cpfg text", e, why);
+}
+
+static int decode_fset(const json_t *o, const char *w, merd_decode_ctx *c, merd_edit *e,
+                       merd_refusal *why)
+{
+    (void)c;
+    return decode_text(o, w, "fset", ".fset text", e, why);
 }
 
 /* ---------------------------------------------------------------- applying */
@@ -487,15 +501,27 @@ static int apply_release(const merd_edit *e, merd_apply_ctx *c, merd_refusal *wh
     return 0;
 }
 
-static int apply_lsystem(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
+/* A new definition text, its errors named after the member `name` it came in. */
+static int define(const merd_edit *e, merd_apply_ctx *c, const char *name, merd_refusal *why)
 {
     mer_error err = {0};
     mer_result rc = mer_scene_set_definition(c->scene, e->source, e->source_len, &err);
     if (rc == MER_OK)
         return 0;
     if (strcmp(err.field, "definition") == 0)
-        snprintf(err.field, sizeof err.field, "source");
+        snprintf(err.field, sizeof err.field, "%s", name);
     return lib(c, rc, &err, why);
+}
+
+static int apply_lsystem(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
+{
+    return define(e, c, "source", why);
+}
+
+/* The inverse model's functions (and scalars) replaced; the tree regrows from them. */
+static int apply_functions(const merd_edit *e, merd_apply_ctx *c, merd_refusal *why)
+{
+    return define(e, c, "fset", why);
 }
 
 /* The tree becomes the one of a past revision, derived anew (revisions.h): a
@@ -528,12 +554,13 @@ static const char *const params_fields[] = {"op", "params", NULL};
 static const char *const release_fields[] = {"op", NULL};
 static const char *const revert_fields[] = {"op", "revision", NULL};
 static const char *const lsystem_fields[] = {"op", "source", NULL};
+static const char *const functions_fields[] = {"op", "fset", NULL};
 
-#define ANY (MERD_MODEL_P09 | MERD_MODEL_RUNIONS | MERD_MODEL_LSYSTEM)
+#define ANY (MERD_MODEL_P09 | MERD_MODEL_RUNIONS | MERD_MODEL_LSYSTEM | MERD_MODEL_INVERSE)
 
 static const merd_edit_op ops[] = {
     {"step", step_fields, "a step edit", decode_step, apply_step, ANY, MERD_OP_STEPS},
-    {"add_markers", NULL, NULL, decode_markers, apply_markers, ANY, 0},
+    {"add_markers", NULL, NULL, decode_markers, apply_markers, ANY & ~MERD_MODEL_INVERSE, 0},
     {"prune", node_fields, "a prune edit", decode_node, apply_prune, ANY, 0},
     {"bend", bend_fields, "a bend edit", decode_bend, apply_bend, ANY, 0},
     {"set_apical_schedule", schedule_fields, "a set_apical_schedule edit", decode_schedule,
@@ -543,6 +570,8 @@ static const merd_edit_op ops[] = {
     {"revert", revert_fields, "a revert edit", decode_revert, apply_revert, ANY, 0},
     {"set_lsystem", lsystem_fields, "a set_lsystem edit", decode_source, apply_lsystem,
      MERD_MODEL_LSYSTEM, 0},
+    {"set_functions", functions_fields, "a set_functions edit", decode_fset, apply_functions,
+     MERD_MODEL_INVERSE, 0},
 };
 #define OPS (sizeof ops / sizeof ops[0])
 

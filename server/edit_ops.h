@@ -37,7 +37,7 @@ typedef struct merd_edit {
     unsigned sched_mask;
     const json_t *params;  /* set_params: the object */
     uint64_t revision;     /* revert */
-    const char *source;    /* set_lsystem: the text (borrowed from json) */
+    const char *source;    /* set_lsystem, set_functions: the text (borrowed from json) */
     size_t source_len;
 } merd_edit;
 
@@ -65,7 +65,8 @@ typedef struct merd_apply_ctx {
 enum {
     MERD_MODEL_P09 = 1u << MER_MODEL_P09,
     MERD_MODEL_RUNIONS = 1u << MER_MODEL_RUNIONS,
-    MERD_MODEL_LSYSTEM = 1u << MER_MODEL_LSYSTEM
+    MERD_MODEL_LSYSTEM = 1u << MER_MODEL_LSYSTEM,
+    MERD_MODEL_INVERSE = 1u << MER_MODEL_INVERSE
 };
 
 /* Flags of an op. */

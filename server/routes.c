@@ -25,6 +25,7 @@ static const char *const no_query[] = {NULL};
 static const char *const list_query[] = {"after", "limit", "preset", "state", NULL};
 static const char *const revisions_query[] = {"after", "limit", NULL};
 static const char *const skeleton_query[] = {"alive", NULL};
+static const char *const functions_query[] = {"format", NULL};
 
 static const route routes[] = {
     {"GET", "/v1/health", merd_api_health, true, no_query},
@@ -41,6 +42,7 @@ static const route routes[] = {
     {"POST", "/v1/sessions/{id}/cancel", merd_api_cancel, false, no_query},
     {"GET", "/v1/sessions/{id}/revisions", merd_api_revisions, false, revisions_query},
     {"GET", "/v1/sessions/{id}/skeleton", merd_api_skeleton, false, skeleton_query},
+    {"GET", "/v1/sessions/{id}/functions", merd_api_functions, false, functions_query},
 };
 #define N_ROUTES (sizeof routes / sizeof routes[0])
 

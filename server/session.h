@@ -112,6 +112,10 @@ typedef struct merd_snapshot_options {
     mer_mesh_options mesh;
     uint32_t unquantized;
     uint32_t compression; /* mer_gltf_compression */
+    /* The tree at a fractional time (mer_scene_show_time), in millionths of a
+     * step, when at_t: meshed from a copy, the session unchanged. */
+    bool at_t;
+    uint64_t t_micro;
 } merd_snapshot_options;
 
 /* The current tree of a loaded session as GLB for `options`, from the session's cache of variants
@@ -145,6 +149,12 @@ json_t *merd_session_revisions(merd_session *s, uint64_t after, bool from_start,
  * internode ever issued (only the living ones when `alive_only`). New
  * reference, NULL when out of memory. Blocks while a batch runs. O(nodes). */
 json_t *merd_session_skeleton(merd_session *s, bool alive_only);
+
+/* The .fset text of an inverse-model session's functions (its definition from
+ * the line "funcgalleryver" on), a malloc'd copy of `*len` bytes and a NUL;
+ * NULL for a session of another model or out of memory (then *len is 0 or 1).
+ * Blocks while a batch runs. O(text). */
+char *merd_session_functions(merd_session *s, size_t *len);
 
 /* Living internodes after the last accepted batch (for metrics). */
 uint32_t merd_session_internodes(merd_session *s);

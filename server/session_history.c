@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "server/session_private.h"
 
@@ -135,4 +136,28 @@ json_t *merd_session_skeleton(merd_session *s, bool alive_only)
                          : NULL;
     pthread_mutex_unlock(&s->work);
     return body;
+}
+
+char *merd_session_functions(merd_session *s, size_t *len)
+{
+    pthread_mutex_lock(&s->work);
+    size_t n = 0;
+    const char *text = mer_scene_params(s->scene)->model == MER_MODEL_INVERSE
+                           ? mer_scene_definition(s->scene, &n)
+                           : NULL;
+    const char *fset = text != NULL ? strstr(text, "funcgalleryver") : NULL;
+    char *copy = NULL;
+    *len = 0;
+    if (fset != NULL) {
+        n -= (size_t)(fset - text);
+        copy = malloc(n + 1);
+        if (copy != NULL) {
+            memcpy(copy, fset, n + 1);
+            *len = n;
+        } else {
+            *len = 1;
+        }
+    }
+    pthread_mutex_unlock(&s->work);
+    return copy;
 }

@@ -13,15 +13,18 @@
 static void options_key(const merd_snapshot_options *o, char *out, size_t n)
 {
     // Twig lines add "w1", so the keys of snapshots without them stay as they were.
-    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s",
+    char at[32] = "";
+    if (o->at_t)
+        snprintf(at, sizeof at, "y%" PRIu64, o->t_micro);
+    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s%s",
              o->mesh.detail ? o->mesh.detail : MER_MESH_DETAIL_DEFAULT, o->mesh.leaves,
              o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1, o->mesh.no_uvs ? 0 : 1,
-             o->compression, o->mesh.twig_lines ? "w1" : "");
+             o->compression, o->mesh.twig_lines ? "w1" : "", at);
 }
 
 void merd_session_etag_at(uint64_t revision, const merd_snapshot_options *options, char *etag)
 {
-    char key[48];
+    char key[56];
     options_key(options, key, sizeof key);
     snprintf(etag, MERD_ETAG_MAX, "\"r%" PRIu64 "-%s\"", revision, key);
 }
@@ -57,6 +60,23 @@ int merd_session_build(merd_session *s, const mer_scene *scene, uint64_t revisio
     return 0;
 }
 
+/* The tree of `scene` at the options' time, meshed from a copy of it. */
+static int build_at_t(merd_session *s, uint64_t revision, const merd_snapshot_options *options,
+                      merd_snapshot **out, merd_refusal *why)
+{
+    mer_scene *copy = NULL;
+    mer_error err = {0};
+    mer_result rc = mer_scene_clone(s->scene, &copy, &err);
+    if (rc == MER_OK)
+        rc = mer_scene_show_time(copy, (double)options->t_micro / 1e6, &err);
+    int r = rc == MER_OK ? merd_session_build(s, copy, revision, options, out, why)
+            : rc == MER_ERR_INVALID || rc == MER_ERR_RANGE
+                ? merd_refuse(why, 400, "out-of-range", "t", "%s", err.message)
+                : merd_refuse_lib(why, rc, &err, "");
+    mer_scene_free(copy);
+    return r;
+}
+
 int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
                           merd_snapshot **out, char *etag, bool *cached, merd_refusal *why)
 {
@@ -67,7 +87,9 @@ int merd_session_snapshot(merd_session *s, const merd_snapshot_options *options,
     *cached = *out != NULL;
     int rc = 0;
     if (*out == NULL &&
-        (rc = merd_session_build(s, s->scene, merd_session_revision(s), options, out, why)) == 0)
+        (rc = options->at_t ? build_at_t(s, merd_session_revision(s), options, out, why)
+                            : merd_session_build(s, s->scene, merd_session_revision(s), options,
+                                                 out, why)) == 0)
         merd_snapshot_cache_put(&s->snaps, merd_session_revision(s), etag, *out);
     pthread_mutex_unlock(&s->work);
     return rc;

@@ -16,7 +16,7 @@
 #define MERD_SNAPSHOT_VARIANTS 4
 
 /* Room for a snapshot's key, its ETag: "\"r{revision}-{options}\"". */
-#define MERD_ETAG_MAX 64
+#define MERD_ETAG_MAX 96
 
 /* Immutable GLB bytes with a reference count. */
 typedef struct merd_snapshot merd_snapshot;

@@ -190,7 +190,7 @@ static int add_plant(mer_scene *scene, const json_t *item, const char *w, merd_r
 static int decode_params(const json_t *spec, mer_params *p, uint64_t *seed, merd_refusal *why)
 {
     static const char *const fields[] = {"model", "preset", "seed", "params", "scene", "lsystem",
-                                         NULL};
+                                         "inverse", NULL};
     if (!json_is_object(spec))
         return merd_refuse(why, 422, "invalid-field", "body",
                            "the body must be a JSON object ({} for defaults)");
@@ -283,14 +283,27 @@ static int add_each(mer_scene *scene, const json_t *list, const char *prefix,
     return 0;
 }
 
-/* The L-system source of a request ("lsystem": {"source"}), else its preset's;
- * NULL when it has neither. */
-static int decode_source(const json_t *spec, const char **text, size_t *len, merd_refusal *why)
+/* The definition text of a request, into *text, *len and *key (the member that
+ * gave it, "lsystem" or "inverse"): an L-system's source ("lsystem":
+ * {"source"}), an inverse model's functions ("inverse": {"fset"}), else its
+ * preset's (key NULL); *text NULL when it has none. */
+static int decode_source(const json_t *spec, const char **text, size_t *len, const char **key,
+                         merd_refusal *why)
 {
-    static const char *const fields[] = {"source", NULL};
-    const json_t *ls = json_object_get(spec, "lsystem");
+    static const char *const ls_fields[] = {"source", NULL};
+    static const char *const inv_fields[] = {"fset", NULL};
+    const json_t *inv = json_object_get(spec, "inverse");
+    const json_t *ls = inv != NULL ? inv : json_object_get(spec, "lsystem");
+    const char *const *fields = inv != NULL ? inv_fields : ls_fields;
+    const char *k = inv != NULL ? "inverse" : "lsystem";
+    const char *member = inv != NULL ? "inverse.fset" : "lsystem.source";
+    const char *shape = inv != NULL ? "{\"fset\": \"<.fset text>\"}" : "{\"source\": \"<cpfg text>\"}";
     *text = NULL;
     *len = 0;
+    *key = NULL;
+    if (inv != NULL && json_object_get(spec, "lsystem") != NULL)
+        return merd_refuse(why, 422, "invalid-field", "lsystem",
+                           "give lsystem or inverse, not both");
     if (ls == NULL) {
         const json_t *preset = json_object_get(spec, "preset");
         *text = preset != NULL ? mer_preset_definition(json_string_value(preset)) : NULL;
@@ -298,27 +311,45 @@ static int decode_source(const json_t *spec, const char **text, size_t *len, mer
         return 0;
     }
     if (!json_is_object(ls))
-        return merd_refuse(why, 422, "invalid-field", "lsystem",
-                           "lsystem must be {\"source\": \"<cpfg text>\"}");
-    if (only(ls, fields, "lsystem", why))
+        return merd_refuse(why, 422, "invalid-field", k, "%s must be %s", k, shape);
+    if (only(ls, fields, k, why))
         return -1;
-    const json_t *src = json_object_get(ls, "source");
+    const json_t *src = json_object_get(ls, fields[0]);
     if (!json_is_string(src))
-        return merd_refuse(why, 422, src ? "invalid-field" : "missing-field", "lsystem.source",
-                           "lsystem.source must be a string (cpfg text)");
+        return merd_refuse(why, 422, src ? "invalid-field" : "missing-field", member,
+                           "%s must be a string", member);
     if (json_string_length(src) > MERD_SOURCE_MAX)
-        return merd_refuse(why, 422, "out-of-range", "lsystem.source",
-                           "lsystem.source may hold at most %d bytes", MERD_SOURCE_MAX);
+        return merd_refuse(why, 422, "out-of-range", member, "%s may hold at most %d bytes",
+                           member, MERD_SOURCE_MAX);
     *text = json_string_value(src);
     *len = json_string_length(src);
+    *key = k;
     return 0;
 }
 
-/* Gives an L-system scene its source: required for the model, refused for the
- * others. */
-static int define(mer_scene *scene, const char *text, size_t len, merd_refusal *why)
+/* Gives a scene its definition text: required for an L-system, optional for
+ * the inverse model (the Populus by default), refused for the others and for
+ * the other model's member. */
+static int define(mer_scene *scene, const char *text, size_t len, const char *key,
+                  merd_refusal *why)
 {
-    bool wants = mer_scene_params(scene)->model == MER_MODEL_LSYSTEM;
+    uint32_t model = mer_scene_params(scene)->model;
+    if (model == MER_MODEL_INVERSE) {
+        if (key != NULL && strcmp(key, "inverse") != 0)
+            return merd_refuse(why, 422, "invalid-field", key,
+                               "%s is for sessions of the model \"%s\"", key, key);
+        mer_error err = {0};
+        mer_result rc = text != NULL ? mer_scene_set_definition(scene, text, len, &err) : MER_OK;
+        if (rc == MER_OK)
+            return 0;
+        if (strcmp(err.field, "definition") == 0)
+            snprintf(err.field, sizeof err.field, "fset");
+        return merd_refuse_lib(why, rc, &err, "inverse");
+    }
+    if (key != NULL && strcmp(key, "inverse") == 0)
+        return merd_refuse(why, 422, "invalid-field", "inverse",
+                           "inverse is for sessions of the model \"inverse\"");
+    bool wants = model == MER_MODEL_LSYSTEM;
     if (text == NULL && !wants)
         return 0;
     if (text == NULL)
@@ -343,10 +374,10 @@ mer_scene *merd_scene_from_spec(const json_t *spec, const merd_edit_limits *limi
     mer_params p;
     uint64_t seed = 0;
     const json_t *plants = NULL, *obstacles = NULL, *markers = NULL;
-    const char *source = NULL;
+    const char *source = NULL, *key = NULL;
     size_t source_len = 0;
     if (decode_params(spec, &p, &seed, why) || decode_scene(spec, &plants, &obstacles, &markers, why) ||
-        decode_source(spec, &source, &source_len, why))
+        decode_source(spec, &source, &source_len, &key, why))
         return NULL;
     if (plants != NULL)
         p.seedlings = 0;  // the given plants replace the preset's seedlings
@@ -370,7 +401,7 @@ mer_scene *merd_scene_from_spec(const json_t *spec, const merd_edit_limits *limi
         add_each(scene, obstacles, "scene.obstacles", add_obstacle, why) ||
         add_each(scene, plants, "scene.plants", add_plant, why) ||
         add_each(scene, markers, "scene.markers", fill_volume, why) ||
-        define(scene, source, source_len, why)) {
+        define(scene, source, source_len, key, why)) {
         mer_scene_free(scene);
         return NULL;
     }

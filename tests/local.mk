@@ -46,6 +46,7 @@ TESTS += tests/api/stall-spread.test.js
 TESTS += tests/api/history.test.js
 TESTS += tests/api/skeleton.test.js
 TESTS += tests/api/lsystem.test.js
+TESTS += tests/api/inverse.test.js
 TESTS += tests/api/hygiene.test.js
 TESTS += tests/api/models.test.js
 TESTS += tests/api/smoke.sh
@@ -61,7 +62,7 @@ TESTS += tests/conformance/validate.test.js
 tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_mesh.log \
 	tests/api/cli.test.log tests/api/sessions.test.log tests/api/smoke.log \
 	tests/api/models.test.log \
-	tests/api/lsystem.test.log tests/conformance/importers.test.log
+	tests/api/lsystem.test.log tests/api/inverse.test.log tests/conformance/importers.test.log
 
 EXTRA_DIST += \
 	tests/check-exports.sh \
@@ -77,6 +78,7 @@ EXTRA_DIST += \
 	tests/api/checkpoint.test.js \
 	tests/api/restore.test.js \
 	tests/api/lsystem.test.js \
+	tests/api/inverse.test.js \
 	tests/api/compact.test.js \
 	tests/api/crashloop.test.js \
 	tests/api/security.test.js \

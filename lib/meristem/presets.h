@@ -1,6 +1,7 @@
 /* meristem — named parameter sets after the figures of Palubicki et al. 2009, and
  * L-system presets after Prusinkiewicz & Lindenmayer's ABOP (model "lsystem",
- * with a definition text: mer_preset_definition).
+ * with a definition text: mer_preset_definition), and the inverse model's trees
+ * after Galbraith et al. 2004 (model "inverse", also with a definition text).
  *
  * Each preset is the defaults (params.h) with a few fields changed; the paper
  * gives λ, α, w_max, w_min and κ for Figs. 7 and 9, and only qualitative settings
@@ -31,7 +32,8 @@ const char *mer_preset_description(size_t i);
 mer_result mer_preset_params(const char *name, mer_params *out, mer_error *err);
 
 /* The definition text of preset `name` (a static string) for a model defined by
- * a text: the cpfg source of an L-system preset ("abop-1.24a", ...), to give to
+ * a text: the cpfg source of an L-system preset ("abop-1.24a", ...), the
+ * definition of an inverse-model preset ("populus-deltoides": "species: ..."), to give to
  * mer_scene_set_definition after mer_scene_new with mer_preset_params. NULL for
  * the presets of P09 and unknown names. O(presets). */
 const char *mer_preset_definition(const char *name);

@@ -166,6 +166,14 @@ typedef struct mer_model_stat {
  * module X, for each module in the string in symbol order. O(string). */
 size_t mer_scene_model_stats(const mer_scene *s, mer_model_stat *out, size_t cap);
 
+/* Shows the tree of a model that grows continuously (the inverse model) at time
+ * t, in steps (years), fractional allowed: the tree is rebuilt as it stands at
+ * t; the step count stays and the next step grows its whole step. Meant for a
+ * clone that is meshed and dropped. MER_ERR_INVALID (field "t") for a model that
+ * grows in whole steps only (P09, L-systems), MER_ERR_RANGE (field "t") for t
+ * outside the model's time; as a step otherwise. O(nodes). */
+mer_result mer_scene_show_time(mer_scene *s, double t, mer_error *err);
+
 /* Replaces only the developmental schedule (apical control per order, λ and η
  * keyframes, η per order), between steps; the rest of the parameters stay.
  * `schedule` not NULL. Validated as by mer_params_validate (fields are named

@@ -104,5 +104,7 @@ extern const merp_model_ops merp_p09_ops;
 extern const merp_model_ops merp_runions_ops;
 /* models/lsystem/model.c */
 extern const merp_model_ops merp_lsystem_ops;
+/* models/inverse/inverse.c */
+extern const merp_model_ops merp_inverse_ops;
 
 #endif

@@ -9,6 +9,7 @@ static const merp_model_ops *const models[] = {
     [MER_MODEL_P09] = &merp_p09_ops,
     [MER_MODEL_RUNIONS] = &merp_runions_ops,
     [MER_MODEL_LSYSTEM] = &merp_lsystem_ops,
+    [MER_MODEL_INVERSE] = &merp_inverse_ops,
 };
 
 #define NMODELS (sizeof models / sizeof models[0])

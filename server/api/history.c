@@ -1,8 +1,10 @@
 /* meristemd — GET /v1/sessions/{id}/revisions (a page of the session's
  * revisions) and GET /v1/sessions/{id}/skeleton (its nodes for scripts).
- * Both read the tree's state under its work lock, so a worker answers them. */
+ * and GET /v1/sessions/{id}/functions (an inverse-model session's .fset). All
+ * read the tree's state under its work lock, so a worker answers them. */
 #include "config.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "server/api/private.h"
@@ -87,4 +89,83 @@ static int read_skeleton(merd_request *req, merd_api_job *j, merd_refusal *why)
 enum MHD_Result merd_api_skeleton(merd_request *req, const char *id)
 {
     return submit(req, id, read_skeleton, run_skeleton);
+}
+
+/* The .fset text the model wrote (well formed: one item a line) as
+ * {"functions": [{"name", "kind", "samples", "points": [[x, y, m], ...]}]}.
+ * NULL when out of memory. O(text). */
+static json_t *functions_json(const char *text)
+{
+    json_t *list = json_array(), *fn = NULL, *points = NULL;
+    unsigned left = 0;
+    for (const char *s = text; list != NULL && *s != '\0';) {
+        const char *nl = strchr(s, '\n');
+        char line[128];
+        size_t n = nl != NULL ? (size_t)(nl - s) : strlen(s);
+        snprintf(line, sizeof line, "%.*s", (int)(n < sizeof line ? n : sizeof line - 1), s);
+        s += n + (nl != NULL);
+        double x, y;
+        unsigned m = 1, u;
+        char name[64];
+        if (left > 0 && sscanf(line, "%lf %lf %u", &x, &y, &m) >= 2) {
+            json_array_append_new(points, json_pack("[f, f, i]", x, y, (json_int_t)m));
+            left--;
+        } else if (sscanf(line, "name: %63s", name) == 1) {
+            fn = json_pack("{s:s, s:s}", "name", name, "kind", "bspline");
+            json_array_append_new(list, fn);
+        } else if (fn != NULL && sscanf(line, "samples: %u", &u) == 1) {
+            json_object_set_new(fn, "samples", json_integer(u));
+        } else if (fn != NULL && strcmp(line, "kind: linear") == 0) {
+            json_object_set_new(fn, "kind", json_string("linear"));
+        } else if (fn != NULL && sscanf(line, "points: %u", &u) == 1) {
+            json_object_set_new(fn, "points", points = json_array());
+            left = u;
+        }
+    }
+    return list != NULL ? json_pack("{s:o}", "functions", list) : NULL;
+}
+
+static void run_functions(void *arg)
+{
+    merd_api_job *j = arg;
+    size_t len = 0;
+    char *text = merd_session_functions(j->session, &len);
+    if (text == NULL) {
+        merd_refusal why = {0};
+        if (len == 1)
+            merd_refuse(&why, 503, "out-of-memory", "", "out of memory for the functions");
+        else
+            merd_refuse(&why, 422, "invalid-field", "model",
+                        "only sessions of the model \"inverse\" have functions");
+        merd_api_job_refuse(j, &why);
+        return;
+    }
+    if (j->json_form) {
+        json_t *body = functions_json(text);
+        free(text);
+        answer_json(j, body);
+        return;
+    }
+    struct MHD_Response *r = MHD_create_response_from_buffer(len, text, MHD_RESPMEM_MUST_FREE);
+    if (r == NULL)
+        free(text);
+    else
+        MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "text/plain; charset=utf-8");
+    merd_api_job_finish(j, 200, r, len);
+}
+
+/* ?format=json or fset (the default). */
+static int read_functions(merd_request *req, merd_api_job *j, merd_refusal *why)
+{
+    const char *f = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "format");
+    if (f != NULL && strcmp(f, "json") != 0 && strcmp(f, "fset") != 0)
+        return merd_refuse(why, 422, "out-of-range", "format",
+                           "format must be fset or json, got '%.40s'", f);
+    j->json_form = f != NULL && strcmp(f, "json") == 0;
+    return 0;
+}
+
+enum MHD_Result merd_api_functions(merd_request *req, const char *id)
+{
+    return submit(req, id, read_functions, run_functions);
 }

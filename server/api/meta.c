@@ -53,8 +53,10 @@ static void build_presets(void)
                                   mer_model_name(p.model), "params", merd_json_params(&p),
                                   "schedule", merd_json_schedule(&p.schedule));
         const char *source = mer_preset_definition(mer_preset_name(i));
+        bool inverse = p.model == MER_MODEL_INVERSE;
         if (entry != NULL && source != NULL)
-            json_object_set_new(entry, "lsystem", json_pack("{s:s}", "source", source));
+            json_object_set_new(entry, inverse ? "inverse" : "lsystem",
+                                json_pack("{s:s}", inverse ? "fset" : "source", source));
         json_array_append_new(presets, entry);
     }
     mer_params d = mer_params_default();

@@ -38,6 +38,7 @@ typedef struct merd_api_job {
     bool past;              /* snapshot: of `revision`, not the current tree */
     uint64_t revision;
     bool alive_only;        /* skeleton */
+    bool json_form;         /* functions: as JSON, not .fset text */
     uint64_t after;         /* revisions: the page after this one ... */
     bool from_start;        /* ... or from revision 0 */
     size_t limit;

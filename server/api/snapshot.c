@@ -3,6 +3,7 @@
  * taken from the session's cache of variants). */
 #include "config.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,7 +13,7 @@
 #define GLB_OPTIONS "detail", "leaves", "markers", "quantize", "texcoords", "twig_lines", \
     "compress", "color"
 const char *const merd_api_glb_option_keys[] = {GLB_OPTIONS, NULL};
-const char *const merd_api_snapshot_keys[] = {GLB_OPTIONS, "revision", NULL};
+const char *const merd_api_snapshot_keys[] = {GLB_OPTIONS, "revision", "t", NULL};
 
 static const char *query(merd_request *req, const char *key)
 {
@@ -130,6 +131,26 @@ static void run_snapshot(void *arg)
         merd_api_job_finish(j, 200, r, size);
 }
 
+/* ?t=: the time (in steps, fractional) of a continuously growing model's tree,
+ * to a millionth of a step; 400 naming t when malformed or with ?revision=. */
+static int read_t(merd_request *req, merd_snapshot_options *o, bool past, merd_refusal *why)
+{
+    const char *v = query(req, "t");
+    if (v == NULL)
+        return 0;
+    char *end = NULL;
+    double t = strtod(v, &end);
+    if (end == v || *end != '\0' || !isfinite(t) || t < 0.0 || t > 1e6)
+        return merd_refuse(why, 400, "out-of-range", "t",
+                           "t must be a number of years from 0, got '%.40s'", v);
+    if (past)
+        return merd_refuse(why, 400, "out-of-range", "t", "t is for the current tree, "
+                           "not with revision");
+    o->at_t = true;
+    o->t_micro = (uint64_t)llround(t * 1e6);
+    return 0;
+}
+
 enum MHD_Result merd_api_snapshot(merd_request *req, const char *id)
 {
     merd_refusal why = {0};
@@ -141,7 +162,8 @@ enum MHD_Result merd_api_snapshot(merd_request *req, const char *id)
     uint64_t revision = 0;
     bool past = false;
     if (merd_api_snapshot_options(req, &snap, &why) != 0 ||
-        merd_api_query_uint(req, "revision", 0, INT64_MAX, &revision, &past, &why) != 0) {
+        merd_api_query_uint(req, "revision", 0, INT64_MAX, &revision, &past, &why) != 0 ||
+        read_t(req, &snap, past, &why) != 0) {
         merd_session_unref(s);
         return merd_reply_refusal(req, &why);
     }

@@ -34,8 +34,13 @@ static mer_result fail_at(const reader *r, size_t at, mer_result code, mer_error
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return mer_error_set(err, code, NULL, "line %u, column %u: %s", r->line > 0 ? r->line : 1,
-                         column(r, at), msg);
+    unsigned line = r->line > 0 ? r->line : 1, col = column(r, at);
+    mer_result rc = mer_error_set(err, code, NULL, "line %u, column %u: %s", line, col, msg);
+    if (err != NULL) {
+        err->line = line;
+        err->column = col;
+    }
+    return rc;
 }
 
 static int is_blank_line(const reader *r, size_t from, size_t to)

@@ -10,6 +10,7 @@
 #include "config.h"
 
 #include <assert.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -27,7 +28,19 @@ struct merp_model {
     uint64_t *cuts; /* keys.cut's storage, sorted */
     uint32_t cap_cuts;
     uint32_t first; /* the first id the last build made (the roots are before it) */
+    char *text;     /* the definition as text (merp_inv_def_write), NULL out of memory */
+    size_t tlen;
+    uint32_t branches[MERP_INV_ORDER_MAX + 1]; /* live branches by order, last build */
 };
+
+/* The definition's text again, after def changed. */
+static void retext(merp_model *m)
+{
+    merp_free(m->text);
+    m->text = merp_inv_def_write(&m->def, &m->tlen);
+    if (m->text == NULL)
+        m->tlen = 0;
+}
 
 static mer_result inverse_create(const mer_params *p, merp_model **out, mer_error *err)
 {
@@ -40,6 +53,7 @@ static mer_result inverse_create(const mer_params *p, merp_model **out, mer_erro
         merp_free(m);
         return rc;
     }
+    retext(m);
     *out = m;
     return MER_OK;
 }
@@ -69,6 +83,13 @@ static mer_result show(merp_model *m, merp_skeleton *sk, mer_rng *rng, double t,
             return rc;
     }
     m->t = t;
+    /* A branch of order k starts where a node of order k has a parent of a lower one. */
+    memset(m->branches, 0, sizeof m->branches);
+    for (uint32_t i = m->first; i < sk->n; i++) {
+        uint32_t p = sk->parent[i], k = sk->order[i];
+        if (sk->alive[i] && p != MER_NO_NODE && sk->order[p] < k && k <= MERP_INV_ORDER_MAX)
+            m->branches[k]++;
+    }
     return MER_OK;
 }
 
@@ -132,6 +153,7 @@ static void inverse_free(merp_model *m)
     merp_free(m->keys.of);
     merp_free(m->keys.leaf);
     merp_free(m->cuts);
+    merp_free(m->text);
     merp_free(m);
 }
 
@@ -144,6 +166,8 @@ static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error
     c->keys.of = NULL;
     c->keys.leaf = NULL;
     c->cuts = NULL;
+    c->text = NULL;
+    retext(c);
     size_t cap = m->keys.cap;
     if (cap > 0) {
         c->keys.of = merp_malloc(cap * sizeof *c->keys.of);
@@ -151,7 +175,7 @@ static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error
     }
     if (m->cap_cuts > 0)
         c->cuts = merp_malloc((size_t)m->cap_cuts * sizeof *c->cuts);
-    if ((cap > 0 && (c->keys.of == NULL || c->keys.leaf == NULL)) ||
+    if (c->text == NULL || (cap > 0 && (c->keys.of == NULL || c->keys.leaf == NULL)) ||
         (m->cap_cuts > 0 && c->cuts == NULL)) {
         inverse_free(c);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
@@ -197,7 +221,8 @@ static int loaded_ok(merp_model *m, uint32_t nodes)
             return 0;
     for (uint32_t i = 0; i < MERP_G_COUNT; i++)
         merp_gfunc_prepare(&m->def.g[i], NULL);
-    return 1;
+    retext(m);
+    return m->text != NULL;
 }
 
 static mer_result inverse_load(merp_bytes_in *in, uint32_t nodes, merp_model **out,
@@ -229,6 +254,51 @@ static mer_result inverse_load(merp_bytes_in *in, uint32_t nodes, merp_model **o
     return MER_OK;
 }
 
+/* The first definition before any tree is shown just sets it; a later one
+ * regrows the tree shown, at the same time, from the new definition. */
+static mer_result inverse_set_definition(merp_model *m, const merp_world *w, const char *text,
+                                         size_t len, mer_error *err)
+{
+    merp_inv_def d = m->def;
+    mer_result rc = merp_inv_def_read(&d, text, len, err);
+    if (rc != MER_OK)
+        return rc;
+    if ((double)w->step > (double)d.y_max || m->t > (double)d.y_max)
+        return mer_error_set(err, MER_ERR_RANGE, "y_max",
+                             "the tree shows year %g; y_max must be at least that",
+                             (double)w->step > m->t ? (double)w->step : m->t);
+    m->def = d;
+    retext(m);
+    return m->seeded ? show(m, w->sk, w->rng, m->t, err) : MER_OK;
+}
+
+static const char *inverse_definition(const merp_model *m, size_t *len)
+{
+    if (len != NULL)
+        *len = m->tlen;
+    return m->text;
+}
+
+static size_t inverse_stats(const merp_model *m, mer_model_stat *out, size_t cap)
+{
+    size_t k = 0;
+    double v[3 + MERP_INV_ORDER_MAX];
+    char names[3 + MERP_INV_ORDER_MAX][24];
+    snprintf(names[k], sizeof names[k], "year");
+    v[k++] = m->t;
+    snprintf(names[k], sizeof names[k], "y_max");
+    v[k++] = m->def.y_max;
+    for (uint32_t o = 1; o <= m->def.order_max && o <= MERP_INV_ORDER_MAX; o++) {
+        snprintf(names[k], sizeof names[k], "branches.order%u", o);
+        v[k++] = m->branches[o];
+    }
+    for (size_t i = 0; i < k && i < cap; i++) {
+        memcpy(out[i].name, names[i], sizeof out[i].name);
+        out[i].value = v[i];
+    }
+    return k;
+}
+
 const merp_model_ops merp_inverse_ops = {
     .name = "inverse",
     .param_rows = 0,
@@ -242,6 +312,9 @@ const merp_model_ops merp_inverse_ops = {
     .save = inverse_save,
     .load = inverse_load,
     .free = inverse_free,
+    .set_definition = inverse_set_definition,
+    .definition = inverse_definition,
+    .stats = inverse_stats,
 };
 
 mer_result merp_inverse_show(mer_scene *s, double t, mer_error *err)
@@ -268,6 +341,7 @@ mer_result merp_inverse_set_def(mer_scene *s, const merp_inv_def *d, mer_error *
                              "the tree shows year %g; y_max must be at least that",
                              (double)s->step > m->t ? (double)s->step : m->t);
     m->def = *d;
+    retext(m);
     for (uint32_t i = 0; i < MERP_G_COUNT; i++)
         merp_gfunc_prepare(&m->def.g[i], NULL);
     /* The tree shown, shown again under the new functions. */

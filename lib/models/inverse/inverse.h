@@ -91,6 +91,17 @@ mer_result merp_inv_def_functions(merp_inv_def *d, const char *fset, size_t len,
 /* Replaces the functions a .fset text names (any subset, each at most once);
  * the others stay. Errors as merp_inv_def_functions; d is unchanged then. */
 mer_result merp_inv_def_replace(merp_inv_def *d, const char *fset, size_t len, mer_error *err);
+/* text.c: a definition as one text: `name: value` lines (`species:` one of
+ * populus-deltoides, conifer, weeping, which resets the whole definition to that
+ * tree; or a scalar of merp_inv_def by its field name), then .fset text naming
+ * any of the functions. What the text names replaces d's; the rest stays.
+ * MER_ERR_INVALID/FORMAT/LIMIT with err->line and err->column for a text that
+ * does not read or gives an invalid definition; d is unchanged then. O(len). */
+mer_result merp_inv_def_read(merp_inv_def *d, const char *text, size_t len, mer_error *err);
+/* d whole as such a text (every scalar, every function), merp_malloc'd and
+ * 0-terminated, its length in *len (may be NULL); NULL when out of memory.
+ * Reading it back gives d. */
+char *merp_inv_def_write(const merp_inv_def *d, size_t *len);
 /* The Populus deltoides of G04 §5 (populus.c): 27 years. Its functions as .fset
  * text, and the whole definition. */
 extern const char merp_inv_populus_fset[];
@@ -202,8 +213,9 @@ mer_result merp_inv_build(const merp_inv_def *d, double t, uint64_t seed, merp_s
 
 /* inverse.c — the growth model (model.h): a step is a year; the scene's tree is
  * its definition at year = steps done (the Populus of G04 §5 until
- * merp_inverse_set_def gives another). Not in the registry yet: scenes run it
- * through merp_scene_new_with. Past y_max a step is MER_ERR_LIMIT. */
+ * a definition text (mer_scene_set_definition, text.c) or merp_inverse_set_def
+ * gives another). Registered as MER_MODEL_INVERSE, "inverse". Past y_max a step
+ * is MER_ERR_LIMIT. */
 extern const merp_model_ops merp_inverse_ops;
 /* Shows the scene's tree at time t (years, fractional allowed, 0..y_max): every
  * plant rebuilt, then the pipe model's diameters. The step count stays; the next

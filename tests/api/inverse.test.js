@@ -1,0 +1,213 @@
+'use strict';
+// Inverse-model sessions (Galbraith et al. 2004) over HTTP: the Populus preset grown
+// year by year, its functions replaced (an .fset that does not read is a 422 with
+// line and column that changes nothing; a valid one regrows the tree), the
+// functions downloaded and uploaded again, snapshots at a fractional year, and
+// the session restored from its journal after kill -9 to the same GLB bytes.
+const test = require('node:test');
+const assert = require('node:assert/strict');
+const fs = require('node:fs');
+const os = require('node:os');
+const path = require('node:path');
+const http = require('node:http');
+const validator = require('gltf-validator');
+const { startDaemon, api } = require('../support/daemon.js');
+
+const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
+
+async function edit(base, id, body) {
+  return api(base, 'POST', `/v1/sessions/${id}/edits`, body);
+}
+
+async function glbOf(base, id, query = '') {
+  const r = await api(base, 'GET', `/v1/sessions/${id}/snapshot.glb${query}`);
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  return r.raw;
+}
+
+// GET as text, with its Content-Type.
+function getText(base, p) {
+  return new Promise((resolve, reject) => {
+    http.get(`${base}${p}`, (res) => {
+      const chunks = [];
+      res.on('data', (c) => chunks.push(c));
+      res.on('end', () => resolve({ status: res.statusCode, type: res.headers['content-type'],
+        text: Buffer.concat(chunks).toString('utf8') }));
+    }).on('error', reject);
+  });
+}
+
+async function validates(bytes) {
+  const report = await validator.validateBytes(new Uint8Array(bytes), { maxIssues: 100 });
+  const messages = report.issues.messages.map((m) => `${m.code} ${m.pointer || ''}: ${m.message}`);
+  assert.equal(report.issues.numErrors, 0, messages.join('\n'));
+  assert.equal(report.issues.numWarnings, 0, messages.join('\n'));
+}
+
+// A trunk that reaches its height in the first half of the tree's life.
+const EARLY_TRUNK = `funcgalleryver 1 1
+items: 1
+fver 1 1
+name: G_h
+samples: 64
+flip: off
+points: 4
+0 0.05
+0.2 0.7
+0.5 1
+1 1
+`;
+
+test('an inverse session: the Populus over 27 years, functions replaced, fractional years, kill -9', async (t) => {
+  const dataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-inverse-'));
+  t.after(() => fs.rmSync(dataDir, { recursive: true, force: true }));
+  let d = await startDaemon([], { dataDir });
+  t.after(() => d.stop());
+
+  const presets = await api(d.url, 'GET', '/v1/presets');
+  const names = JSON.stringify(presets.body);
+  for (const n of ['populus-deltoides', 'inverse-conifer', 'inverse-weeping']) assert.ok(names.includes(n), n);
+
+  const c = await api(d.url, 'POST', '/v1/sessions', { model: 'inverse', preset: 'populus-deltoides', seed: 5 });
+  assert.equal(c.status, 201, JSON.stringify(c.body));
+  const id = c.body.id;
+  assert.equal(c.body.model, 'inverse');
+  assert.equal(c.body.inverse.year, 0);
+  assert.equal(c.body.inverse.y_max, 27);
+
+  let r = await edit(d.url, id, { op: 'step', count: 12 });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.equal(r.body.inverse.year, 12);
+  const young = r.body.inverse.branches.order1;
+  assert.ok(young > 0, JSON.stringify(r.body.inverse));
+
+  // Snapshots at a fractional year: between whole years, and the session unchanged.
+  const at12 = await glbOf(d.url, id, '?t=12');
+  const at1225 = await glbOf(d.url, id, '?t=12.25');
+  const at13 = await glbOf(d.url, id, '?t=13');
+  assert.ok(Buffer.compare(at1225, at12) !== 0, 't=12.25 is not year 12');
+  assert.ok(Buffer.compare(at1225, at13) !== 0, 't=12.25 is not year 13');
+  await validates(at1225);
+  artifact('api-inverse-12.25.glb', at1225);
+  const still = await api(d.url, 'GET', `/v1/sessions/${id}`);
+  assert.equal(still.body.revision, r.body.revision);
+  assert.equal(still.body.hash, r.body.hash);
+  assert.equal(still.body.inverse.year, 12);
+  // A bad t names it.
+  const bad = await api(d.url, 'GET', `/v1/sessions/${id}/snapshot.glb?t=soon`);
+  assert.equal(bad.status, 400);
+  assert.equal(bad.body.field, 't');
+  const late = await api(d.url, 'GET', `/v1/sessions/${id}/snapshot.glb?t=40`);
+  assert.equal(late.status, 400);
+  assert.equal(late.body.field, 't');
+
+  r = await edit(d.url, id, { op: 'step', count: 15 });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.equal(r.body.inverse.year, 27);
+  r = await edit(d.url, id, { op: 'step' });
+  assert.equal(r.status, 409, 'past y_max');
+
+  // The functions as .fset text.
+  const fn = await getText(d.url, `/v1/sessions/${id}/functions`);
+  assert.equal(fn.status, 200);
+  assert.match(fn.type, /^text\/plain/);
+  assert.match(fn.text, /^funcgalleryver 1 1\nitems: 13\n/);
+  assert.ok(fn.text.includes('name: G_s2'));
+  const js = await api(d.url, 'GET', `/v1/sessions/${id}/functions?format=json`);
+  assert.equal(js.status, 200);
+  assert.equal(js.body.functions.length, 13);
+  const gh = js.body.functions.find((f) => f.name === 'G_h');
+  assert.equal(gh.kind, 'bspline');
+  assert.ok(gh.samples > 0 && gh.points.length >= 4, JSON.stringify(gh));
+  for (const p of gh.points) assert.equal(p.length, 3);
+  assert.equal(gh.points[0][0], 0);
+  assert.equal(gh.points[gh.points.length - 1][0], 1);
+
+  // An .fset that does not read: 422 at its line and column, nothing changes.
+  const before = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  r = await edit(d.url, id, { op: 'set_functions', fset: EARLY_TRUNK.replace('0.2 0.7', '0.2 zero') });
+  assert.equal(r.status, 422, JSON.stringify(r.body));
+  assert.equal(r.body.field, 'fset', JSON.stringify(r.body));
+  assert.equal(r.body.line, 9);
+  assert.ok(Number.isInteger(r.body.column) && r.body.column > 0, JSON.stringify(r.body));
+  let same = await api(d.url, 'GET', `/v1/sessions/${id}`);
+  assert.equal(same.body.revision, before.revision);
+  assert.equal(same.body.hash, before.hash);
+
+  // A valid change: the tree regrows from it, the text shows it.
+  const old = await glbOf(d.url, id);
+  r = await edit(d.url, id, { op: 'set_functions', fset: EARLY_TRUNK });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.notEqual(r.body.hash, before.hash);
+  const changed = await glbOf(d.url, id);
+  assert.ok(Buffer.compare(changed, old) !== 0, 'the tree regrew');
+  const fn2 = await getText(d.url, `/v1/sessions/${id}/functions`);
+  assert.match(fn2.text, /\n0\.2\d* 0\.(7|69)\d*\n/);
+
+  // Round trip: the downloaded functions, uploaded again, change nothing.
+  const regrown = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  r = await edit(d.url, id, { op: 'set_functions', fset: fn2.text });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.deepEqual(r.body.inverse, regrown.inverse, 'the same tree after the round trip');
+  assert.equal(r.body.internodes, regrown.internodes);
+  assert.equal((await getText(d.url, `/v1/sessions/${id}/functions`)).text, fn2.text);
+
+  // P09's and L-systems' edits are not this model's; nor is t another model's.
+  r = await edit(d.url, id, { op: 'set_apical_schedule', apical_off: [3] });
+  assert.equal(r.status, 422);
+  const sk = await api(d.url, 'GET', `/v1/sessions/${id}/skeleton?alive=1`);
+  const branch = sk.body.nodes.find((n) => n.order === 1);
+  assert.ok(branch, 'a live branch to prune');
+  r = await edit(d.url, id, { op: 'prune', node: branch.id });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+
+  const glb = await glbOf(d.url, id);
+  await validates(glb);
+  artifact('api-inverse.glb', glb);
+  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+
+  // kill -9, restart on the same folder: the journal replays to the same bytes.
+  await d.stop('SIGKILL');
+  d = await startDaemon([], { dataDir });
+  const again = await api(d.url, 'GET', `/v1/sessions/${id}`);
+  assert.equal(again.status, 200);
+  assert.equal(again.body.hash, summary.hash);
+  assert.deepEqual(again.body.inverse, summary.inverse);
+  assert.ok(Buffer.compare(await glbOf(d.url, id), glb) === 0, 'the same GLB bytes after restore');
+});
+
+test('inverse sessions from an uploaded .fset; t and functions refused for other models', async (t) => {
+  const d = await startDaemon();
+  t.after(() => d.stop());
+  const c = await api(d.url, 'POST', '/v1/sessions', { model: 'inverse', inverse: { fset: EARLY_TRUNK } });
+  assert.equal(c.status, 201, JSON.stringify(c.body));
+  let r = await edit(d.url, c.body.id, { op: 'step', count: 3 });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  const fn = await getText(d.url, `/v1/sessions/${c.body.id}/functions`);
+  assert.match(fn.text, /\n0\.2\d* 0\.(7|69)\d*\n/);
+  const broken = await api(d.url, 'POST', '/v1/sessions', { model: 'inverse', inverse: { fset: 'funcgalleryver 1 1\nitems: x\n' } });
+  assert.equal(broken.status, 422, JSON.stringify(broken.body));
+  assert.equal(broken.body.line, 2);
+
+  const p = await api(d.url, 'POST', '/v1/sessions', { seed: 1 });
+  r = await edit(d.url, p.body.id, { op: 'step', count: 2 });
+  const refused = await api(d.url, 'GET', `/v1/sessions/${p.body.id}/snapshot.glb?t=1.5`);
+  assert.equal(refused.status, 400);
+  assert.equal(refused.body.field, 't');
+  const none = await api(d.url, 'GET', `/v1/sessions/${p.body.id}/functions`);
+  assert.equal(none.status, 422);
+  r = await edit(d.url, p.body.id, { op: 'set_functions', fset: EARLY_TRUNK });
+  assert.equal(r.status, 422);
+  const wrong = await api(d.url, 'POST', '/v1/sessions', { inverse: { fset: EARLY_TRUNK } });
+  assert.equal(wrong.status, 422);
+
+  for (const preset of ['inverse-conifer', 'inverse-weeping']) {
+    const s = await api(d.url, 'POST', '/v1/sessions', { preset, seed: 2 });
+    assert.equal(s.status, 201, JSON.stringify(s.body));
+    assert.equal(s.body.model, 'inverse');
+    r = await edit(d.url, s.body.id, { op: 'step', count: 10 });
+    assert.equal(r.status, 200, JSON.stringify(r.body));
+    const g = await glbOf(d.url, s.body.id, '?t=9.5');
+    await validates(g);
+  }
+});
