@@ -198,7 +198,12 @@ int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
     size_t *match = ctx ? merp_malloc((in->n ? in->n : 1) * sizeof *match) : NULL;
     int *cand = merp_malloc(((size_t)ls->nprod + 1) * sizeof *cand);
     dctx *d = merp_malloc(sizeof *d);
-    int rc = ((ctx && (!match || merp_lstr_brackets(in, match))) || !cand || !d) ? -1 : 0;
+    /* Strings seldom shrink: room for the input's size saves the reallocations
+     * (and their copies) of a doubling growth. */
+    int rc = ((ctx && (!match || merp_lstr_brackets(in, match))) || !cand || !d ||
+              merp_lstr_reserve(out, in->n, in->npar))
+                 ? -1
+                 : 0;
     if (d)
         *d = (dctx){.ls = ls, .in = in, .match = match, .cand = cand};
     for (size_t i = 0; !rc && i < in->n; i++) {
