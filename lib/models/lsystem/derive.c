@@ -189,6 +189,32 @@ static int context_sensitive(const merp_lsys *ls)
     return 0;
 }
 
+/* Room for the output of one step, an upper bound from one pass over the
+ * symbols: a module becomes at most the longest successor of its productions
+ * (modules and parameters), or stays itself. Reserving it saves the copies of a
+ * doubling growth; pages never written are never touched. */
+static int reserve_output(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out)
+{
+    uint32_t msucc[MERP_LS_NSYM] = {0}, mpar[MERP_LS_NSYM] = {0};
+    for (int k = 0; k < ls->nprod; k++) {
+        const merp_ls_prod *pr = &ls->prods[k];
+        uint32_t np = 0;
+        for (int m = 0; m < pr->nsucc; m++)
+            np += pr->succ[m].nargs;
+        merp_sym y = pr->pred.sym;
+        msucc[y] = msucc[y] > (uint32_t)pr->nsucc ? msucc[y] : (uint32_t)pr->nsucc;
+        mpar[y] = mpar[y] > np ? mpar[y] : np;
+    }
+    size_t n = 0, npar = 0;
+    for (size_t i = 0; i < in->n; i++) {
+        merp_sym y = in->sym[i];
+        uint32_t np = merp_lstr_np(in, i);
+        n += msucc[y] > 1 ? msucc[y] : 1;
+        npar += mpar[y] > np ? mpar[y] : np;
+    }
+    return merp_lstr_reserve(out, n, npar);
+}
+
 int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
                      uint64_t seed, uint32_t step)
 {
@@ -198,10 +224,8 @@ int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
     size_t *match = ctx ? merp_malloc((in->n ? in->n : 1) * sizeof *match) : NULL;
     int *cand = merp_malloc(((size_t)ls->nprod + 1) * sizeof *cand);
     dctx *d = merp_malloc(sizeof *d);
-    /* Strings seldom shrink: room for the input's size saves the reallocations
-     * (and their copies) of a doubling growth. */
     int rc = ((ctx && (!match || merp_lstr_brackets(in, match))) || !cand || !d ||
-              merp_lstr_reserve(out, in->n, in->npar))
+              reserve_output(ls, in, out))
                  ? -1
                  : 0;
     if (d)
