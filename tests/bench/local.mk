@@ -7,6 +7,9 @@
 #    process of its own), the scene's hash.
 #  - bench_inverse: the inverse model's Populus (G04 §4) grown through its 27
 #    years, and shown at the fractional year 12.25: seconds, internodes, hash.
+#  - bench_lsystem: Honda's tree (ABOP Fig. 2.6a) derived to about 15 million
+#    modules: derivation and turtle seconds, peak memory and bytes per module;
+#    then the model's step of the same size onto the skeleton (a process each).
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
 #    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
 # `make table1`: see below.
@@ -17,7 +20,9 @@
 # `make bench-page`: the brush client loading and drawing 10,000-internode
 # snapshots in headless Chromium (needs node, the npm test tools, chromium).
 EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh tests/bench/table1 \
-	tests/bench/bench_inverse
+	tests/bench/bench_inverse tests/bench/bench_lsystem
+tests_bench_bench_lsystem_SOURCES = tests/bench/bench_lsystem.c
+tests_bench_bench_lsystem_LDADD = lib/libmeristem-core.la
 tests_bench_bench_SOURCES = tests/bench/bench.c
 tests_bench_bench_LDADD = lib/libmeristem-core.la
 tests_bench_bench_mesh_SOURCES = tests/bench/bench_mesh.c
@@ -29,7 +34,7 @@ tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
 CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/table1$(EXEEXT) \
-	tests/bench/bench_inverse$(EXEEXT)
+	tests/bench/bench_inverse$(EXEEXT) tests/bench/bench_lsystem$(EXEEXT)
 EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js \
 	tests/bench/restore.js
 
@@ -37,13 +42,17 @@ BENCH_WORKLOADS = table1-left table1-center table1-right \
   colonization-1M-markers forest-100-trees runions-1M-markers
 BENCH_RUNS = 3
 
-bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/bench_inverse$(EXEEXT)
+bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/bench_inverse$(EXEEXT) \
+  tests/bench/bench_lsystem$(EXEEXT)
 	@./tests/bench/bench$(EXEEXT) --header
 	@for w in $(BENCH_WORKLOADS); do ./tests/bench/bench$(EXEEXT) $$w $(BENCH_RUNS) || exit 1; done
 	@./tests/bench/bench_inverse$(EXEEXT) $(BENCH_RUNS)
 	@./tests/bench/bench_mesh$(EXEEXT) 10000
 	@./tests/bench/bench_mesh$(EXEEXT) 10000 2 compact
 	@./tests/bench/bench_mesh$(EXEEXT) 700000
+	@./tests/bench/bench_lsystem$(EXEEXT) --header
+	@./tests/bench/bench_lsystem$(EXEEXT) string $(BENCH_RUNS)
+	@./tests/bench/bench_lsystem$(EXEEXT) step $(BENCH_RUNS)
 
 bench-http: server/meristemd$(EXEEXT)
 	@$(SHELL) $(srcdir)/tests/bench/http-bench.sh server/meristemd$(EXEEXT)

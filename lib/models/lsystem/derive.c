@@ -179,22 +179,64 @@ static int produce(dctx *d, const merp_ls_prod *pr, merp_lstr *out, merp_ls_rand
     return 0;
 }
 
+/* Whether any production has a left or right context: only then does matching
+ * need the brackets' partners. */
+static int context_sensitive(const merp_lsys *ls)
+{
+    for (int k = 0; k < ls->nprod; k++)
+        if (ls->prods[k].nlc > 0 || ls->prods[k].nrc > 0)
+            return 1;
+    return 0;
+}
+
+/* Room for the output of one step, an upper bound from one pass over the
+ * symbols: a module becomes at most the longest successor of its productions
+ * (modules and parameters), or stays itself. Reserving it saves the copies of a
+ * doubling growth; pages never written are never touched. */
+static int reserve_output(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out)
+{
+    uint32_t msucc[MERP_LS_NSYM] = {0}, mpar[MERP_LS_NSYM] = {0};
+    for (int k = 0; k < ls->nprod; k++) {
+        const merp_ls_prod *pr = &ls->prods[k];
+        uint32_t np = 0;
+        for (int m = 0; m < pr->nsucc; m++)
+            np += pr->succ[m].nargs;
+        merp_sym y = pr->pred.sym;
+        msucc[y] = msucc[y] > (uint32_t)pr->nsucc ? msucc[y] : (uint32_t)pr->nsucc;
+        mpar[y] = mpar[y] > np ? mpar[y] : np;
+    }
+    size_t n = 0, npar = 0;
+    for (size_t i = 0; i < in->n; i++) {
+        merp_sym y = in->sym[i];
+        uint32_t np = merp_lstr_np(in, i);
+        n += msucc[y] > 1 ? msucc[y] : 1;
+        npar += mpar[y] > np ? mpar[y] : np;
+    }
+    return merp_lstr_reserve(out, n, npar);
+}
+
 int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
                      uint64_t seed, uint32_t step)
 {
     assert(ls && in && out && in != out);
     merp_lstr_clear(out);
-    size_t *match = merp_malloc((in->n ? in->n : 1) * sizeof *match);
+    int ctx = context_sensitive(ls);
+    size_t *match = ctx ? merp_malloc((in->n ? in->n : 1) * sizeof *match) : NULL;
     int *cand = merp_malloc(((size_t)ls->nprod + 1) * sizeof *cand);
     dctx *d = merp_malloc(sizeof *d);
-    int rc = (!match || !cand || !d || merp_lstr_brackets(in, match)) ? -1 : 0;
+    int rc = ((ctx && (!match || merp_lstr_brackets(in, match))) || !cand || !d ||
+              reserve_output(ls, in, out))
+                 ? -1
+                 : 0;
     if (d)
         *d = (dctx){.ls = ls, .in = in, .match = match, .cand = cand};
     for (size_t i = 0; !rc && i < in->n; i++) {
+        if (ls->head_off[in->sym[i]] == ls->head_off[in->sym[i] + 1]) {
+            rc = merp_lstr_push(out, in->sym[i], in->par + in->poff[i], merp_lstr_np(in, i));
+            continue;
+        }
         merp_ls_rand rnd = {merp_ls_key(seed, step, i), 0};
-        const merp_ls_prod *pr = ls->head_off[in->sym[i]] == ls->head_off[in->sym[i] + 1]
-                                     ? NULL
-                                     : choose(d, i, &rnd);
+        const merp_ls_prod *pr = choose(d, i, &rnd);
         if (pr)
             rc = produce(d, pr, out, &rnd);
         else

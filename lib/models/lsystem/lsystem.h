@@ -88,6 +88,9 @@ void merp_lstr_clear(merp_lstr *s);
 /* Appends module `sym` with `np` parameters. 0, or -1 when out of memory (then s
  * is unchanged). Amortised O(np). */
 int merp_lstr_push(merp_lstr *s, merp_sym sym, const float *par, unsigned np);
+/* Makes room for `n` modules and `npar` parameters in all, so that pushes up to
+ * those do not reallocate. 0, or -1 when out of memory (s unchanged). */
+int merp_lstr_reserve(merp_lstr *s, size_t n, size_t npar);
 /* Exchanges the contents of `a` and `b`. O(1). */
 void merp_lstr_swap(merp_lstr *a, merp_lstr *b);
 /* Copies `src` into `dst` (cleared first). 0, or -1 when out of memory. */

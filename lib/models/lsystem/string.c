@@ -52,25 +52,36 @@ static int grow(void **p, size_t *cap, size_t need, size_t size)
     return 0;
 }
 
-int merp_lstr_push(merp_lstr *s, merp_sym sym, const float *par, unsigned np)
+int merp_lstr_reserve(merp_lstr *s, size_t n, size_t npar)
 {
-    assert(s && (par || np == 0));
-    if (s->n + 2 > s->cap) {
+    assert(s);
+    if (n + 1 > s->cap) {
         size_t cap = s->cap, cap2 = s->cap;
-        if (grow((void **)&s->sym, &cap, s->n + 2, sizeof *s->sym) ||
-            grow((void **)&s->poff, &cap2, s->n + 2, sizeof *s->poff))
+        if (grow((void **)&s->sym, &cap, n + 1, sizeof *s->sym) ||
+            grow((void **)&s->poff, &cap2, n + 1, sizeof *s->poff))
             return -1;
         s->cap = cap < cap2 ? cap : cap2;
         if (s->n == 0)
             s->poff[0] = 0;
     }
-    if (np && grow((void **)&s->par, &s->pcap, s->npar + np, sizeof *s->par))
+    if (npar > s->pcap && grow((void **)&s->par, &s->pcap, npar, sizeof *s->par))
+        return -1;
+    return 0;
+}
+
+int merp_lstr_push(merp_lstr *s, merp_sym sym, const float *par, unsigned np)
+{
+    assert(s && (par || np == 0));
+    if ((s->n + 2 > s->cap || s->npar + np > s->pcap) &&
+        merp_lstr_reserve(s, s->n + 1, s->npar + np))
         return -1;
     if (np > UINT32_MAX - s->npar)
         return -1;
     s->sym[s->n] = sym;
-    if (np)
-        memcpy(s->par + s->npar, par, np * sizeof *par);
+    /* Modules hold few parameters: a loop beats a call to memcpy. */
+    float *to = s->par + s->npar;
+    for (unsigned k = 0; k < np; k++)
+        to[k] = par[k];
     s->npar += np;
     s->n++;
     s->poff[s->n] = (uint32_t)s->npar;

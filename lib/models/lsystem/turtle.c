@@ -49,10 +49,20 @@ static void normalize(double v[3])
             v[k] /= n;
 }
 
+/* cos and sin of the last angle turned: strings turn by few distinct angles
+ * (δ, the #define'd ones), and the same angle gives the same values. */
+typedef struct trig {
+    double deg, c, s;
+} trig;
+
 /* Turns the pair (a, b) of frame vectors by `deg` degrees, a towards b. */
-static void turn(double a[3], double b[3], double deg)
+static void turn(double a[3], double b[3], double deg, trig *tr)
 {
-    double r = deg * (M_PI / 180.0), c = cos(r), s = sin(r);
+    if (memcmp(&deg, &tr->deg, sizeof deg) != 0) { /* bitwise: -0 is not 0 */
+        double r = deg * (M_PI / 180.0);
+        tr->deg = deg, tr->c = cos(r), tr->s = sin(r);
+    }
+    double c = tr->c, s = tr->s;
     for (int k = 0; k < 3; k++) {
         double x = a[k], y = b[k];
         a[k] = x * c + y * s;
@@ -102,16 +112,26 @@ static void roll_horizontal(tstate *t)
     cross(t->h, t->l, t->u);
 }
 
-static int draw(tstate *t, double len, uint32_t module, merp_ls_segs *out)
+/* Grows out's room to `need` segments (at least doubling). */
+static int reserve(merp_ls_segs *out, size_t need)
 {
-    if (out->n == out->cap) {
+    if (need > out->cap) {
         size_t c = out->cap ? out->cap * 2 : 64;
+        if (c < need)
+            c = need;
         merp_ls_seg *q = merp_realloc(out->seg, c * sizeof *q);
         if (!q)
             return -1;
         out->seg = q;
         out->cap = c;
     }
+    return 0;
+}
+
+static int draw(tstate *t, double len, uint32_t module, merp_ls_segs *out)
+{
+    if (out->n == out->cap && reserve(out, out->n + 1))
+        return -1;
     merp_ls_seg *g = &out->seg[out->n];
     for (int k = 0; k < 3; k++) {
         g->base[k] = (float)t->p[k];
@@ -131,7 +151,7 @@ static int draw(tstate *t, double len, uint32_t module, merp_ls_segs *out)
 
 /* Changes the state by module i (not a bracket); -1 when out of memory. */
 static int act(tstate *t, const merp_lstr *s, size_t i, const merp_ls_turtle *tp,
-               merp_ls_segs *out)
+               merp_ls_segs *out, trig *tr)
 {
     unsigned np = merp_lstr_np(s, i);
     double a = np ? (double)s->par[s->poff[i]] : tp->delta;
@@ -148,13 +168,13 @@ static int act(tstate *t, const merp_lstr *s, size_t i, const merp_ls_turtle *tp
             t->p[k] += t->h[k] * len;
         tropism(t, tp);
         break;
-    case '+': turn(t->h, t->l, a); break;
-    case '-': turn(t->h, t->l, -a); break;
-    case '&': turn(t->u, t->h, a); break;
-    case '^': turn(t->u, t->h, -a); break;
-    case '\\': turn(t->l, t->u, a); break;
-    case '/': turn(t->l, t->u, -a); break;
-    case '|': turn(t->h, t->l, 180.0); break;
+    case '+': turn(t->h, t->l, a, tr); break;
+    case '-': turn(t->h, t->l, -a, tr); break;
+    case '&': turn(t->u, t->h, a, tr); break;
+    case '^': turn(t->u, t->h, -a, tr); break;
+    case '\\': turn(t->l, t->u, a, tr); break;
+    case '/': turn(t->l, t->u, -a, tr); break;
+    case '|': turn(t->h, t->l, 180.0, tr); break;
     case '$': roll_horizontal(t); break;
     case '!':
         if (np)
@@ -177,7 +197,9 @@ int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs
                 .width = tp->width, .last = UINT32_MAX};
     tstate *stack = NULL;
     size_t depth = 0, cap = 0;
-    int rc = 0;
+    /* Room for every F and G at once: one allocation, no copies as it grows. */
+    int rc = reserve(out, merp_lstr_count(s, 'F') + merp_lstr_count(s, 'G'));
+    trig tr = {0.0, 1.0, 0.0};
     for (size_t i = 0; !rc && i < s->n; i++) {
         merp_sym y = s->sym[i];
         if (y == '[') {
@@ -198,7 +220,7 @@ int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs
         } else if (y == '%') {
             i = merp_lstr_branch_end(s, i + 1) - 1; /* the ']' comes next, or the end */
         } else {
-            rc = act(&t, s, i, tp, out);
+            rc = act(&t, s, i, tp, out, &tr);
         }
     }
     merp_free(stack);
