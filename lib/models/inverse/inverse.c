@@ -232,6 +232,7 @@ static mer_result inverse_load(merp_bytes_in *in, uint32_t nodes, merp_model **o
 const merp_model_ops merp_inverse_ops = {
     .name = "inverse",
     .param_rows = 0,
+    .state_version = 1,
     .validate = NULL,
     .create = inverse_create,
     .set_params = inverse_set_params,
