@@ -269,6 +269,29 @@ static void test_inconsistent_checkpoints_never_crash(void **state)
     free(bytes);
 }
 
+/* Gives a checkpoint of `size` bytes, its payload edited, the header's payload
+ * length and digest (FNV-1a) that fit it. */
+static void reseal(uint8_t *bytes, size_t size)
+{
+    uint64_t payload = size - 32, h = UINT64_C(1469598103934665603) /* MERP_FNV_OFFSET */;
+    for (size_t k = 32; k < size; k++)
+        h = (h ^ bytes[k]) * UINT64_C(1099511628211);
+    memcpy(bytes + 16, &payload, 8);
+    memcpy(bytes + 24, &h, 8);
+}
+
+/* The offset after the parameter entry at `at` (lib/params_io.c): a name, a
+ * kind, a number or keyframes. */
+static size_t skip_entry(const uint8_t *bytes, size_t at)
+{
+    at += 1 + bytes[at];
+    if (bytes[at++] == 1)
+        return at + 8;
+    uint32_t n;
+    memcpy(&n, bytes + at, 4);
+    return at + 4 + 8 * (size_t)n;
+}
+
 /* The payload's parameter sections (lib/params_io.c), rewritten as a writer
  * would: the entries named in `drop` left out of both sections (a writer older
  * than those parameters), and an entry `add` (a number, 0) appended to the
@@ -288,18 +311,10 @@ static uint8_t *rewrite(const uint8_t *bytes, size_t *size, const char *const *d
         at += 4;
         o += 4;
         for (uint32_t k = 0; k < count; k++) {
-            size_t start = at, len = bytes[at];
+            size_t start = at;
             char name[80] = {0};
-            memcpy(name, bytes + at + 1, len);
-            at += 1 + len;
-            uint8_t kind = bytes[at++];
-            if (kind == 1) {
-                at += 8;
-            } else {
-                uint32_t n;
-                memcpy(&n, bytes + at, 4);
-                at += 4 + 8 * (size_t)n;
-            }
+            memcpy(name, bytes + at + 1, bytes[at]);
+            at = skip_entry(bytes, at);
             int dropped = 0;
             for (size_t d = 0; d < ndrop; d++)
                 dropped |= strcmp(name, drop[d]) == 0;
@@ -324,12 +339,8 @@ static uint8_t *rewrite(const uint8_t *bytes, size_t *size, const char *const *d
     }
     memcpy(out + o, bytes + at, *size - at);
     o += *size - at;
-    uint64_t payload = o - header, h = UINT64_C(1469598103934665603) /* MERP_FNV_OFFSET */;
-    for (size_t k = header; k < o; k++)
-        h = (h ^ out[k]) * UINT64_C(1099511628211);
-    memcpy(out + 16, &payload, 8);
-    memcpy(out + 24, &h, 8);
     *size = o;
+    reseal(out, o);
     return out;
 }
 
@@ -430,6 +441,39 @@ static void test_unknown_parameters_are_refused(void **state)
     free(bytes);
 }
 
+/* The model's state is versioned by the model: a checkpoint whose state is of
+ * another version than the model's is refused, never misread. */
+static void test_model_state_of_another_version_is_refused(void **state)
+{
+    (void)state;
+    mer_scene *s = new_scene(NULL, 3);
+    step(s, 2);
+    size_t size;
+    uint8_t *bytes = save(s, &size);
+    mer_scene_free(s);
+    size_t at = 32;
+    for (int section = 0; section < 2; section++) {
+        uint32_t count;
+        memcpy(&count, bytes + at, 4);
+        at += 4;
+        for (uint32_t k = 0; k < count; k++)
+            at = skip_entry(bytes, at);
+    }
+    assert_int_equal(bytes[at], 3);
+    assert_memory_equal(bytes + at + 1, "p09", 3);
+    uint32_t version;
+    memcpy(&version, bytes + at + 4, 4);
+    version++;
+    memcpy(bytes + at + 4, &version, 4);
+    reseal(bytes, size);
+    mer_scene *t = (mer_scene *)1;
+    mer_error err;
+    assert_int_equal(mer_scene_load(bytes, size, &t, &err), MER_ERR_FORMAT);
+    assert_null(t);
+    assert_non_null(strstr(err.message, "version"));
+    free(bytes);
+}
+
 /* A value a grid refuses (found by fuzz_checkpoint; its input, framed as the
  * harness frames it): parameters mer_params_validate lets pass with marker_cell
  * 0, which the marker grid refuses. That is damage too (MER_ERR_FORMAT), never
@@ -476,6 +520,7 @@ int main(void)
         cmocka_unit_test(test_grid_refusals_are_damage),
         cmocka_unit_test(test_older_writers_checkpoints_load),
         cmocka_unit_test(test_unknown_parameters_are_refused),
+        cmocka_unit_test(test_model_state_of_another_version_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
