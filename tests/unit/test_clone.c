@@ -409,17 +409,24 @@ static void test_older_writers_checkpoints_load(void **state)
     assert_true(tried >= mer_preset_count());
 }
 
+/* A checkpoint of a default scene two steps old. */
+static uint8_t *saved_seedling(size_t *size)
+{
+    mer_scene *s = new_scene(NULL, 3);
+    step(s, 2);
+    uint8_t *bytes = save(s, size);
+    mer_scene_free(s);
+    return bytes;
+}
+
 /* A checkpoint of a newer writer, with a parameter this build does not know,
  * is refused: growing on without it could grow another tree. So is a name
  * given twice. */
 static void test_unknown_parameters_are_refused(void **state)
 {
     (void)state;
-    mer_scene *s = new_scene(NULL, 3);
-    step(s, 2);
     size_t size;
-    uint8_t *bytes = save(s, &size);
-    mer_scene_free(s);
+    uint8_t *bytes = saved_seedling(&size);
     size_t n = size;
     uint8_t *newer = rewrite(bytes, &n, NULL, 0, "leaf_wobble");
     mer_scene *t = (mer_scene *)1;
@@ -446,11 +453,8 @@ static void test_unknown_parameters_are_refused(void **state)
 static void test_model_state_of_another_version_is_refused(void **state)
 {
     (void)state;
-    mer_scene *s = new_scene(NULL, 3);
-    step(s, 2);
     size_t size;
-    uint8_t *bytes = save(s, &size);
-    mer_scene_free(s);
+    uint8_t *bytes = saved_seedling(&size);
     size_t at = 32;
     for (int section = 0; section < 2; section++) {
         uint32_t count;
