@@ -13,6 +13,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/result.c \
 	lib/rng.c \
 	lib/params.c \
+	lib/params_io.h \
+	lib/params_io.c \
 	lib/skeleton/skeleton.h \
 	lib/skeleton/skeleton.c \
 	lib/skeleton/pipe.c \

@@ -1,11 +1,20 @@
 /* meristem — checkpoints: a whole scene as versioned bytes and back (see
  * mer_scene_save). The layout, in host byte order:
- *   header   "MERSCENE", u32 version, u32 0x01020304 (byte order), u64 payload
- *            size, u64 FNV-1a of the payload
- *   payload  params (u32 size, then the scene's and the environment's), rng,
- *            seed (u64, the noise permutation's), step, skeleton (nodes by id, plants, constraint), environment
- *            (epoch, markers by index, the shadow grid's voxels, obstacles with
- *            mesh triangles), the model's state (its ops' save)
+ *   header   "MERSCENE", u32 version (3), u32 0x01020304 (byte order), u64
+ *            payload size, u64 FNV-1a of the payload
+ *   payload  params      the scene's, then the environment's, each a section of
+ *                        named entries (params_io.c): a field this build does not
+ *                        know is refused, one the checkpoint lacks takes its
+ *                        default, so new parameters do not orphan checkpoints
+ *            model       u8 name length, its name ("p09"), u32 the version of
+ *                        its state (merp_model_ops.state_version)
+ *            rng, seed (u64, the noise permutation's), step, skeleton (nodes
+ *            by id, plants, constraint), environment (epoch, markers by
+ *            index, the shadow grid's voxels, obstacles with mesh triangles),
+ *            the model's state (its ops' save), refused unless its version is
+ *            the model's own
+ * Version 2 held the parameters as the struct's bytes; it is refused, and the
+ * journal, replayed from its start, restores what it held.
  * The shadow grid could be recast from the buds and obstacles exactly (its sums
  * are of integers), but reading it back is O(voxels) where recasting costs
  * O(buds · q_max²), most of a load on a large tree. */
@@ -18,10 +27,12 @@
 #include "core/alloc.h"
 #include "core/bytes.h"
 #include "core/hash.h"
+#include "params_io.h"
 #include "scene_private.h"
 
 #define MAGIC "MERSCENE"
-#define CHECKPOINT_VERSION 2u
+#define CHECKPOINT_VERSION 3u
+#define MODEL_NAME_MAX 64u
 #define BYTE_ORDER_MARK UINT32_C(0x01020304)
 #define HEADER (8 + 4 + 4 + 8 + 8)
 
@@ -84,9 +95,13 @@ mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer
     merp_bytes_out o = {0};
     uint8_t header[HEADER] = {0};
     merp_put(&o, header, sizeof header); /* filled in below */
-    merp_put_u32(&o, (uint32_t)sizeof s->p);
-    merp_put(&o, &s->p, sizeof s->p);
-    merp_put(&o, &s->env.p, sizeof s->env.p);
+    merp_params_save(&s->p, &o);
+    merp_params_save(&s->env.p, &o);
+    uint8_t name_len = (uint8_t)strlen(s->ops->name);
+    assert(name_len > 0 && name_len <= MODEL_NAME_MAX);
+    merp_put(&o, &name_len, 1);
+    merp_put(&o, s->ops->name, name_len);
+    merp_put_u32(&o, s->ops->state_version);
     merp_put(&o, s->rng.s, sizeof s->rng.s);
     merp_put(&o, &s->seed, sizeof s->seed);
     merp_put_u32(&o, s->step);
@@ -238,19 +253,44 @@ static mer_result check_header(const uint8_t *bytes, size_t size, mer_error *err
     return MER_OK;
 }
 
+/* The model section: its name, and its state's version, which must be the
+ * model's own. */
+static mer_result load_model(merp_bytes_in *in, mer_params *p, const merp_model_ops **ops,
+                             mer_error *err)
+{
+    uint8_t len = 0;
+    char name[MODEL_NAME_MAX + 1] = {0};
+    merp_get(in, &len, 1);
+    if (len == 0 || len > MODEL_NAME_MAX)
+        in->bad = 1;
+    merp_get(in, name, in->bad ? 0 : len);
+    uint32_t version = merp_get_u32(in);
+    if (in->bad || memchr(name, '\0', len) != NULL || mer_model_parse(name, &p->model, NULL) != MER_OK)
+        return mer_error_set(err, MER_ERR_FORMAT, "model", "a model this build does not know");
+    *ops = merp_model_ops_of(p->model);
+    if (*ops == NULL || (*ops)->load == NULL)
+        return mer_error_set(err, MER_ERR_FORMAT, "model", "a model that cannot be loaded");
+    if (version != (*ops)->state_version)
+        return mer_error_set(err, MER_ERR_FORMAT, "model",
+                             "the state of the model '%s' of version %u, not %u", (*ops)->name,
+                             (unsigned)version, (unsigned)(*ops)->state_version);
+    return MER_OK;
+}
+
 /* The parameters of the payload, valid, and the model they name. */
 static mer_result load_params(merp_bytes_in *in, mer_params *p, mer_params *env_p,
                               const merp_model_ops **ops, mer_error *err)
 {
-    if (merp_get_u32(in) != sizeof *p)
-        return mer_error_set(err, MER_ERR_FORMAT, "params", "parameters of another layout");
-    merp_get(in, p, sizeof *p);
-    merp_get(in, env_p, sizeof *env_p);
-    if (in->bad || mer_params_validate(p, NULL) != MER_OK || mer_params_validate(env_p, NULL) != MER_OK)
+    mer_result rc = merp_params_load(in, p, err);
+    if (rc == MER_OK)
+        rc = merp_params_load(in, env_p, err);
+    if (rc == MER_OK)
+        rc = load_model(in, p, ops, err);
+    if (rc != MER_OK)
+        return rc;
+    env_p->model = p->model; /* the environment reads no model's rows */
+    if (mer_params_validate(p, NULL) != MER_OK || mer_params_validate(env_p, NULL) != MER_OK)
         return mer_error_set(err, MER_ERR_FORMAT, "params", "damaged parameters");
-    *ops = merp_model_ops_of(p->model);
-    if (*ops == NULL || (*ops)->load == NULL)
-        return mer_error_set(err, MER_ERR_FORMAT, "model", "a model that cannot be loaded");
     return MER_OK;
 }
 

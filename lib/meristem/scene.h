@@ -122,7 +122,10 @@ mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer
 /* The scene of a checkpoint mer_scene_save wrote, in `*out` (owned by the
  * caller). Everything is checked before it is used: MER_ERR_FORMAT for bytes
  * that are not a checkpoint of this version and byte order, cut short, damaged
- * (the digest) or inconsistent (links, counts, parameters); MER_ERR_NOMEM.
+ * (the digest) or inconsistent (links, counts, parameters), that name a
+ * parameter or model this build does not know, or hold a model's state of
+ * another version; MER_ERR_NOMEM. Parameters are stored by name: one that a
+ * checkpoint of an older build lacks takes its default.
  * Cost O(size + voxels). */
 mer_result mer_scene_load(const uint8_t *bytes, size_t size, mer_scene **out, mer_error *err);
 

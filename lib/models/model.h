@@ -44,6 +44,10 @@ typedef struct merp_model_ops {
     /* The groups of rows of the parameter table (params.c) it reads besides the
      * world's: MERP_ROWS_* below; mer_params_field_model reports them. */
     uint32_t param_rows;
+    /* The version of what `save` writes: a checkpoint names its model and this
+     * number, and a load refuses any other (MER_ERR_FORMAT). Raise it whenever
+     * save's bytes change, the layout of a struct it writes whole included. */
+    uint32_t state_version;
     /* The checks across its fields that the table's ranges cannot express; `p` is
      * resolved and in range. May be NULL (nothing more to check). */
     mer_result (*validate)(const mer_params *p, mer_error *err);

@@ -269,6 +269,215 @@ static void test_inconsistent_checkpoints_never_crash(void **state)
     free(bytes);
 }
 
+/* Gives a checkpoint of `size` bytes, its payload edited, the header's payload
+ * length and digest (FNV-1a) that fit it. */
+static void reseal(uint8_t *bytes, size_t size)
+{
+    uint64_t payload = size - 32, h = UINT64_C(1469598103934665603) /* MERP_FNV_OFFSET */;
+    for (size_t k = 32; k < size; k++)
+        h = (h ^ bytes[k]) * UINT64_C(1099511628211);
+    memcpy(bytes + 16, &payload, 8);
+    memcpy(bytes + 24, &h, 8);
+}
+
+/* The offset after the parameter entry at `at` (lib/params_io.c): a name, a
+ * kind, a number or keyframes. */
+static size_t skip_entry(const uint8_t *bytes, size_t at)
+{
+    at += 1 + bytes[at];
+    if (bytes[at++] == 1)
+        return at + 8;
+    uint32_t n;
+    memcpy(&n, bytes + at, 4);
+    return at + 4 + 8 * (size_t)n;
+}
+
+/* The payload's parameter sections (lib/params_io.c), rewritten as a writer
+ * would: the entries named in `drop` left out of both sections (a writer older
+ * than those parameters), and an entry `add` (a number, 0) appended to the
+ * first (a newer one). Header length and digest recomputed; `*size` updated. */
+static uint8_t *rewrite(const uint8_t *bytes, size_t *size, const char *const *drop, size_t ndrop,
+                        const char *add)
+{
+    const size_t header = 32;
+    uint8_t *out = malloc(*size + 128);
+    assert_non_null(out);
+    memcpy(out, bytes, header);
+    size_t at = header, o = header;
+    for (int section = 0; section < 2; section++) {
+        uint32_t count, kept = 0;
+        memcpy(&count, bytes + at, 4);
+        size_t count_at = o;
+        at += 4;
+        o += 4;
+        for (uint32_t k = 0; k < count; k++) {
+            size_t start = at;
+            char name[80] = {0};
+            memcpy(name, bytes + at + 1, bytes[at]);
+            at = skip_entry(bytes, at);
+            int dropped = 0;
+            for (size_t d = 0; d < ndrop; d++)
+                dropped |= strcmp(name, drop[d]) == 0;
+            if (!dropped) {
+                memcpy(out + o, bytes + start, at - start);
+                o += at - start;
+                kept++;
+            }
+        }
+        if (section == 0 && add != NULL) {
+            uint8_t len = (uint8_t)strlen(add), kind = 1;
+            double zero = 0.0;
+            out[o++] = len;
+            memcpy(out + o, add, len);
+            o += len;
+            out[o++] = kind;
+            memcpy(out + o, &zero, 8);
+            o += 8;
+            kept++;
+        }
+        memcpy(out + count_at, &kept, 4);
+    }
+    memcpy(out + o, bytes + at, *size - at);
+    o += *size - at;
+    *size = o;
+    reseal(out, o);
+    return out;
+}
+
+/* 1 if every field in `names` holds its default in `p`. */
+static int at_defaults(const mer_params *p, const char *const *names, size_t n)
+{
+    mer_params d = mer_params_default();
+    for (size_t i = 0; i < n; i++) {
+        double a = 0, b = 0;
+        if (strcmp(names[i], "lambda_keys") == 0)
+            a = p->schedule.lambda_key_count;
+        else if (strcmp(names[i], "eta_keys") == 0)
+            a = p->schedule.eta_key_count;
+        else if (mer_params_get(p, names[i], &a, NULL) != MER_OK ||
+                 mer_params_get(&d, names[i], &b, NULL) != MER_OK)
+            fail_msg("no parameter %s", names[i]);
+        if (a != b)
+            return 0;
+    }
+    return 1;
+}
+
+/* A checkpoint of a writer that predates a group of parameters (the noise, the
+ * L-system's, Runions', the keyframe schedules) lacks their entries: it loads
+ * with those at their defaults, which keep the behaviour before them, and
+ * grows on byte-identically to the scene it came from. */
+static void test_older_writers_checkpoints_load(void **state)
+{
+    (void)state;
+    static const char *const groups[][7] = {
+        {"noise_amplitude", "noise_scale", "noise_octaves", "noise_targets"},
+        {"ls_delta", "ls_step", "ls_width", "ls_width_scale", "ls_elasticity", "ls_blocking"},
+        {"d_i", "d_k", "D"},
+        {"lambda_keys", "eta_keys"},
+    };
+    static const size_t sizes[] = {4, 6, 3, 2};
+    size_t tried = 0;
+    for (size_t i = 0; i < mer_preset_count(); i++) {
+        mer_params p;
+        mer_error err;
+        assert_int_equal(mer_preset_params(mer_preset_name(i), &p, &err), MER_OK);
+        for (size_t g = 0; g < sizeof sizes / sizeof sizes[0]; g++) {
+            if (!at_defaults(&p, groups[g], sizes[g]))
+                continue;
+            mer_scene *a = new_scene(&p, 13 + i), *b = new_scene(&p, 13 + i);
+            define(a, mer_preset_name(i));
+            define(b, mer_preset_name(i));
+            step(a, 3);
+            step(b, 3);
+            size_t size;
+            uint8_t *bytes = save(a, &size), *old = rewrite(bytes, &size, groups[g], sizes[g], NULL);
+            mer_scene_free(a);
+            mer_scene *c = load(old, size);
+            assert_true(at_defaults(mer_scene_params(c), groups[g], sizes[g]));
+            assert_same(b, c);
+            step(b, 3);
+            step(c, 3);
+            assert_same(b, c);
+            mer_scene_free(b);
+            mer_scene_free(c);
+            free(bytes);
+            free(old);
+            tried++;
+        }
+    }
+    assert_true(tried >= mer_preset_count());
+}
+
+/* A checkpoint of a default scene two steps old. */
+static uint8_t *saved_seedling(size_t *size)
+{
+    mer_scene *s = new_scene(NULL, 3);
+    step(s, 2);
+    uint8_t *bytes = save(s, size);
+    mer_scene_free(s);
+    return bytes;
+}
+
+/* A checkpoint of a newer writer, with a parameter this build does not know,
+ * is refused: growing on without it could grow another tree. So is a name
+ * given twice. */
+static void test_unknown_parameters_are_refused(void **state)
+{
+    (void)state;
+    size_t size;
+    uint8_t *bytes = saved_seedling(&size);
+    size_t n = size;
+    uint8_t *newer = rewrite(bytes, &n, NULL, 0, "leaf_wobble");
+    mer_scene *t = (mer_scene *)1;
+    mer_error err;
+    assert_int_equal(mer_scene_load(newer, n, &t, &err), MER_ERR_FORMAT);
+    assert_null(t);
+    assert_non_null(strstr(err.message, "leaf_wobble"));
+    free(newer);
+    n = size;
+    uint8_t *twice = rewrite(bytes, &n, NULL, 0, "rho");
+    assert_int_equal(mer_scene_load(twice, n, &t, &err), MER_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "twice"));
+    free(twice);
+    n = size;
+    uint8_t *same = rewrite(bytes, &n, NULL, 0, NULL);
+    assert_int_equal(n, size);
+    assert_memory_equal(same, bytes, size); /* the rewriting itself changes nothing */
+    free(same);
+    free(bytes);
+}
+
+/* The model's state is versioned by the model: a checkpoint whose state is of
+ * another version than the model's is refused, never misread. */
+static void test_model_state_of_another_version_is_refused(void **state)
+{
+    (void)state;
+    size_t size;
+    uint8_t *bytes = saved_seedling(&size);
+    size_t at = 32;
+    for (int section = 0; section < 2; section++) {
+        uint32_t count;
+        memcpy(&count, bytes + at, 4);
+        at += 4;
+        for (uint32_t k = 0; k < count; k++)
+            at = skip_entry(bytes, at);
+    }
+    assert_int_equal(bytes[at], 3);
+    assert_memory_equal(bytes + at + 1, "p09", 3);
+    uint32_t version;
+    memcpy(&version, bytes + at + 4, 4);
+    version++;
+    memcpy(bytes + at + 4, &version, 4);
+    reseal(bytes, size);
+    mer_scene *t = (mer_scene *)1;
+    mer_error err;
+    assert_int_equal(mer_scene_load(bytes, size, &t, &err), MER_ERR_FORMAT);
+    assert_null(t);
+    assert_non_null(strstr(err.message, "version"));
+    free(bytes);
+}
+
 /* A value a grid refuses (found by fuzz_checkpoint; its input, framed as the
  * harness frames it): parameters mer_params_validate lets pass with marker_cell
  * 0, which the marker grid refuses. That is damage too (MER_ERR_FORMAT), never
@@ -313,6 +522,9 @@ int main(void)
         cmocka_unit_test(test_damaged_checkpoints_are_refused),
         cmocka_unit_test(test_inconsistent_checkpoints_never_crash),
         cmocka_unit_test(test_grid_refusals_are_damage),
+        cmocka_unit_test(test_older_writers_checkpoints_load),
+        cmocka_unit_test(test_unknown_parameters_are_refused),
+        cmocka_unit_test(test_model_state_of_another_version_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -302,6 +302,7 @@ static size_t inverse_stats(const merp_model *m, mer_model_stat *out, size_t cap
 const merp_model_ops merp_inverse_ops = {
     .name = "inverse",
     .param_rows = 0,
+    .state_version = 1,
     .validate = NULL,
     .create = inverse_create,
     .set_params = inverse_set_params,

@@ -360,6 +360,7 @@ static size_t ls_stats(const merp_model *m, mer_model_stat *out, size_t cap)
 const merp_model_ops merp_lsystem_ops = {
     .name = "lsystem",
     .param_rows = MERP_ROWS_LSYSTEM,
+    .state_version = 1,
     .validate = NULL,
     .create = ls_create,
     .set_params = ls_set_params,

@@ -242,6 +242,7 @@ static uint64_t p09_hash(const merp_model *m, uint64_t h)
 const merp_model_ops merp_p09_ops = {
     .name = "p09",
     .param_rows = MERP_ROWS_P09,
+    .state_version = 1,
     .validate = merp_p09_validate,
     .create = p09_create,
     .set_params = p09_set_params,

@@ -201,6 +201,7 @@ static mer_result runions_load(merp_bytes_in *in, uint32_t nodes, merp_model **o
 const merp_model_ops merp_runions_ops = {
     .name = "runions",
     .param_rows = MERP_ROWS_RUNIONS,
+    .state_version = 1,
     .validate = runions_validate,
     .create = runions_create,
     .set_params = runions_set_params,
