@@ -26,6 +26,7 @@ typedef struct reader {
 
 static uint32_t column(const reader *r, size_t at) { return (uint32_t)(at - r->line_at) + 1; }
 
+__attribute__((format(printf, 5, 6)))
 static mer_result fail_at(const reader *r, size_t at, mer_result code, mer_error *err,
                           const char *fmt, ...)
 {
@@ -311,6 +312,7 @@ mer_result merp_fset_read(const char *text, size_t len, merp_gfunc *out, uint32_
 }
 
 /* snprintf into buf[*used..cap), counting what the whole text needs. */
+__attribute__((format(printf, 4, 5)))
 static void put(char *buf, size_t cap, size_t *used, const char *fmt, ...)
 {
     va_list ap;
@@ -331,7 +333,7 @@ static void write_one(const merp_gfunc *f, char *buf, size_t cap, size_t *used)
     put(buf, cap, used, "points: %u\n", f->npts);
     for (uint32_t i = 0; i < f->npts; i++) {
         const merp_gf_point *p = &f->pts[i];
-        double a = f->flip ? p->y : p->x, b = f->flip ? p->x : p->y;
+        double a = (double)(f->flip ? p->y : p->x), b = (double)(f->flip ? p->x : p->y);
         if (p->m != 1)
             put(buf, cap, used, "%.9g %.9g %u\n", a, b, p->m);
         else

@@ -19,8 +19,8 @@ static uint32_t expand(const merp_gfunc *f, double *px, double *py)
     uint32_t n = 0;
     for (uint32_t i = 0; i < f->npts; i++)
         for (uint32_t k = 0; k < f->pts[i].m && n < MERP_GF_EXPANDED_MAX; k++) {
-            px[n] = f->pts[i].x;
-            py[n] = f->pts[i].y;
+            px[n] = (double)f->pts[i].x;
+            py[n] = (double)f->pts[i].y;
             n++;
         }
     return n;

@@ -43,7 +43,7 @@ static void grid_shape(const merp_skeleton *sk, float d_i, grid *g)
     if (g->n == 0)
         for (int a = 0; a < 3; a++)
             g->lo[a] = g->hi[a] = 0.0f;
-    double cell = d_i, cap = 4.0 * (double)g->n + 64.0, cells;
+    double cell = (double)d_i, cap = 4.0 * (double)g->n + 64.0, cells;
     for (;;) {
         cells = 1.0;
         for (int a = 0; a < 3; a++)
