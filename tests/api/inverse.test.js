@@ -186,6 +186,22 @@ test('inverse sessions from an uploaded .fset; t and functions refused for other
   assert.equal(r.status, 200, JSON.stringify(r.body));
   const fn = await getText(d.url, `/v1/sessions/${c.body.id}/functions`);
   assert.match(fn.text, /\n0\.2\d* 0\.(7|69)\d*\n/);
+  // The functions as JSON, as GET functions?format=json gives them: the same change.
+  const js = (await api(d.url, 'GET', `/v1/sessions/${c.body.id}/functions?format=json`)).body.functions;
+  const gh = js.find((f) => f.name === 'G_h');
+  gh.points = [[0, 0.05, 1], [0.3, 0.8, 1], [0.6, 1, 1], [1, 1, 1]];
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [gh] });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  const fnj = await getText(d.url, `/v1/sessions/${c.body.id}/functions`);
+  assert.match(fnj.text, /\n0\.3\d* 0\.8\d*\n/);
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [{ ...gh, points: [[0], [1, 1]] }] });
+  assert.equal(r.status, 422, JSON.stringify(r.body));
+  assert.equal(r.body.field, 'functions[0].points[0]');
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [{ ...gh, name: 'G_zz' }] });
+  assert.equal(r.status, 422, JSON.stringify(r.body));
+  assert.equal(r.body.field, 'functions');
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [gh], fset: EARLY_TRUNK });
+  assert.equal(r.status, 422, JSON.stringify(r.body));
   const broken = await api(d.url, 'POST', '/v1/sessions', { model: 'inverse', inverse: { fset: 'funcgalleryver 1 1\nitems: x\n' } });
   assert.equal(broken.status, 422, JSON.stringify(broken.body));
   assert.equal(broken.body.line, 2);
