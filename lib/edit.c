@@ -48,16 +48,15 @@ mer_result mer_scene_prune(mer_scene *s, uint32_t node, mer_error *err)
 
 /* Tells the environment that the dormant buds of the first `cnt` nodes of the
  * subtree walk go (-1) or come back (+1). */
-static void cast_subtree(mer_scene *s, size_t cnt, int sign)
+static void cast_subtree(const merp_skeleton *sk, merp_env *env, size_t cnt, int sign)
 {
-    const merp_skeleton *sk = &s->sk;
     for (size_t t = 0; t < cnt; t++) {
         uint32_t i = sk->stack[t];
         float e[3];
         merp_skel_node_end(sk, i, e);
         for (int k = 0; k < 3; k++)
             if (sk->bud[3 * i + k] == MER_BUD_DORMANT)
-                merp_env_bud_changed(&s->env, e, sign);
+                merp_env_bud_changed(env, e, sign);
     }
 }
 
@@ -113,8 +112,23 @@ mer_result mer_scene_bend_spread(mer_scene *s, uint32_t node, const float axis[3
     if (spread < 1 || spread > MER_BEND_SPREAD_MAX)
         return mer_error_set(err, MER_ERR_RANGE, "spread", "spread must be from 1 to %u, got %u",
                              (unsigned)MER_BEND_SPREAD_MAX, (unsigned)spread);
+    if (s->ops->bending != NULL) {
+        merp_world w = merp_scene_world(s);
+        rc = s->ops->bending(s->model, &w, node, ax, angle, spread, err);
+    }
+    if (rc == MER_OK)
+        rc = merp_bend_apply(&s->sk, &s->env, node, ax, angle, spread, err);
+    if (rc == MER_OK)
+        nodes_changed(s);
+    return rc;
+}
+
+mer_result merp_bend_apply(merp_skeleton *sk, merp_env *env, uint32_t node, const float ax[3],
+                           float angle, uint32_t spread, mer_error *err)
+{
+    assert(node < sk->n && sk->alive[node] && spread >= 1 && spread <= MER_BEND_SPREAD_MAX);
     uint32_t chain[MER_BEND_SPREAD_MAX];
-    uint32_t n = axis_chain(&s->sk, node, spread, chain);
+    uint32_t n = axis_chain(sk, node, spread, chain);
     /* Each internode of the chain turns its own subtree about its own base by an
      * equal share, lowest first: the axis curves, and its tip turns by `angle`. */
     float share = angle / (float)n * MER_DEG2RAD;
@@ -122,15 +136,14 @@ mer_result mer_scene_bend_spread(mer_scene *s, uint32_t node, const float axis[3
         size_t cnt;
         /* Only the first walk can fail (its buffer is sized by the node count,
          * not the subtree): a refusal changes nothing. */
-        rc = merp_skel_subtree(&s->sk, chain[j], &cnt, err);
+        mer_result rc = merp_skel_subtree(sk, chain[j], &cnt, err);
         if (rc != MER_OK)
             return rc;
-        cast_subtree(s, cnt, -1);
-        rotate_subtree(&s->sk, chain[j], cnt, ax, share);
-        cast_subtree(s, cnt, 1);
+        cast_subtree(sk, env, cnt, -1);
+        rotate_subtree(sk, chain[j], cnt, ax, share);
+        cast_subtree(sk, env, cnt, 1);
     }
-    merp_env_buds_moved(&s->env); /* moved buds see other markers */
-    nodes_changed(s);
+    merp_env_buds_moved(env); /* moved buds see other markers */
     return MER_OK;
 }
 

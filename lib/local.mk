@@ -69,7 +69,10 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/inverse/shoot.c \
 	lib/models/inverse/phyllotaxis.c \
 	lib/models/inverse/development.c \
+	lib/models/inverse/radius.c \
 	lib/models/inverse/build.c \
+	lib/models/inverse/memory.c \
+	lib/models/inverse/regrow.c \
 	lib/models/inverse/inverse.c \
 	lib/models/inverse/populus.c \
 	lib/models/inverse/species.c \

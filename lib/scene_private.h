@@ -39,6 +39,12 @@ merp_world merp_scene_world(mer_scene *s);
 /* Records the report of the step just run, which made `grown` internodes
  * (step_report.c). O(nodes) when it grew nothing, else O(1). */
 void merp_scene_report_step(mer_scene *s, uint32_t grown);
+/* edit.c: turns the subtrees of the first `spread` internodes of node's axis
+ * about `ax` (unit) by equal shares of `angle` degrees (mer_scene_bend_spread,
+ * checked, without telling the model): what a model that rebuilds its tree
+ * calls to make a recorded bend again. MER_ERR_NOMEM, changing nothing. */
+mer_result merp_bend_apply(merp_skeleton *sk, merp_env *env, uint32_t node, const float ax[3],
+                           float angle, uint32_t spread, mer_error *err);
 /* Recasts the shadow grid from scratch: every dormant bud, then every obstacle.
  * O(nodes + obstacle voxels). */
 void merp_scene_rebuild_shadow(mer_scene *s);

@@ -36,6 +36,7 @@ mer_result mer_scene_node(const mer_scene *s, uint32_t id, mer_node *out, mer_er
     out->length = sk->len[id];
     out->diameter = merp_pipe_diameter(sk, id) * merp_noise_diameter(&s->noise, &s->p, out->base);
     out->q = sk->q[id];
+    out->leaf = s->ops->leaf != NULL ? s->ops->leaf(s->model, sk, id) : 0.0f;
     return MER_OK;
 }
 

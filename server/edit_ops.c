@@ -9,6 +9,7 @@
 
 #include "server/decode.h"
 #include "server/edit_ops.h"
+#include "server/functions_json.h"
 
 /* A bend turns by at most a full turn either way, in degrees, spread by default
  * over the first three internodes of the bent axis (a curve, not an elbow). */
@@ -400,7 +401,17 @@ static int decode_fset(const json_t *o, const char *w, merd_decode_ctx *c, merd_
                        merd_refusal *why)
 {
     (void)c;
-    return decode_text(o, w, "fset", ".fset text", e, why);
+    const json_t *fns = json_object_get(o, "functions");
+    if (fns == NULL)
+        return decode_text(o, w, "fset", ".fset text", e, why);
+    char f[MERD_FIELD_MAX];
+    merd_path(f, sizeof f, w, "functions");
+    if (json_object_get(o, "fset") != NULL)
+        return merd_refuse(why, 422, "invalid-field", f, "give fset or functions, not both");
+    if (merd_functions_fset(fns, f, &e->owned, &e->source_len, why) != 0)
+        return -1;
+    e->source = e->owned;
+    return 0;
 }
 
 /* ---------------------------------------------------------------- applying */
@@ -509,7 +520,7 @@ static int define(const merd_edit *e, merd_apply_ctx *c, const char *name, merd_
     if (rc == MER_OK)
         return 0;
     if (strcmp(err.field, "definition") == 0)
-        snprintf(err.field, sizeof err.field, "%s", name);
+        snprintf(err.field, sizeof err.field, "%s", e->owned != NULL ? "functions" : name);
     return lib(c, rc, &err, why);
 }
 
@@ -554,7 +565,7 @@ static const char *const params_fields[] = {"op", "params", NULL};
 static const char *const release_fields[] = {"op", NULL};
 static const char *const revert_fields[] = {"op", "revision", NULL};
 static const char *const lsystem_fields[] = {"op", "source", NULL};
-static const char *const functions_fields[] = {"op", "fset", NULL};
+static const char *const functions_fields[] = {"op", "fset", "functions", NULL};
 
 #define ANY (MERD_MODEL_P09 | MERD_MODEL_RUNIONS | MERD_MODEL_LSYSTEM | MERD_MODEL_INVERSE)
 

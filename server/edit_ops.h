@@ -37,7 +37,9 @@ typedef struct merd_edit {
     unsigned sched_mask;
     const json_t *params;  /* set_params: the object */
     uint64_t revision;     /* revert */
-    const char *source;    /* set_lsystem, set_functions: the text (borrowed from json) */
+    const char *source;    /* set_lsystem, set_functions: the text (borrowed from json,
+                            * or `owned`) */
+    char *owned;           /* set_functions given JSON functions: their .fset text, owned */
     size_t source_len;
 } merd_edit;
 

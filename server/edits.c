@@ -84,7 +84,7 @@ void merd_batch_free(merd_batch *b)
     if (b == NULL)
         return;
     for (size_t i = 0; i < b->count; i++)
-        free(b->edits[i].points);
+        free(b->edits[i].points), free(b->edits[i].owned);
     free(b->edits);
     json_decref(b->body);
     free(b);

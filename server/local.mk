@@ -15,6 +15,7 @@ server_meristemd_SOURCES = \
 	server/decode.c server/decode.h \
 	server/spec.c server/spec.h \
 	server/edit_ops.c server/edit_ops.h \
+	server/functions_json.c server/functions_json.h \
 	server/edits.c server/edits.h \
 	server/journal.c server/journal.h server/io_hooks.h server/io_faults.c \
 	server/checkpoint.c server/checkpoint.h \

@@ -42,6 +42,9 @@
  * phyllotaxis of P09 §4.3), as a rhombus card `leaf_size` long and half as wide,
  * turned to face up as far as its direction allows, with UVs of a unit square
  * (base at v = 0, tip at v = 1). Leaves are a separate primitive and material.
+ * A model that sizes leaves per node (mer_node.leaf, the inverse model's G_l of
+ * G04 §4.3 as grown so far by G_lg) gets instead one such card at each node
+ * with a leaf, that long and along its first lateral bud, whatever its age.
  *
  * Twig lines (level of detail). With `twig_lines`, the twigs (axes meshed with
  * 3 sides whose base is at most 1/400 of the tree's largest extent thick, at

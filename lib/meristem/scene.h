@@ -355,6 +355,10 @@ typedef struct mer_node {
     float length;
     float diameter;
     float q;               /* light collected by the buds of the subtree at the last step (BH Q) */
+    /* Its leaf, when its model sizes leaves per node (the inverse model's G_l,
+     * G04 §4.3): > 0 one leaf this long; < 0 none; 0 the model leaves it to the
+     * mesher (mer_mesh_options' leaf_size and leaf_age). */
+    float leaf;
 } mer_node;
 
 /* One past the highest node id issued. */

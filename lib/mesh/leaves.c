@@ -1,5 +1,6 @@
 /* meristem — leaf cards: one per lateral bud of the youngest internodes,
- * pointing the way the bud points (meristem/mesh.h, Leaves). */
+ * pointing the way the bud points, or one per node sized by its model
+ * (mer_node.leaf) (meristem/mesh.h, Leaves). */
 #include "config.h"
 
 #include "mesh_private.h"
@@ -7,11 +8,17 @@
 
 static bool has_leaf_at(const merp_builder *b, const mer_node *n)
 {
+    if (n->leaf != 0.0f)
+        return n->alive && n->leaf > 0.0f;
     return n->alive && b->newest - n->born < b->opt.leaf_age;
 }
 
-static uint32_t leaves_per_node(const merp_builder *b)
+/* A node sized by its model bears one leaf (G04 §4.3: "each metamer will
+ * produce a lateral leaf"); otherwise one per lateral bud. */
+static uint32_t leaves_at(const merp_builder *b, const mer_node *n)
 {
+    if (n->leaf > 0.0f)
+        return 1u;
     return mer_scene_params(b->scene)->buds_per_node >= 2 ? 2u : 1u;
 }
 
@@ -20,7 +27,7 @@ uint64_t merp_mesh_leaf_count(const merp_builder *b)
     uint64_t count = 0;
     if (b->opt.leaves)
         for (uint32_t id = 0; id < b->node_count; id++)
-            count += has_leaf_at(b, &b->nodes[id]) ? leaves_per_node(b) : 0;
+            count += has_leaf_at(b, &b->nodes[id]) ? leaves_at(b, &b->nodes[id]) : 0;
     return count;
 }
 
@@ -44,7 +51,7 @@ static mer_result mesh_leaf(merp_builder *b, const mer_node *n, const float dir_
 
     float base[3], left[3], right[3], tip[3];
     merp_tip_of(n, base);
-    float len = b->opt.leaf_size, half_w = 0.25f * len;
+    float len = n->leaf > 0.0f ? n->leaf : b->opt.leaf_size, half_w = 0.25f * len;
     for (int i = 0; i < 3; i++) {
         tip[i] = base[i] + d[i] * len;
         left[i] = base[i] + d[i] * 0.5f * len - w[i] * half_w;
@@ -67,13 +74,12 @@ static mer_result mesh_leaf(merp_builder *b, const mer_node *n, const float dir_
 
 mer_result merp_mesh_leaves(merp_builder *b, mer_error *err)
 {
-    const uint32_t per_node = leaves_per_node(b);
     for (uint32_t id = 0; id < b->node_count; id++) {
         const mer_node *n = &b->nodes[id];
         if (!has_leaf_at(b, n))
             continue;
         // bud_dir[k - 1] is lateral bud k's direction (phyllotaxis, P09 §4.3).
-        for (uint32_t k = 1; k <= per_node; k++) {
+        for (uint32_t k = 1; k <= leaves_at(b, n); k++) {
             mer_result rc = mesh_leaf(b, n, n->bud_dir[k - 1], err);
             if (rc != MER_OK)
                 return rc;

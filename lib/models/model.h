@@ -85,6 +85,14 @@ typedef struct merp_model_ops {
     /* After the pipe model's diameters (merp_pipe_update): sets the d^n of the
      * nodes whose width the model gives explicitly. */
     void (*diameters)(const merp_model *m, const merp_world *w);
+    /* The length of node id's leaf when the model sizes leaves per node
+     * (mer_node.leaf): > 0 a leaf, < 0 none. May be NULL: the mesher sizes them. */
+    float (*leaf)(const merp_model *m, const merp_skeleton *sk, uint32_t id);
+    /* A bend (mer_scene_bend_spread's node, axis, angle and spread, checked) is
+     * about to be made: a model that rebuilds its tree records it to make it
+     * again. MER_ERR_NOMEM refuses the bend. May be NULL. */
+    mer_result (*bending)(merp_model *m, const merp_world *w, uint32_t node,
+                          const float axis[3], float angle, uint32_t spread, mer_error *err);
     /* Up to `cap` named numbers about its state (mer_scene_model_stats). */
     size_t (*stats)(const merp_model *m, mer_model_stat *out, size_t cap);
 } merp_model_ops;

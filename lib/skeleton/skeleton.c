@@ -107,7 +107,14 @@ mer_result merp_skel_node_new(merp_skeleton *sk, uint32_t step, uint32_t *id, me
     mer_result rc = reserve(sk, sk->n + 1, err);
     if (rc != MER_OK)
         return rc;
-    uint32_t i = sk->n++;
+    *id = sk->n++;
+    merp_skel_node_renew(sk, *id, step);
+    return MER_OK;
+}
+
+void merp_skel_node_renew(merp_skeleton *sk, uint32_t i, uint32_t step)
+{
+    assert(sk != NULL && i < sk->n);
     sk->parent[i] = MER_NO_NODE;
     for (int k = 0; k < 3; k++) {
         sk->child[3 * i + k] = MER_NO_NODE;
@@ -122,8 +129,6 @@ mer_result merp_skel_node_new(merp_skeleton *sk, uint32_t step, uint32_t *id, me
     sk->len[i] = 0.0f;
     sk->q[i] = 0.0f;
     sk->dn[i] = 0.0f;
-    *id = i;
-    return MER_OK;
 }
 
 static mer_result reserve_plant(merp_skeleton *sk, mer_error *err)

@@ -67,6 +67,9 @@ mer_result merp_skel_node_new(merp_skeleton *sk, uint32_t step, uint32_t *id, me
 mer_result merp_skel_add_plant(merp_skeleton *sk, const mer_params *p, uint32_t step,
                                const float base[3], mer_rng *rng, uint32_t *root,
                                mer_error *err);
+/* Dead node `id` made again as merp_skel_node_new makes a node, born at `step`:
+ * for a model that rebuilds its tree and gives a node back its id. O(1). */
+void merp_skel_node_renew(merp_skeleton *sk, uint32_t id, uint32_t step);
 /* Makes node `id` (no parent) the root of a new plant: its plant index is set.
  * MER_ERR_NOMEM. Amortized O(1). */
 mer_result merp_skel_add_root(merp_skeleton *sk, uint32_t id, mer_error *err);

@@ -111,11 +111,12 @@ test('an inverse session: the Populus over 27 years, functions replaced, fractio
   const fn = await getText(d.url, `/v1/sessions/${id}/functions`);
   assert.equal(fn.status, 200);
   assert.match(fn.type, /^text\/plain/);
-  assert.match(fn.text, /^funcgalleryver 1 1\nitems: 13\n/);
+  assert.match(fn.text, /^funcgalleryver 1 1\nitems: 14\n/);
   assert.ok(fn.text.includes('name: G_s2'));
   const js = await api(d.url, 'GET', `/v1/sessions/${id}/functions?format=json`);
   assert.equal(js.status, 200);
-  assert.equal(js.body.functions.length, 13);
+  assert.equal(js.body.functions.length, 14);
+  assert.ok(js.body.functions.some((f) => f.name === 'G_r'), 'the radius along a branch');
   const gh = js.body.functions.find((f) => f.name === 'G_h');
   assert.equal(gh.kind, 'bspline');
   assert.ok(gh.samples > 0 && gh.points.length >= 4, JSON.stringify(gh));
@@ -185,6 +186,22 @@ test('inverse sessions from an uploaded .fset; t and functions refused for other
   assert.equal(r.status, 200, JSON.stringify(r.body));
   const fn = await getText(d.url, `/v1/sessions/${c.body.id}/functions`);
   assert.match(fn.text, /\n0\.2\d* 0\.(7|69)\d*\n/);
+  // The functions as JSON, as GET functions?format=json gives them: the same change.
+  const js = (await api(d.url, 'GET', `/v1/sessions/${c.body.id}/functions?format=json`)).body.functions;
+  const gh = js.find((f) => f.name === 'G_h');
+  gh.points = [[0, 0.05, 1], [0.3, 0.8, 1], [0.6, 1, 1], [1, 1, 1]];
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [gh] });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  const fnj = await getText(d.url, `/v1/sessions/${c.body.id}/functions`);
+  assert.match(fnj.text, /\n0\.3\d* 0\.8\d*\n/);
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [{ ...gh, points: [[0], [1, 1]] }] });
+  assert.equal(r.status, 422, JSON.stringify(r.body));
+  assert.equal(r.body.field, 'functions[0].points[0]');
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [{ ...gh, name: 'G_zz' }] });
+  assert.equal(r.status, 422, JSON.stringify(r.body));
+  assert.equal(r.body.field, 'functions');
+  r = await edit(d.url, c.body.id, { op: 'set_functions', functions: [gh], fset: EARLY_TRUNK });
+  assert.equal(r.status, 422, JSON.stringify(r.body));
   const broken = await api(d.url, 'POST', '/v1/sessions', { model: 'inverse', inverse: { fset: 'funcgalleryver 1 1\nitems: x\n' } });
   assert.equal(broken.status, 422, JSON.stringify(broken.body));
   assert.equal(broken.body.line, 2);
@@ -210,4 +227,96 @@ test('inverse sessions from an uploaded .fset; t and functions refused for other
     const g = await glbOf(d.url, s.body.id, '?t=9.5');
     await validates(g);
   }
+});
+
+// One function as .fset text: the line from (0, y0) to (1, y1).
+const lineFset = (name, y0, y1) => `funcgalleryver 1 1
+items: 1
+fver 1 1
+name: ${name}
+samples: 64
+flip: off
+kind: linear
+points: 2
+0 ${y0}
+1 ${y1}
+`;
+
+const dirOf = (n) => {
+  const v = n.tip.map((x, k) => x - n.base[k]);
+  const l = Math.hypot(...v);
+  return v.map((x) => x / l);
+};
+
+test('inverse: a bend outlives set_functions, a prune of a node the new functions lack is dropped, the journal replays', async (t) => {
+  const dataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-inverse-edits-'));
+  t.after(() => fs.rmSync(dataDir, { recursive: true, force: true }));
+  let d = await startDaemon([], { dataDir });
+  t.after(() => d.stop());
+  const make = async () => {
+    const c = await api(d.url, 'POST', '/v1/sessions', { model: 'inverse', preset: 'populus-deltoides', seed: 3 });
+    assert.equal(c.status, 201, JSON.stringify(c.body));
+    const r = await edit(d.url, c.body.id, { op: 'step', count: 10 });
+    assert.equal(r.status, 200, JSON.stringify(r.body));
+    return c.body.id;
+  };
+  const id = await make();
+  const twin = await make();
+  const nodes = (await api(d.url, 'GET', `/v1/sessions/${id}/skeleton?alive=1`)).body.nodes;
+  const byId = new Map(nodes.map((n) => [n.id, n]));
+  const size = new Map();
+  for (const n of [...nodes].sort((a, b) => b.id - a.id)) {
+    size.set(n.id, (size.get(n.id) || 0) + 1);
+    if (n.parent !== null) size.set(n.parent, (size.get(n.parent) || 0) + size.get(n.id));
+  }
+  const bases = nodes.filter((n) => n.order === 1 && byId.get(n.parent).order === 0);
+  const branch = bases.reduce((a, b) => (size.get(b.id) > size.get(a.id) ? b : a));
+
+  const h = dirOf(branch); // bend it about h × up: its heading turns by the whole angle
+  let r = await edit(d.url, id, { op: 'bend', node: branch.id, axis: [-h[2], 0, h[0]], angle: 30, spread: 1 });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.equal(r.body.inverse.edits.bends, 1);
+  const silhouette = lineFset('G_s2', 0.55, 0.1);
+  for (const s of [id, twin]) {
+    r = await edit(d.url, s, { op: 'set_functions', fset: silhouette });
+    assert.equal(r.status, 200, JSON.stringify(r.body));
+  }
+  assert.equal(r.body.inverse.edits.bends, 0, 'the twin has none');
+  const after = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  assert.equal(after.inverse.edits.bends, 1);
+  assert.equal(after.inverse.edits.dropped, 0);
+  const bent = (await api(d.url, 'GET', `/v1/sessions/${id}/skeleton?alive=1`)).body.nodes.find((n) => n.id === branch.id);
+  const plain = (await api(d.url, 'GET', `/v1/sessions/${twin}/skeleton?alive=1`)).body.nodes.find((n) => n.id === branch.id);
+  assert.ok(bent && plain, 'the branch keeps its id through the regrowth');
+  const a = dirOf(bent), b = dirOf(plain);
+  const angle = Math.acos(Math.min(1, a[0] * b[0] + a[1] * b[1] + a[2] * b[2])) * 180 / Math.PI;
+  assert.ok(Math.abs(angle - 30) < 1, `the bend is still there: ${angle}°`);
+
+  // A prune of a metamer past the first of its shoot; with one metamer a shoot
+  // (G_m = 0) it no longer exists: the regrowth drops the prune and says so.
+  const again = (await api(d.url, 'GET', `/v1/sessions/${id}/skeleton?alive=1`)).body.nodes;
+  const at = new Map(again.map((n) => [n.id, n]));
+  const inner = again.find((n) => n.order === 1 && n.parent !== null && at.get(n.parent).order === 1 &&
+    at.get(n.parent).age === n.age && n.id !== branch.id);
+  assert.ok(inner, 'a metamer inside a shoot');
+  r = await edit(d.url, id, { op: 'prune', node: inner.id });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.equal(r.body.inverse.edits.prunes, 1);
+  r = await edit(d.url, id, { op: 'set_functions', fset: lineFset('G_m', 0, 0) });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.equal(r.body.inverse.edits.prunes, 0);
+  assert.ok(r.body.inverse.edits.dropped >= 1, JSON.stringify(r.body.inverse));
+  r = await edit(d.url, id, { op: 'step', count: 2 });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+
+  const glb = await glbOf(d.url, id, '?leaves=1');
+  await validates(glb);
+  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  await d.stop('SIGKILL');
+  d = await startDaemon([], { dataDir });
+  const restored = await api(d.url, 'GET', `/v1/sessions/${id}`);
+  assert.equal(restored.status, 200);
+  assert.equal(restored.body.hash, summary.hash);
+  assert.deepEqual(restored.body.inverse, summary.inverse);
+  assert.ok(Buffer.compare(await glbOf(d.url, id, '?leaves=1'), glb) === 0, 'the same GLB bytes after replay');
 });

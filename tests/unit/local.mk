@@ -216,3 +216,10 @@ tests_unit_test_inverse_SOURCES = tests/unit/test_inverse.c
 nodist_EXTRA_tests_unit_test_inverse_SOURCES = tests/unit/link-as-cxx.cc
 tests_unit_test_inverse_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_inverse_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_inverse_edits
+tests_unit_test_inverse_edits_SOURCES = tests/unit/test_inverse_edits.c
+# It meshes: link with the C++ driver (tinygltf needs libstdc++).
+nodist_EXTRA_tests_unit_test_inverse_edits_SOURCES = tests/unit/link-as-cxx.cc
+tests_unit_test_inverse_edits_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_inverse_edits_LDADD = $(UNIT_LDADD)

@@ -472,6 +472,43 @@ static void test_species_range(void **state)
 }
 
 /* The tree meshes and writes as GLB like any other. */
+/* The radius of G04 §4.1: along the trunk each node's diameter is
+ * 2 · r_max · L / h_max · G_r(x) at its base, x its place over the trunk's
+ * length L; no branch starts thicker than the node it grows from. */
+static void test_radius_follows_G_r(void **state)
+{
+    (void)state;
+    mer_scene *s = inverse_scene(5);
+    step(s, 10);
+    const merp_skeleton *sk = &s->sk;
+    const merp_inv_def *d = merp_inverse_def(s);
+    float L = 0.0f;
+    uint32_t root = sk->roots[0];
+    for (uint32_t i = root; i != MER_NO_NODE; i = sk->child[3 * i])
+        L += sk->len[i];
+    float r_b = d->r_max * L / d->h_max, along = 0.0f;
+    uint32_t checked = 0;
+    mer_error err;
+    for (uint32_t i = root; i != MER_NO_NODE; i = sk->child[3 * i], checked++) {
+        mer_node n;
+        assert_int_equal(mer_scene_node(s, i, &n, &err), MER_OK);
+        float want = 2.0f * r_b * merp_gfunc_eval(&d->g[MERP_G_R], along / L);
+        assert_float_equal(n.diameter, want, 1e-4f * want + 1e-7f);
+        along += sk->len[i];
+    }
+    assert_true(checked > 20);
+    uint32_t laterals = 0;
+    for (uint32_t i = 0; i < sk->n; i++) {
+        uint32_t p = sk->parent[i];
+        if (!sk->alive[i] || p == MER_NO_NODE || sk->slot[i] == 0)
+            continue;
+        assert_true(merp_pipe_diameter(sk, i) <= merp_pipe_diameter(sk, p) * 1.0001f);
+        laterals++;
+    }
+    assert_true(laterals > 20);
+    mer_scene_free(s);
+}
+
 static void test_meshes_to_glb(void **state)
 {
     (void)state;
@@ -503,6 +540,7 @@ int main(void)
         cmocka_unit_test(test_leaves_grow_within_the_year),
         cmocka_unit_test(test_checkpoint_state),
         cmocka_unit_test(test_species_range),
+        cmocka_unit_test(test_radius_follows_G_r),
         cmocka_unit_test(test_meshes_to_glb),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

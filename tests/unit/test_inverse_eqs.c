@@ -45,6 +45,7 @@ static merp_inv_def *def_new(void)
     d->leaf_size = 0.1f;
     d->span = 0.5f;
     d->order_max = 3;
+    d->r_max = 0.1f;
     return d;
 }
 
@@ -207,6 +208,32 @@ static void test_eq14_metamers_and_leaves(void **state)
     assert_float_equal(merp_inv_x_s(3, 4), 1.0f, 0.0f);
 }
 
+/* §4.1's radius: r_b = r_max · L / h_max, no more than the parent's radius,
+ * shaped along the branch by G_r(x); a .fset without G_r gets a taper. */
+static void test_radius_along_the_branch(void **state)
+{
+    (void)state;
+    merp_inv_def *d = def_new();
+    d->r_max = 0.3f;
+    d->h_max = 20.0f;
+    assert_float_equal(merp_inv_base_radius(d, 20.0f, -1.0f), 0.3f, 1e-6f);
+    assert_float_equal(merp_inv_base_radius(d, 5.0f, -1.0f), 0.075f, 1e-6f);
+    assert_float_equal(merp_inv_base_radius(d, 5.0f, 0.05f), 0.05f, 0.0f);
+    assert_float_equal(merp_inv_base_radius(d, 5.0f, 0.5f), 0.075f, 1e-6f);
+    merp_gfunc gr;
+    line(&gr, "G_r", 1.0f, 0.2f);
+    assert_float_equal(merp_inv_radius(&gr, 0.0f, 0.1f), 0.1f, 1e-6f);
+    assert_float_equal(merp_inv_radius(&gr, 0.5f, 0.1f), 0.06f, 1e-6f);
+    assert_float_equal(merp_inv_radius(&gr, 1.0f, 0.1f), 0.02f, 1e-6f);
+    line(&gr, "G_r", 1.0f, -1.0f);
+    assert_float_equal(merp_inv_radius(&gr, 1.0f, 0.1f), 0.0f, 0.0f);
+    mer_error err;
+    assert_int_equal(merp_inv_radius_default(&gr, &err), MER_OK);
+    assert_float_equal(merp_gfunc_eval(&gr, 0.0f), 1.0f, 1e-5f);
+    assert_true(merp_gfunc_eval(&gr, 1.0f) < merp_gfunc_eval(&gr, 0.5f));
+    free(d);
+}
+
 /* 137.5° phyllotaxis and the 40° rule: a count is allowed when the last two
  * laterals sit at least 40° from the previous shoot's last; others move to the
  * nearest allowed count. */
@@ -291,10 +318,19 @@ static void test_definition_checks(void **state)
     const char *cut = strstr(text, "fver 1 1\nname: G_bg");
     assert_non_null(cut);
     char *shorter = strdup(text);
-    memcpy(strstr(shorter, "items: 13"), "items: 12", 9);
+    memcpy(strstr(shorter, "items: 14"), "items: 12", 9);
     shorter[cut - text] = '\0';
     assert_int_equal(merp_inv_def_functions(d, shorter, strlen(shorter), &err), MER_ERR_INVALID);
     assert_non_null(strstr(err.message, "G_bg is missing"));
+    free(shorter);
+    /* A text from before G_r (§4.1's radius) reads, with the default taper. */
+    shorter = strdup(text);
+    memcpy(strstr(shorter, "items: 14"), "items: 13", 9);
+    shorter[strstr(text, "fver 1 1\nname: G_r") - text] = '\0';
+    assert_int_equal(merp_inv_def_functions(d, shorter, strlen(shorter), &err), MER_OK);
+    merp_gfunc taper;
+    assert_int_equal(merp_inv_radius_default(&taper, &err), MER_OK);
+    assert_true(merp_gfunc_equal(&d->g[MERP_G_R], &taper));
     free(shorter);
     /* Written out and read back, the preset's functions are the same. */
     assert_int_equal(merp_inv_populus(d, &err), MER_OK);
@@ -320,6 +356,7 @@ int main(void)
         cmocka_unit_test(test_eq10_13_15_scale),
         cmocka_unit_test(test_eq11_sheds_at_its_age),
         cmocka_unit_test(test_eq14_metamers_and_leaves),
+        cmocka_unit_test(test_radius_along_the_branch),
         cmocka_unit_test(test_forty_degree_rule),
         cmocka_unit_test(test_development_offsets),
         cmocka_unit_test(test_definition_checks),

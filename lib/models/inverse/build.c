@@ -16,7 +16,8 @@
  * (10) is the base of its parent shoot (§4.3: laterals "use the position of the
  * shoot along the branch"); the trunk stands up with only the jitter; the
  * longest lateral of a shoot is taken to be its last (phyllotaxis.c). Radius is
- * the shared pipe model, which G04 §6 names as the radius to adopt. */
+ * G04 §4.1's function of position along the branch (radius.c), each node's at
+ * its base. */
 #include "config.h"
 
 #include <assert.h>
@@ -44,6 +45,7 @@ typedef struct builder {
 typedef struct branch {
     uint32_t order, born; /* born: the year of its first shoot */
     float s_b;
+    float r_cap;             /* its base radius at most: the parent's there (-1: none) */
     uint64_t key;
     const float *l;          /* its lengths by year */
     uint32_t attach, slot;   /* the node it grows from (MER_NO_NODE: the trunk) */
@@ -119,7 +121,7 @@ static mer_result grow_branch(builder *bd, const branch *b);
  * when G04 makes it: its scale factor (eq (15)) reaches s_min, its order is
  * built, it has been born (the year after its shoot) and not shed (eq (11)). */
 static mer_result lateral(builder *bd, const branch *b, uint32_t node, uint32_t y, uint32_t j,
-                          uint32_t m, uint64_t key)
+                          uint32_t m, uint64_t key, float r_node)
 {
     const merp_inv_def *d = bd->d;
     merp_skeleton *sk = bd->sk;
@@ -134,7 +136,7 @@ static mer_result lateral(builder *bd, const branch *b, uint32_t node, uint32_t 
     float a = merp_inv_lifespan(&d->g[MERP_G_A], s_b, d->a_max);
     if (s_b < d->s_min || !merp_inv_alive_at(a, y + 1, bd->t))
         return MER_OK;
-    branch c = {.order = b->order + 1, .born = y + 1, .s_b = s_b,
+    branch c = {.order = b->order + 1, .born = y + 1, .s_b = s_b, .r_cap = r_node,
                 .key = child_key(key, 0), .attach = node, .slot = 1};
     float *l = bd->lens + (size_t)c.order * (d->y_max + 1);
     merp_inv_branch_lengths(d, b->l, x, c.born, c.order, s_b, l);
@@ -153,8 +155,9 @@ static mer_result lateral(builder *bd, const branch *b, uint32_t node, uint32_t 
     return grow_branch(bd, &c);
 }
 
-/* Whether the metamer of key `key` was cut (a binary search of the sorted cuts). */
-static int is_cut(const merp_inv_keys *keys, uint64_t key)
+/* Whether the metamer of key `key` was cut (a binary search of the sorted
+ * cuts); a cut found is marked hit. */
+static int is_cut(merp_inv_keys *keys, uint64_t key)
 {
     if (keys == NULL)
         return 0;
@@ -166,11 +169,16 @@ static int is_cut(const merp_inv_keys *keys, uint64_t key)
         else
             hi = mid;
     }
-    return lo < keys->ncut && keys->cut[lo] == key;
+    if (lo < keys->ncut && keys->cut[lo] == key) {
+        if (keys->hit != NULL)
+            keys->hit[lo] = 1;
+        return 1;
+    }
+    return 0;
 }
 
-/* Records node id's key and leaf size. */
-static mer_result keep_key(builder *bd, uint32_t id, uint64_t key, float leaf)
+/* Records node id's key, leaf size and radius. */
+static mer_result keep_key(builder *bd, uint32_t id, uint64_t key, float leaf, float radius)
 {
     merp_inv_keys *k = bd->keys;
     if (k == NULL)
@@ -183,13 +191,17 @@ static mer_result keep_key(builder *bd, uint32_t id, uint64_t key, float leaf)
         if (of != NULL)
             k->of = of;
         float *lf = of != NULL ? merp_realloc(k->leaf, (size_t)cap * sizeof *lf) : NULL;
-        if (lf == NULL)
+        if (lf != NULL)
+            k->leaf = lf;
+        float *r = lf != NULL ? merp_realloc(k->radius, (size_t)cap * sizeof *r) : NULL;
+        if (r == NULL)
             return mer_error_set(bd->err, MER_ERR_NOMEM, NULL, "out of memory for node keys");
-        k->leaf = lf;
+        k->radius = r;
         k->cap = cap;
     }
     k->of[id] = key;
     k->leaf[id] = leaf;
+    k->radius[id] = radius;
     if (id >= k->used)
         k->used = id + 1;
     return MER_OK;
@@ -207,22 +219,28 @@ static float leaf_of(const builder *bd, uint32_t y, uint32_t j, uint32_t m)
            merp_inv_growth(&d->g[MERP_G_LG], bd->f, j, m, d->span);
 }
 
-/* A new node (or the plant's root, for the trunk's first metamer) after `prev`
- * (slot `slot`) with its geometry and key. */
+/* A node after `prev` (slot `slot`) with its geometry and key: the plant's
+ * root for the trunk's first metamer, else the id the key had in the tree
+ * before when that one is free, else a new one. */
 static mer_result put_node(builder *bd, const branch *b, uint32_t prev, uint32_t slot,
-                           uint32_t y, uint64_t key, float leaf, uint32_t *out)
+                           uint32_t y, uint64_t key, float leaf, float radius, uint32_t *out)
 {
     merp_skeleton *sk = bd->sk;
     uint32_t id = bd->reuse;
     if (id == MER_NO_NODE) {
-        mer_result rc = merp_skel_node_new(sk, y, &id, bd->err);
-        if (rc != MER_OK)
-            return rc;
+        id = bd->keys != NULL ? merp_inv_map_find(bd->keys->ids, key) : MER_NO_NODE;
+        if (id != MER_NO_NODE && id < sk->n && !sk->alive[id]) {
+            merp_skel_node_renew(sk, id, y);
+        } else {
+            mer_result rc = merp_skel_node_new(sk, y, &id, bd->err);
+            if (rc != MER_OK)
+                return rc;
+        }
         sk->parent[id] = prev;
         sk->slot[id] = (uint8_t)slot;
         sk->child[3 * prev + slot] = id;
     }
-    mer_result rc = keep_key(bd, id, key, leaf);
+    mer_result rc = keep_key(bd, id, key, leaf, radius);
     if (rc != MER_OK)
         return rc;
     bd->reuse = MER_NO_NODE;
@@ -243,6 +261,7 @@ static mer_result grow_branch(builder *bd, const branch *b)
     if (!(L > 0.0f))
         return MER_OK;
     float s_theta = merp_inv_s_theta(L, d->l_max), pos[3], side[3], along = 0.0f;
+    float r_b = merp_inv_base_radius(d, L, b->r_cap);
     memcpy(pos, b->base, sizeof pos);
     memcpy(side, b->side, sizeof side);
     uint32_t prev = b->attach, slot = b->slot, index = 0;
@@ -254,13 +273,14 @@ static mer_result grow_branch(builder *bd, const branch *b)
             float len = metamer_length(bd, y, j, m, l_i);
             if (!(len > 0.0f))
                 break; /* it and the metamers above it have not started */
-            uint64_t key = child_key(b->key, index);
+            uint64_t key = child_key(b->key, (y << 10) | j);
             if ((cut = is_cut(bd->keys, key)) != 0)
                 break;
             float theta = merp_inv_heading(&d->g[MERP_G_O1], &d->g[MERP_G_O2], s_theta,
                                            (along + 0.5f * len) / L, d->theta_max);
             uint32_t id;
-            mer_result rc = put_node(bd, b, prev, slot, y, key, leaf_of(bd, y, j, m), &id);
+            float r = merp_inv_radius(&d->g[MERP_G_R], along / L, r_b);
+            mer_result rc = put_node(bd, b, prev, slot, y, key, leaf_of(bd, y, j, m), r, &id);
             if (rc != MER_OK)
                 return rc;
             float *dir = sk->dir + 3 * id;
@@ -272,7 +292,7 @@ static mer_result grow_branch(builder *bd, const branch *b)
             sk->len[id] = len;
             merp_skel_node_end(sk, id, pos);
             along += len;
-            rc = lateral(bd, b, id, y, j, m, key);
+            rc = lateral(bd, b, id, y, j, m, key, r);
             if (rc != MER_OK)
                 return rc;
             prev = id;
@@ -284,17 +304,22 @@ static mer_result grow_branch(builder *bd, const branch *b)
     return MER_OK;
 }
 
-/* Kills the root's subtree below it and forgets it: a rebuilt tree is not a
- * shed one, so the pipe model must not remember the old wood. */
+/* Kills the root's subtree below it and unlinks every node of it: a rebuilt
+ * tree is not a shed one, so the pipe model must not remember the old wood,
+ * and a node left out of the new tree must not seem cut from a live one. */
 static mer_result clear(merp_skeleton *sk, uint32_t root, mer_error *err)
 {
     for (uint32_t k = 0; k < 3; k++) {
         uint32_t c = sk->child[3 * root + k];
+        size_t cnt;
         if (c != MER_NO_NODE) {
-            mer_result rc = merp_skel_kill(sk, c, err);
+            mer_result rc = merp_skel_subtree(sk, c, &cnt, err);
+            if (rc == MER_OK)
+                rc = merp_skel_kill(sk, c, err); /* the same walk again: cnt holds */
             if (rc != MER_OK)
                 return rc;
-            sk->parent[c] = MER_NO_NODE;
+            for (size_t t = 0; t < cnt; t++)
+                sk->parent[sk->stack[t]] = MER_NO_NODE;
         }
         merp_skel_bud_set(sk, root, k, MER_BUD_NONE);
     }
@@ -318,7 +343,8 @@ mer_result merp_inv_build(const merp_inv_def *d, double t, uint64_t seed, merp_s
     if (bd.lens == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for branch lengths");
     merp_inv_trunk_lengths(d, bd.lens);
-    branch trunk = {.order = 0, .born = 0, .s_b = 1.0f, .l = bd.lens, .attach = MER_NO_NODE};
+    branch trunk = {.order = 0, .born = 0, .s_b = 1.0f, .r_cap = -1.0f, .l = bd.lens,
+                    .attach = MER_NO_NODE};
     uint64_t s = seed ^ (UINT64_C(0x632BE59BD9B4E019) * (bd.plant + 1u));
     trunk.key = mer_splitmix64(&s);
     memcpy(trunk.base, sk->pos + 3 * root, sizeof trunk.base);

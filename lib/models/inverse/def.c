@@ -12,7 +12,7 @@
 
 const char *const merp_inv_fn_names[MERP_G_COUNT] = {
     "G_h", "G_s1", "G_s2", "G_o1", "G_o2", "G_bs", "G_ss",
-    "G_a", "G_m",  "G_l",  "G_e",  "G_lg", "G_bg",
+    "G_a", "G_m",  "G_l",  "G_e",  "G_lg", "G_bg", "G_r",
 };
 
 static int in(float v, float lo, float hi) { return isfinite(v) && v >= lo && v <= hi; }
@@ -36,6 +36,7 @@ static mer_result check_scalars(const merp_inv_def *d, mer_error *err)
         {"leaf_size", offsetof(merp_inv_def, leaf_size), 0.0f, 10.0f},
         {"span", offsetof(merp_inv_def, span), 0.0f, 0.95f},
         {"jitter", offsetof(merp_inv_def, jitter), 0.0f, 45.0f},
+        {"r_max", offsetof(merp_inv_def, r_max), 0.0001f, 10.0f},
     };
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
         float v;
@@ -71,7 +72,8 @@ mer_result merp_inv_def_check(const merp_inv_def *d, mer_error *err)
     return check_scalars(d, err);
 }
 
-/* The functions of a .fset into d by name; with `all`, every one must be there. */
+/* The functions of a .fset into d by name; with `all`, every one must be there
+ * but G_r, which a text written before it existed lacks: it gets the default. */
 static mer_result read_functions(merp_inv_def *d, const char *fset, size_t len, int all,
                                  mer_error *err)
 {
@@ -97,9 +99,11 @@ static mer_result read_functions(merp_inv_def *d, const char *fset, size_t len, 
         at[i] = k;
     }
     for (uint32_t k = 0; k < MERP_G_COUNT && rc == MER_OK && all; k++)
-        if (!(seen & (1u << k)))
+        if (!(seen & (1u << k)) && k != MERP_G_R)
             rc = mer_error_set(err, MER_ERR_INVALID, "functions", "%s is missing",
                                merp_inv_fn_names[k]);
+    if (rc == MER_OK && all && !(seen & (1u << MERP_G_R)))
+        rc = merp_inv_radius_default(&d->g[MERP_G_R], err);
     for (uint32_t i = 0; i < n && rc == MER_OK; i++)
         d->g[at[i]] = fs[i];
     merp_free(fs);

@@ -3,15 +3,18 @@
  * whole (the model is a function of time, build.c). The seed of its variation is
  * drawn once from the scene's stream, at the first tree it shows.
  *
- * Prunes outlive the rebuilds: when nodes are removed, the keys of the metamers
- * cut (build.c) are kept, and every later tree ends those branches there, in any
- * year and under any definition where the metamer still exists. A bend lasts
- * until the next rebuild: the headings are the functions'. */
+ * Prunes and bends outlive the rebuilds (regrow.c): when nodes are removed, the
+ * keys of the metamers cut (build.c) are kept, and a bend is recorded by its
+ * node's key; every later tree ends those branches there and makes the bends
+ * again, in any year and under any definition where the metamer still exists. */
 #include "config.h"
 
 #include <assert.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
+
+#include <meristem/edit.h>
 
 #include "core/alloc.h"
 #include "core/bytes.h"
@@ -19,19 +22,6 @@
 #include "models/inverse/inverse.h"
 #include "scene_private.h"
 
-struct merp_model {
-    merp_inv_def def;
-    uint64_t seed;
-    int seeded;
-    double t;       /* the time the tree shows */
-    merp_inv_keys keys;
-    uint64_t *cuts; /* keys.cut's storage, sorted */
-    uint32_t cap_cuts;
-    uint32_t first; /* the first id the last build made (the roots are before it) */
-    char *text;     /* the definition as text (merp_inv_def_write), NULL out of memory */
-    size_t tlen;
-    uint32_t branches[MERP_INV_ORDER_MAX + 1]; /* live branches by order, last build */
-};
 
 /* The definition's text again, after def changed. */
 static void retext(merp_model *m)
@@ -66,40 +56,13 @@ static void inverse_set_params(merp_model *m, const mer_params *p)
     (void)p;
 }
 
-/* Every plant at time t. */
-static mer_result show(merp_model *m, merp_skeleton *sk, mer_rng *rng, double t, mer_error *err)
-{
-    if (!m->seeded) {
-        m->seed = mer_rng_next(rng);
-        m->seeded = 1;
-    }
-    m->first = sk->n;
-    for (uint32_t r = 0; r < sk->nplants; r++) {
-        uint32_t root = sk->roots[r];
-        if (!sk->alive[root])
-            continue;
-        mer_result rc = merp_inv_build(&m->def, t, m->seed, sk, root, &m->keys, err);
-        if (rc != MER_OK)
-            return rc;
-    }
-    m->t = t;
-    /* A branch of order k starts where a node of order k has a parent of a lower one. */
-    memset(m->branches, 0, sizeof m->branches);
-    for (uint32_t i = m->first; i < sk->n; i++) {
-        uint32_t p = sk->parent[i], k = sk->order[i];
-        if (sk->alive[i] && p != MER_NO_NODE && sk->order[p] < k && k <= MERP_INV_ORDER_MAX)
-            m->branches[k]++;
-    }
-    return MER_OK;
-}
-
 static mer_result inverse_step(merp_model *m, const merp_world *w, mer_error *err)
 {
     uint32_t year = w->step + 1;
     if (year > m->def.y_max)
         return mer_error_set(err, MER_ERR_LIMIT, "count",
                              "this tree is defined for %u years", m->def.y_max);
-    return show(m, w->sk, w->rng, (double)year, err);
+    return merp_inv_show(m, w, (double)year, err);
 }
 
 /* Adds `key` to the sorted cuts; 0 when out of memory. */
@@ -113,9 +76,12 @@ static int add_cut(merp_model *m, uint64_t key)
     if (n == m->cap_cuts) {
         uint32_t cap = m->cap_cuts ? 2 * m->cap_cuts : 16;
         uint64_t *cuts = merp_realloc(m->cuts, (size_t)cap * sizeof *cuts);
-        if (cuts == NULL)
+        if (cuts != NULL)
+            m->cuts = cuts;
+        uint8_t *hit = cuts != NULL ? merp_realloc(m->hit, cap) : NULL;
+        if (hit == NULL)
             return 0;
-        m->cuts = cuts;
+        m->hit = hit;
         m->cap_cuts = cap;
     }
     memmove(m->cuts + at + 1, m->cuts + at, (size_t)(n - at) * sizeof *m->cuts);
@@ -131,11 +97,21 @@ static int add_cut(merp_model *m, uint64_t key)
 static void inverse_nodes_changed(merp_model *m, const merp_world *w)
 {
     const merp_skeleton *sk = w->sk;
-    for (uint32_t i = m->first; i < sk->n && i < m->keys.cap; i++) {
+    for (uint32_t i = 0; i < sk->n && i < m->keys.used; i++) {
         uint32_t p = sk->parent[i];
         if (!sk->alive[i] && p != MER_NO_NODE && sk->alive[p])
             (void)add_cut(m, m->keys.of[i]);
     }
+}
+
+/* After the pipe model's: every node the last build made gets the diameter of
+ * G04 §4.1's radius function (radius.c). O(nodes). */
+static void inverse_diameters(const merp_model *m, const merp_world *w)
+{
+    merp_skeleton *sk = w->sk;
+    for (uint32_t i = 0; i < sk->n && i < m->keys.used; i++)
+        if (sk->alive[i] && m->keys.of[i] != 0)
+            sk->dn[i] = powf(2.0f * m->keys.radius[i], sk->pipe_n);
 }
 
 static uint64_t inverse_hash(const merp_model *m, uint64_t h)
@@ -143,7 +119,31 @@ static uint64_t inverse_hash(const merp_model *m, uint64_t h)
     h = merp_fnv(h, &m->def, sizeof m->def);
     h = merp_fnv(h, &m->seed, sizeof m->seed);
     h = merp_fnv(h, &m->t, sizeof m->t);
-    return merp_fnv(h, m->cuts, (size_t)m->keys.ncut * sizeof *m->cuts);
+    h = merp_fnv(h, m->cuts, (size_t)m->keys.ncut * sizeof *m->cuts);
+    for (uint32_t k = 0; k < m->nbends; k++) {
+        const merp_inv_bend *b = &m->bends[k];
+        h = merp_fnv(h, &b->key, sizeof b->key);
+        h = merp_fnv(h, b->axis, sizeof b->axis);
+        h = merp_fnv(h, &b->angle, sizeof b->angle);
+        h = merp_fnv(h, &b->spread, sizeof b->spread);
+    }
+    return h;
+}
+
+static mer_result inverse_bending(merp_model *m, const merp_world *w, uint32_t node,
+                                  const float axis[3], float angle, uint32_t spread,
+                                  mer_error *err)
+{
+    return merp_inv_record_bend(m, w->sk, node, axis, angle, spread, err);
+}
+
+/* Every node's leaf is the model's (G_l as grown by G_lg): none but this year's. */
+static float inverse_leaf(const merp_model *m, const merp_skeleton *sk, uint32_t id)
+{
+    float leaf = id < m->keys.used && id < sk->n && sk->alive[id] && m->seeded
+                     ? m->keys.leaf[id]
+                     : 0.0f;
+    return leaf > 0.0f ? leaf : -1.0f;
 }
 
 static void inverse_free(merp_model *m)
@@ -152,7 +152,11 @@ static void inverse_free(merp_model *m)
         return;
     merp_free(m->keys.of);
     merp_free(m->keys.leaf);
+    merp_free(m->keys.radius);
     merp_free(m->cuts);
+    merp_free(m->hit);
+    merp_free(m->bends);
+    merp_inv_map_free(&m->ids);
     merp_free(m->text);
     merp_free(m);
 }
@@ -165,47 +169,70 @@ static mer_result inverse_clone(const merp_model *m, merp_model **out, mer_error
     memcpy(c, m, sizeof *c);
     c->keys.of = NULL;
     c->keys.leaf = NULL;
+    c->keys.radius = NULL;
     c->cuts = NULL;
+    c->hit = NULL;
+    c->bends = NULL;
+    memset(&c->ids, 0, sizeof c->ids);
     c->text = NULL;
     retext(c);
     size_t cap = m->keys.cap;
     if (cap > 0) {
         c->keys.of = merp_malloc(cap * sizeof *c->keys.of);
         c->keys.leaf = merp_malloc(cap * sizeof *c->keys.leaf);
+        c->keys.radius = merp_malloc(cap * sizeof *c->keys.radius);
     }
-    if (m->cap_cuts > 0)
+    if (m->cap_cuts > 0) {
         c->cuts = merp_malloc((size_t)m->cap_cuts * sizeof *c->cuts);
-    if (c->text == NULL || (cap > 0 && (c->keys.of == NULL || c->keys.leaf == NULL)) ||
-        (m->cap_cuts > 0 && c->cuts == NULL)) {
+        c->hit = merp_malloc(m->cap_cuts);
+    }
+    if (m->cap_bends > 0)
+        c->bends = merp_malloc((size_t)m->cap_bends * sizeof *c->bends);
+    if (c->text == NULL ||
+        (cap > 0 && (c->keys.of == NULL || c->keys.leaf == NULL || c->keys.radius == NULL)) ||
+        (m->cap_cuts > 0 && (c->cuts == NULL || c->hit == NULL)) ||
+        (m->cap_bends > 0 && c->bends == NULL)) {
         inverse_free(c);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the inverse model");
     }
     if (cap > 0) {
         memcpy(c->keys.of, m->keys.of, cap * sizeof *c->keys.of);
         memcpy(c->keys.leaf, m->keys.leaf, cap * sizeof *c->keys.leaf);
+        memcpy(c->keys.radius, m->keys.radius, cap * sizeof *c->keys.radius);
     }
     if (m->keys.ncut > 0)
         memcpy(c->cuts, m->cuts, (size_t)m->keys.ncut * sizeof *c->cuts);
+    if (m->nbends > 0)
+        memcpy(c->bends, m->bends, (size_t)m->nbends * sizeof *c->bends);
     c->keys.cut = c->cuts;
     *out = c;
     return MER_OK;
 }
 
 /* The checkpoint: the definition (its samples are recomputed on loading), the
- * seed, the time shown, the first id of the last build, each built node's key
- * and leaf, and the cuts. Host byte order, as every checkpoint. */
+ * seed, the time shown, the edits the last rebuild dropped, each built node's key,
+ * leaf and radius, the cuts and the bends. Host byte order, as every checkpoint. */
 static void inverse_save(const merp_model *m, merp_bytes_out *out)
 {
     merp_put(out, &m->def, sizeof m->def);
     merp_put_u64(out, m->seed);
     merp_put_u32(out, (uint32_t)m->seeded);
     merp_put(out, &m->t, sizeof m->t);
-    merp_put_u32(out, m->first);
+    merp_put_u32(out, m->dropped);
     merp_put_u32(out, m->keys.used);
     merp_put(out, m->keys.of, (size_t)m->keys.used * sizeof *m->keys.of);
     merp_put(out, m->keys.leaf, (size_t)m->keys.used * sizeof *m->keys.leaf);
+    merp_put(out, m->keys.radius, (size_t)m->keys.used * sizeof *m->keys.radius);
     merp_put_u32(out, m->keys.ncut);
     merp_put(out, m->cuts, (size_t)m->keys.ncut * sizeof *m->cuts);
+    merp_put_u32(out, m->nbends);
+    for (uint32_t k = 0; k < m->nbends; k++) {
+        const merp_inv_bend *b = &m->bends[k];
+        merp_put_u64(out, b->key);
+        merp_put(out, b->axis, sizeof b->axis);
+        merp_put(out, &b->angle, sizeof b->angle);
+        merp_put_u32(out, b->spread);
+    }
 }
 
 /* Whether what was read holds together: a valid definition, a time in its
@@ -213,11 +240,13 @@ static void inverse_save(const merp_model *m, merp_bytes_out *out)
 static int loaded_ok(merp_model *m, uint32_t nodes)
 {
     if (merp_inv_def_check(&m->def, NULL) != MER_OK || m->seeded > 1 ||
-        !(m->t >= 0.0 && m->t <= (double)m->def.y_max) || m->first > nodes ||
-        m->keys.used > nodes)
+        !(m->t >= 0.0 && m->t <= (double)m->def.y_max) || m->keys.used > nodes)
         return 0;
     for (uint32_t i = 1; i < m->keys.ncut; i++)
         if (m->cuts[i - 1] >= m->cuts[i])
+            return 0;
+    for (uint32_t k = 0; k < m->nbends; k++)
+        if (m->bends[k].spread < 1 || m->bends[k].spread > MER_BEND_SPREAD_MAX)
             return 0;
     for (uint32_t i = 0; i < MERP_G_COUNT; i++)
         merp_gfunc_prepare(&m->def.g[i], NULL);
@@ -236,14 +265,35 @@ static mer_result inverse_load(merp_bytes_in *in, uint32_t nodes, merp_model **o
     m->seed = merp_get_u64(in);
     m->seeded = (int)merp_get_u32(in);
     merp_get(in, &m->t, sizeof m->t);
-    m->first = merp_get_u32(in);
+    m->dropped = merp_get_u32(in);
     uint32_t used = merp_get_u32(in);
-    (void)(MERP_GET_ARRAY(in, m->keys.of, used) && MERP_GET_ARRAY(in, m->keys.leaf, used));
+    (void)(MERP_GET_ARRAY(in, m->keys.of, used) && MERP_GET_ARRAY(in, m->keys.leaf, used) &&
+           MERP_GET_ARRAY(in, m->keys.radius, used));
     m->keys.cap = m->keys.used = in->bad ? 0 : used;
     uint32_t ncut = merp_get_u32(in);
     (void)MERP_GET_ARRAY(in, m->cuts, ncut);
     m->cap_cuts = m->keys.ncut = in->bad ? 0 : ncut;
     m->keys.cut = m->cuts;
+    m->hit = ncut > 0 && !in->bad ? merp_malloc(ncut) : NULL;
+    if (ncut > 0 && !in->bad && m->hit == NULL)
+        in->bad = 2;
+    uint32_t nb = merp_get_u32(in);
+    if (!in->bad && nb > 0 && nb <= in->n - in->at) {
+        m->bends = merp_malloc((size_t)nb * sizeof *m->bends);
+        if (m->bends == NULL)
+            in->bad = 2;
+    } else if (nb > 0) {
+        in->bad = in->bad ? in->bad : 1;
+    }
+    for (uint32_t k = 0; k < nb && !in->bad; k++) {
+        merp_inv_bend *b = &m->bends[k];
+        memset(b, 0, sizeof *b);
+        b->key = merp_get_u64(in);
+        merp_get(in, b->axis, sizeof b->axis);
+        merp_get(in, &b->angle, sizeof b->angle);
+        b->spread = merp_get_u32(in);
+    }
+    m->nbends = m->cap_bends = in->bad ? 0 : nb;
     if (in->bad || !loaded_ok(m, nodes)) {
         int oom = in->bad == 2;
         inverse_free(m);
@@ -269,7 +319,7 @@ static mer_result inverse_set_definition(merp_model *m, const merp_world *w, con
                              (double)w->step > m->t ? (double)w->step : m->t);
     m->def = d;
     retext(m);
-    return m->seeded ? show(m, w->sk, w->rng, m->t, err) : MER_OK;
+    return m->seeded ? merp_inv_show(m, w, m->t, err) : MER_OK;
 }
 
 static const char *inverse_definition(const merp_model *m, size_t *len)
@@ -282,8 +332,8 @@ static const char *inverse_definition(const merp_model *m, size_t *len)
 static size_t inverse_stats(const merp_model *m, mer_model_stat *out, size_t cap)
 {
     size_t k = 0;
-    double v[3 + MERP_INV_ORDER_MAX];
-    char names[3 + MERP_INV_ORDER_MAX][24];
+    double v[5 + MERP_INV_ORDER_MAX];
+    char names[5 + MERP_INV_ORDER_MAX][24];
     snprintf(names[k], sizeof names[k], "year");
     v[k++] = m->t;
     snprintf(names[k], sizeof names[k], "y_max");
@@ -292,6 +342,14 @@ static size_t inverse_stats(const merp_model *m, mer_model_stat *out, size_t cap
         snprintf(names[k], sizeof names[k], "branches.order%u", o);
         v[k++] = m->branches[o];
     }
+    /* The recorded edits made again on every regrowth, and those the last one
+     * dropped because its tree lacks their node (regrow.c). */
+    snprintf(names[k], sizeof names[k], "edits.prunes");
+    v[k++] = m->keys.ncut;
+    snprintf(names[k], sizeof names[k], "edits.bends");
+    v[k++] = m->nbends;
+    snprintf(names[k], sizeof names[k], "edits.dropped");
+    v[k++] = m->dropped;
     for (size_t i = 0; i < k && i < cap; i++) {
         memcpy(out[i].name, names[i], sizeof out[i].name);
         out[i].value = v[i];
@@ -302,7 +360,7 @@ static size_t inverse_stats(const merp_model *m, mer_model_stat *out, size_t cap
 const merp_model_ops merp_inverse_ops = {
     .name = "inverse",
     .param_rows = 0,
-    .state_version = 1,
+    .state_version = 2,
     .validate = NULL,
     .create = inverse_create,
     .set_params = inverse_set_params,
@@ -315,6 +373,9 @@ const merp_model_ops merp_inverse_ops = {
     .free = inverse_free,
     .set_definition = inverse_set_definition,
     .definition = inverse_definition,
+    .diameters = inverse_diameters,
+    .leaf = inverse_leaf,
+    .bending = inverse_bending,
     .stats = inverse_stats,
 };
 
@@ -325,8 +386,10 @@ mer_result merp_inverse_show(mer_scene *s, double t, mer_error *err)
     if (!(t >= 0.0 && t <= (double)m->def.y_max))
         return mer_error_set(err, MER_ERR_RANGE, "t", "t must be in [0, %u] years",
                              m->def.y_max);
-    mer_result rc = show(m, &s->sk, &s->rng, t, err);
+    merp_world w = merp_scene_world(s);
+    mer_result rc = merp_inv_show(m, &w, t, err);
     merp_pipe_update(&s->sk, &s->p);
+    inverse_diameters(m, &w);
     return rc;
 }
 
@@ -365,13 +428,13 @@ uint64_t merp_inverse_node_key(const mer_scene *s, uint32_t id)
 {
     assert(s != NULL && s->ops == &merp_inverse_ops);
     const merp_model *m = s->model;
-    return id < m->keys.cap && id < s->sk.n && m->seeded ? m->keys.of[id] : 0;
+    return id < m->keys.used && id < s->sk.n && m->seeded ? m->keys.of[id] : 0;
 }
 
 float merp_inverse_leaf_size(const mer_scene *s, uint32_t id)
 {
     assert(s != NULL && s->ops == &merp_inverse_ops);
     const merp_model *m = s->model;
-    return id < m->keys.cap && id < s->sk.n && s->sk.alive[id] && m->seeded ? m->keys.leaf[id]
-                                                                            : 0.0f;
+    return id < m->keys.used && id < s->sk.n && s->sk.alive[id] && m->seeded ? m->keys.leaf[id]
+                                                                             : 0.0f;
 }

@@ -13,14 +13,17 @@
  *   shoot.c       eq (14): metamers of a shoot; leaf size G_l
  *   phyllotaxis.c 137.5° divergence and the 40° rule (G04 §4.3)
  *   development.c continuous development within a year (G04 §4.3, Figs. 12–13)
+ *   radius.c      the radius as a function of position along the branch (§4.1)
  * and build.c puts them together into a tree at any (fractional) time on the
- * shared skeleton; inverse.c is the growth model (model.h) around it, populus.c
- * the Populus deltoides definition of G04 §5, species.c two more of our own.
+ * shared skeleton; regrow.c and memory.c carry ids, prunes and bends from one
+ * tree to the next; inverse.c is the growth model (model.h) around them,
+ * populus.c the Populus deltoides definition of G04 §5, species.c two more of
+ * our own.
  *
  * Units: lengths in metres, angles in degrees, time in years. A function's
  * value is in [0, 1] (or [-1, 1] for headings) and a scalar of the definition
  * gives it its unit: l = h_max · G_h(t), θ = θ_max · G_o(x), a = a_max · G_a(s_b),
- * m = m_max · G_m(q), leaf = leaf_size · G_l(x_s). G04 draws its functions in
+ * m = m_max · G_m(q), leaf = leaf_size · G_l(x_s), r = r_max · (L / h_max) · G_r(x). G04 draws its functions in
  * the unit the model reads; a unit scale per quantity lets one drawn shape serve
  * trees of any size. */
 #ifndef MERISTEM_INVERSE_H
@@ -51,6 +54,8 @@ typedef enum merp_inv_fn {
     MERP_G_E,   /* internode elongation over a metamer's growth (§4.3, Fig. 12) */
     MERP_G_LG,  /* leaf growth over a metamer's growth (§4.3, Fig. 13) */
     MERP_G_BG,  /* bud growth over a metamer's growth (§4.3) */
+    MERP_G_R,   /* G_r(x_y): radius by position along the branch (§4.1); optional in a
+                 * .fset (merp_inv_radius_default) */
     MERP_G_COUNT
 } merp_inv_fn;
 
@@ -78,6 +83,7 @@ typedef struct merp_inv_def {
     float span;         /* fraction of a year over which a shoot's metamers start (§4.3) */
     uint32_t order_max; /* the highest branch order built, 1..MERP_INV_ORDER_MAX */
     float jitter;       /* stochastic variation of orientation (§4.1), degrees */
+    float r_max;        /* the trunk's base radius at length h_max: the unit of G_r, m */
 } merp_inv_def;
 
 /* Checks a definition: every function prepared and named after its role, the
@@ -169,6 +175,17 @@ float merp_inv_leaf_size(const merp_gfunc *gl, float x_s, float leaf_size);
 /* Where the j-th of m metamers sits along its shoot, x_s ∈ (0, 1]: its tip's. */
 float merp_inv_x_s(uint32_t j, uint32_t m);
 
+/* radius.c — the radius along a branch (§4.1). */
+/* A branch's base radius: r_max · length / h_max, at most `cap` (the parent's
+ * radius where it leaves it; cap < 0: none), m. */
+float merp_inv_base_radius(const merp_inv_def *d, float length, float cap);
+/* r = r_base · G_r(x), x the position along the branch over its current length
+ * (x_y, as for the headings of eq (9)); never negative. */
+float merp_inv_radius(const merp_gfunc *gr, float x, float r_base);
+/* The G_r a .fset without one gets: a taper from 1 to 0.1. MER_ERR_INVALID
+ * never (the points are fixed). */
+mer_result merp_inv_radius_default(merp_gfunc *gr, mer_error *err);
+
 /* phyllotaxis.c — G04 §4.3. */
 #define MERP_INV_DIVERGENCE 137.5f /* degrees between successive laterals */
 #define MERP_INV_APART 40.0f       /* the 40° rule */
@@ -191,16 +208,55 @@ float merp_inv_metamer_start(uint32_t j, uint32_t m, float span);
 float merp_inv_growth(const merp_gfunc *g, float f, uint32_t j, uint32_t m, float span);
 
 /* build.c — every metamer has a key, a function of the seed and its place in
- * the tree (its branch's key and its index along the branch), the same in every
- * year and at every t: what lets a prune outlive the rebuilds. */
+ * the tree (its branch's key, the year of its shoot and its index in that
+ * shoot), the same in every year, at every t and under every definition that
+ * makes it: what lets a node keep its id, and a prune or bend outlive the
+ * rebuilds. */
+typedef struct merp_inv_map {
+    uint64_t *key;  /* open addressing, linear probing; id MER_NO_NODE: empty */
+    uint32_t *id;
+    uint32_t mask;  /* slots − 1 (a power of two), 0 when there are none */
+} merp_inv_map;
 typedef struct merp_inv_keys {
     uint64_t *of;        /* of[id]: the key of node id, for the nodes builds made */
     float *leaf;         /* leaf[id]: its leaf's size, m (G_l, G_lg; 0: none) */
-    uint32_t cap;        /* entries of `of` and `leaf` (merp_malloc'd; builds grow them) */
+    float *radius;       /* radius[id]: its radius at its base, m (G_r, radius.c) */
+    uint32_t cap;        /* entries of the arrays (merp_malloc'd; builds grow them) */
     uint32_t used;       /* one past the highest id a build recorded */
     const uint64_t *cut; /* the keys of cut metamers, sorted: a build stops there */
+    uint8_t *hit;        /* hit[k]: a build reached cut k (may be NULL) */
     uint32_t ncut;
+    const merp_inv_map *ids; /* the ids of the tree before: a key found there
+                              * gets its id again (may be NULL) */
 } merp_inv_keys;
+
+/* memory.c — what the model keeps across rebuilds (see inverse.c). */
+/* The map of every live node of sk with a key in `keys` to its id. MER_ERR_NOMEM.
+ * O(nodes). */
+mer_result merp_inv_map_build(merp_inv_map *map, const merp_inv_keys *keys,
+                              const merp_skeleton *sk, mer_error *err);
+void merp_inv_map_free(merp_inv_map *map);
+/* The id of `key` in the map, MER_NO_NODE when it is not there. O(1) expected. */
+uint32_t merp_inv_map_find(const merp_inv_map *map, uint64_t key);
+/* A bend as the model records it: the node by its key, the axis in the node's
+ * frame (along its direction, its side, and direction × side), so that it turns
+ * the same way relative to the branch however the functions place it. */
+typedef struct merp_inv_bend {
+    uint64_t key;
+    float axis[3];
+    float angle;     /* degrees */
+    uint32_t spread; /* mer_scene_bend_spread's */
+} merp_inv_bend;
+/* The bend of node `id` about the world axis `ax` (unit), as a record. */
+merp_inv_bend merp_inv_bend_record(const merp_skeleton *sk, uint32_t id, uint64_t key,
+                                   const float ax[3], float angle, uint32_t spread);
+/* The world axis of a record at node id. */
+void merp_inv_bend_axis(const merp_skeleton *sk, uint32_t id, const merp_inv_bend *b,
+                        float out[3]);
+/* Whether the tree needs its ids renumbered: more dead ids than live ones (and
+ * 1024 more), or a node whose id is below its parent's (the mesher and the
+ * pipe model take parents first). O(nodes). */
+int merp_inv_needs_renumbering(const merp_skeleton *sk);
 /* The tree at time t (years, 0..y_max, fractional allowed) onto plant `root`
  * of sk: root's subtree is replaced (the old nodes die, unremembered by the pipe
  * model) by the tree of `d` at t, its nodes born at the year of their shoot.
@@ -210,6 +266,37 @@ typedef struct merp_inv_keys {
  * MER_ERR_NOMEM. O(nodes). */
 mer_result merp_inv_build(const merp_inv_def *d, double t, uint64_t seed, merp_skeleton *sk,
                           uint32_t root, merp_inv_keys *keys, mer_error *err);
+
+/* The model's state (inverse.c, regrow.c). */
+struct merp_model {
+    merp_inv_def def;
+    uint64_t seed;
+    int seeded;
+    double t;              /* the time the tree shows */
+    merp_inv_keys keys;
+    uint64_t *cuts;        /* keys.cut's storage, sorted */
+    uint8_t *hit;          /* keys.hit's storage */
+    uint32_t cap_cuts;     /* of cuts and hit */
+    merp_inv_bend *bends;  /* in the order they were made */
+    uint32_t nbends, cap_bends;
+    uint32_t dropped;      /* prunes and bends the last rebuild dropped */
+    merp_inv_map ids;      /* scratch: key → id */
+    char *text;            /* the definition as text (merp_inv_def_write), NULL out of memory */
+    size_t tlen;
+    uint32_t branches[MERP_INV_ORDER_MAX + 1]; /* live branches by order, last build */
+};
+
+/* regrow.c — the tree at time t on every plant of w->sk, the recorded edits
+ * made again: the seed is drawn from w->rng at the first; a node keeps its id
+ * where its key had one (renumbered when merp_inv_needs_renumbering says so);
+ * a cut key stops its branch; each bend is made again at its node. A prune or
+ * bend whose node this tree lacks is dropped (m->dropped counts them).
+ * MER_ERR_NOMEM, MER_ERR_LIMIT as merp_inv_build. O(nodes). */
+mer_result merp_inv_show(merp_model *m, const merp_world *w, double t, mer_error *err);
+/* Records a bend of node id (model.h's `bending`). MER_ERR_NOMEM. */
+mer_result merp_inv_record_bend(merp_model *m, const merp_skeleton *sk, uint32_t id,
+                                const float ax[3], float angle, uint32_t spread,
+                                mer_error *err);
 
 /* inverse.c — the growth model (model.h): a step is a year; the scene's tree is
  * its definition at year = steps done (the Populus of G04 §5 until

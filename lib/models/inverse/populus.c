@@ -14,7 +14,8 @@
  *   G_a   lifespan rising steeply with s_b: interior and lower branches go first;
  *   G_m   metamers by shoot length; G_l leaf size along the shoot (the only
  *         linear function here: a tent of three points);
- *   G_e, G_lg, G_bg  sigmoid growth of internode, leaf and bud (Figs. 12–13).
+ *   G_e, G_lg, G_bg  sigmoid growth of internode, leaf and bud (Figs. 12–13);
+ *   G_r   the radius along a branch (§4.1): a flared base, then a taper.
  * Branching angles run from 80° (short) to 35° (long) as G04 §2.2 observes.
  *
  * Kept as .fset text, not a C table: the library reads no files, and this text is
@@ -28,7 +29,7 @@
 
 const char merp_inv_populus_fset[] =
     "funcgalleryver 1 1\n"
-    "items: 13\n"
+    "items: 14\n"
     "fver 1 1\n"
     "name: G_h\n"
     "samples: 64\n"
@@ -146,7 +147,16 @@ const char merp_inv_populus_fset[] =
     "0 0\n"
     "0.5 0\n"
     "0.8 0.6\n"
-    "1 1\n";
+    "1 1\n"
+    "fver 1 1\n"
+    "name: G_r\n"
+    "samples: 64\n"
+    "flip: off\n"
+    "points: 4\n"
+    "0 1\n"
+    "0.1 0.75\n"
+    "0.6 0.45\n"
+    "1 0.08\n";
 
 mer_result merp_inv_populus(merp_inv_def *d, mer_error *err)
 {
@@ -167,6 +177,7 @@ mer_result merp_inv_populus(merp_inv_def *d, mer_error *err)
     d->span = 0.5f;
     d->order_max = 3;
     d->jitter = 6.0f;
+    d->r_max = 0.3f; /* m: a trunk some 60 cm across at the base */
     mer_result rc = merp_inv_def_functions(d, merp_inv_populus_fset,
                                            sizeof merp_inv_populus_fset - 1, err);
     return rc == MER_OK ? merp_inv_def_check(d, err) : rc;

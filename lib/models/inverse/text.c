@@ -36,7 +36,7 @@ typedef struct scalar {
 static const scalar scalars[] = {
     U(y_max),     F(h_max),     F(l_min),      F(l_max),     F(ls_max), U(m_max),
     F(a_max),     F(s_min),     F(theta_max),  F(beta_short), F(beta_long),
-    F(leaf_size), F(span),      U(order_max),  F(jitter),
+    F(leaf_size), F(span),      U(order_max),  F(jitter),     F(r_max),
 };
 #undef F
 #undef U
