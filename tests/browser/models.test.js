@@ -27,7 +27,7 @@ before(async () => {
     if (r.method() === 'POST' && /\/edits$/.test(r.url())) edits.push(JSON.parse(r.postData()));
     if (r.url().includes('/snapshot.glb')) snapshots.push(r.url());
   });
-  await page.goto(`${d.url}/`);
+  await page.goto(`${d.url}/`, { timeout: 120000 });   // a loaded machine is slow to start Chromium's first page
   await page.waitForFunction(() => window.meristem?.ready, null, { timeout: 30000 });
 });
 after(async () => { await browser?.close(); await d?.stop(); });

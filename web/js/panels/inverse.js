@@ -32,7 +32,10 @@ class FunctionCard {
     const [what, long, axis] = FUNCTION_INFO[f.name] || ['', '', 'x'];
     const cap = document.createElement('figcaption');
     cap.innerHTML = '<b class="symbol"></b> <span></span>';
-    cap.querySelector('b').innerHTML = f.name.replace(/^G_(\w+)$/, 'G<sub>$1</sub>');
+    const [base, sub] = f.name.split(/_(.*)/);   // G_s2: G with s2 as a subscript
+    const sym = cap.querySelector('b');
+    sym.textContent = base;
+    if (sub) sym.append(Object.assign(document.createElement('sub'), { textContent: sub }));
     cap.querySelector('span').textContent = what;
     cap.title = `${f.name}: ${long}; x: ${axis}${f.kind === 'linear' ? '; a polyline' : '; a cubic B-spline'}`;
     this.svg = svgEl('svg', { viewBox: `0 0 ${W} ${H}`, role: 'img', 'aria-label': `${f.name}: ${long}` });

@@ -35,14 +35,24 @@ class CodeEditor {
     if (line !== null && column !== null) {
       const lines = this.area.value.split('\n');
       const at = lines.slice(0, line - 1).reduce((n, l) => n + l.length + 1, 0) + Math.max(0, column - 1);
+      this.area.focus({ preventScroll: true });
       this.area.setSelectionRange(at, at);
-      // Scroll the line into the middle of the box.
+      // The line in the middle of the box; the column in view, with the line's start if it can.
       this.area.scrollTop = Math.max(0, (line - 1) * this.lineHeight() - this.area.clientHeight / 2);
+      const cw = this.charWidth();
+      this.area.scrollLeft = Math.max(0, (column + 4) * cw - this.area.clientWidth);
     }
     this.sync();
   }
 
   lineHeight() { return parseFloat(getComputedStyle(this.area).lineHeight) || 16; }
+
+  /** The width of a character of the (monospace) font. */
+  charWidth() {
+    const c = (CodeEditor.canvas ||= document.createElement('canvas')).getContext('2d');
+    c.font = getComputedStyle(this.area).font;
+    return c.measureText('0').width || 7;
+  }
 
   /** The gutter's numbers and the mark follow the text and its scroll. */
   sync() {

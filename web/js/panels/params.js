@@ -99,6 +99,13 @@ export class ParamsPanel {
     const sym = document.createElement('span');
     sym.className = 'symbol';
     sym.textContent = p.symbol || '';
+    // d_i, w_max: the part after the underscore as a subscript, as the papers set it.
+    const [base, sub] = (p.symbol || '').split('_');
+    if (sub) {
+      const s = document.createElement('sub');
+      s.textContent = sub;
+      sym.replaceChildren(base, s);
+    }
     const name = document.createElement('span');
     name.className = 'pname';
     name.textContent = p.label || p.name;
