@@ -162,6 +162,17 @@ test('an inverse tree: a dragged control point regrows it; the time slider draws
   await page.locator('#time-slider').fill('8');
   await page.waitForFunction((n) => window.meristem.session.state.loads > n, loads, { timeout: 20000 });
   assert.match(await page.textContent('#time-at'), /^year 8$/);
+
+  // .fset out and in: the download is the session's text; an upload replaces G_h and the
+  // panel draws the new curve.
+  const href = await page.getAttribute('#inv-download', 'href');
+  assert.equal(href, `v1/sessions/${id}/functions`);
+  const r = await page.evaluate(() => window.meristem.summary.revision);
+  await page.setInputFiles('#inv-upload', { name: 'early.fset', mimeType: 'text/plain', buffer: Buffer.from(
+    'funcgalleryver 1 1\nitems: 1\nfver 1 1\nname: G_h\nsamples: 64\nflip: off\npoints: 4\n0 0.05\n0.2 0.7\n0.5 1\n1 1\n') });
+  await page.waitForFunction((n) => window.meristem.summary.revision > n, r);
+  await page.waitForFunction(() => window.meristem.panels.inverse.cards
+    .find((c) => c.f.name === 'G_h')?.f.points.map((p) => Math.abs(p[0] - 0.2) < 1e-6)[1], null, { timeout: 20000 });
 });
 
 test('a stale fractional year is cancelled: the last one asked for is drawn', async () => {
