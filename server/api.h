@@ -27,6 +27,7 @@ enum MHD_Result merd_api_cancel(merd_request *req, const char *id);
 enum MHD_Result merd_api_revisions(merd_request *req, const char *id);
 enum MHD_Result merd_api_skeleton(merd_request *req, const char *id);
 enum MHD_Result merd_api_functions(merd_request *req, const char *id);
+enum MHD_Result merd_api_lsystem(merd_request *req, const char *id);
 
 /* The query parameters (NULL-terminated) of snapshot options, which a
  * GLB-answered edit reads, and those of snapshot.glb: the options and revision. */

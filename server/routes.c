@@ -43,6 +43,7 @@ static const route routes[] = {
     {"GET", "/v1/sessions/{id}/revisions", merd_api_revisions, false, revisions_query},
     {"GET", "/v1/sessions/{id}/skeleton", merd_api_skeleton, false, skeleton_query},
     {"GET", "/v1/sessions/{id}/functions", merd_api_functions, false, functions_query},
+    {"GET", "/v1/sessions/{id}/lsystem", merd_api_lsystem, false, no_query},
 };
 #define N_ROUTES (sizeof routes / sizeof routes[0])
 

@@ -156,6 +156,10 @@ json_t *merd_session_skeleton(merd_session *s, bool alive_only);
  * Blocks while a batch runs. O(text). */
 char *merd_session_functions(merd_session *s, size_t *len);
 
+/* The cpfg source of an L-system session, as merd_session_functions gives an
+ * inverse session's functions (NULL for another model). O(text). */
+char *merd_session_lsystem(merd_session *s, size_t *len);
+
 /* Living internodes after the last accepted batch (for metrics). */
 uint32_t merd_session_internodes(merd_session *s);
 

@@ -138,21 +138,24 @@ json_t *merd_session_skeleton(merd_session *s, bool alive_only)
     return body;
 }
 
-char *merd_session_functions(merd_session *s, size_t *len)
+/* A malloc'd copy of the definition of a session of model `model`, from the
+ * first `from` on (NULL: all of it); NULL for another model or out of memory
+ * (*len 0 or 1). */
+static char *definition_copy(merd_session *s, mer_model_kind model, const char *from, size_t *len)
 {
     pthread_mutex_lock(&s->work);
     size_t n = 0;
-    const char *text = mer_scene_params(s->scene)->model == MER_MODEL_INVERSE
+    const char *text = mer_scene_params(s->scene)->model == model
                            ? mer_scene_definition(s->scene, &n)
                            : NULL;
-    const char *fset = text != NULL ? strstr(text, "funcgalleryver") : NULL;
+    const char *start = text != NULL && from != NULL ? strstr(text, from) : text;
     char *copy = NULL;
     *len = 0;
-    if (fset != NULL) {
-        n -= (size_t)(fset - text);
+    if (start != NULL) {
+        n -= (size_t)(start - text);
         copy = malloc(n + 1);
         if (copy != NULL) {
-            memcpy(copy, fset, n + 1);
+            memcpy(copy, start, n + 1);
             *len = n;
         } else {
             *len = 1;
@@ -160,4 +163,14 @@ char *merd_session_functions(merd_session *s, size_t *len)
     }
     pthread_mutex_unlock(&s->work);
     return copy;
+}
+
+char *merd_session_functions(merd_session *s, size_t *len)
+{
+    return definition_copy(s, MER_MODEL_INVERSE, "funcgalleryver", len);
+}
+
+char *merd_session_lsystem(merd_session *s, size_t *len)
+{
+    return definition_copy(s, MER_MODEL_LSYSTEM, NULL, len);
 }

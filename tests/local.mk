@@ -56,6 +56,7 @@ TESTS += tests/browser/controls.test.js
 TESTS += tests/browser/modeller.test.js
 TESTS += tests/conformance/importers.test.js
 TESTS += tests/browser/history.test.js
+TESTS += tests/browser/models.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
@@ -99,6 +100,7 @@ EXTRA_DIST += \
 	tests/browser/modeller.test.js \
 	tests/conformance/importers.test.js \
 	tests/browser/history.test.js \
+	tests/browser/models.test.js \
 	tests/conformance/validate.test.js
 
 # A thousand kill -9 cycles (make check runs a few dozen); CRASH_SEED=N replays one.

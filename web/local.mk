@@ -9,11 +9,14 @@ webdir = $(pkgdatadir)/web
 WEB_FILES = web/index.html web/style.css web/favicon.svg \
 	web/js/app.js web/js/api.js web/js/util.js web/js/status.js \
 	web/js/session.js web/js/constraint.js web/js/topbar.js web/js/input.js \
+	web/js/models.js \
 	web/js/tools/index.js web/js/tools/view.js web/js/tools/brush.js \
 	web/js/tools/symmetry.js web/js/tools/hover.js web/js/tools/prune.js \
 	web/js/tools/bend.js \
 	web/js/panels/index.js web/js/panels/growth.js web/js/panels/view.js \
 	web/js/panels/schedule.js web/js/panels/params.js web/js/panels/history.js \
+	web/js/panels/time.js web/js/panels/lsystem.js web/js/panels/inverse.js \
+	web/js/panels/gfunc.js \
 	web/js/viewer/viewer.js web/js/viewer/loader.js web/js/viewer/picking.js \
 	web/js/viewer/highlight.js web/js/viewer/lod.js web/js/viewer/probe.js
 THREE_PARTS = \

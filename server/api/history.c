@@ -1,6 +1,7 @@
 /* meristemd — GET /v1/sessions/{id}/revisions (a page of the session's
- * revisions) and GET /v1/sessions/{id}/skeleton (its nodes for scripts).
- * and GET /v1/sessions/{id}/functions (an inverse-model session's .fset). All
+ * revisions), GET /v1/sessions/{id}/skeleton (its nodes for scripts),
+ * GET /v1/sessions/{id}/functions (an inverse-model session's .fset) and
+ * GET /v1/sessions/{id}/lsystem (an L-system session's source). All
  * read the tree's state under its work lock, so a worker answers them. */
 #include "config.h"
 
@@ -125,21 +126,30 @@ static json_t *functions_json(const char *text)
     return list != NULL ? json_pack("{s:o}", "functions", list) : NULL;
 }
 
+/* A definition's copy (len 1: out of memory), or NULL after refusing the job:
+ * only sessions of the model `model` have `what`. */
+static char *definition_or_refuse(merd_api_job *j, char *text, size_t len, const char *model,
+                                  const char *what)
+{
+    if (text != NULL)
+        return text;
+    merd_refusal why = {0};
+    if (len == 1)
+        merd_refuse(&why, 503, "out-of-memory", "", "out of memory for the %s", what);
+    else
+        merd_refuse(&why, 422, "invalid-field", "model",
+                    "only sessions of the model \"%s\" have %s", model, what);
+    merd_api_job_refuse(j, &why);
+    return NULL;
+}
+
 static void run_functions(void *arg)
 {
     merd_api_job *j = arg;
     size_t len = 0;
     char *text = merd_session_functions(j->session, &len);
-    if (text == NULL) {
-        merd_refusal why = {0};
-        if (len == 1)
-            merd_refuse(&why, 503, "out-of-memory", "", "out of memory for the functions");
-        else
-            merd_refuse(&why, 422, "invalid-field", "model",
-                        "only sessions of the model \"inverse\" have functions");
-        merd_api_job_refuse(j, &why);
+    if (definition_or_refuse(j, text, len, "inverse", "functions") == NULL)
         return;
-    }
     if (j->json_form) {
         json_t *body = functions_json(text);
         free(text);
@@ -168,4 +178,28 @@ static int read_functions(merd_request *req, merd_api_job *j, merd_refusal *why)
 enum MHD_Result merd_api_functions(merd_request *req, const char *id)
 {
     return submit(req, id, read_functions, run_functions);
+}
+
+/* {"source": the cpfg text}, the form a creation request's "lsystem" takes. */
+static void run_lsystem(void *arg)
+{
+    merd_api_job *j = arg;
+    size_t len = 0;
+    char *text = merd_session_lsystem(j->session, &len);
+    if (definition_or_refuse(j, text, len, "lsystem", "an L-system source") == NULL)
+        return;
+    json_t *body = json_pack("{s:s%}", "source", text, len);
+    free(text);
+    answer_json(j, body);
+}
+
+static int read_nothing(merd_request *req, merd_api_job *j, merd_refusal *why)
+{
+    (void)req, (void)j, (void)why;
+    return 0;
+}
+
+enum MHD_Result merd_api_lsystem(merd_request *req, const char *id)
+{
+    return submit(req, id, read_nothing, run_lsystem);
 }

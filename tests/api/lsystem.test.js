@@ -171,3 +171,26 @@ test('refusals: a source that does not parse, a missing source, set_lsystem on P
   assert.equal(r.status, 422);
   assert.equal(p09.body.model, undefined, 'a P09 summary is as it was');
 });
+
+test('GET …/lsystem: the source a session derives with, after set_lsystem too; 422 for other models', async (t) => {
+  const d = await startDaemon();
+  t.after(() => d.stop());
+  const c = await api(d.url, 'POST', '/v1/sessions', { model: 'lsystem', seed: 1, lsystem: { source: HONDA } });
+  assert.equal(c.status, 201, JSON.stringify(c.body));
+  let r = await api(d.url, 'GET', `/v1/sessions/${c.body.id}/lsystem`);
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.deepEqual(r.body, { source: HONDA });
+  const wider = HONDA.replace('#define a0 45', '#define a0 60');
+  assert.equal((await edit(d.url, c.body.id, { op: 'set_lsystem', source: wider })).status, 200);
+  assert.equal((await edit(d.url, c.body.id, { op: 'set_lsystem', source: 'axiom: F(' })).status, 422);
+  r = await api(d.url, 'GET', `/v1/sessions/${c.body.id}/lsystem`);
+  assert.deepEqual(r.body, { source: wider }, 'the accepted source, not the refused one');
+  const preset = await api(d.url, 'POST', '/v1/sessions', { preset: 'abop-1.24a' });
+  const listed = (await api(d.url, 'GET', '/v1/presets')).body.presets.find((p) => p.name === 'abop-1.24a');
+  r = await api(d.url, 'GET', `/v1/sessions/${preset.body.id}/lsystem`);
+  assert.equal(r.body.source, listed.lsystem.source);
+  const p09 = await api(d.url, 'POST', '/v1/sessions', { seed: 1 });
+  r = await api(d.url, 'GET', `/v1/sessions/${p09.body.id}/lsystem`);
+  assert.equal(r.status, 422);
+  assert.equal(r.body.field, 'model');
+});

@@ -11,6 +11,8 @@ export class Problem extends Error {
     this.type = problem.type || '';
     this.detail = problem.detail || '';
     this.field = problem.field || null;
+    this.line = problem.line ?? null;       // a definition's refusal: where it stopped reading
+    this.column = problem.column ?? null;
   }
 }
 
@@ -32,8 +34,17 @@ async function request(method, path, body, extraHeaders = {}) {
 
 export const health = () => request('GET', 'v1/health');
 export const presets = () => request('GET', 'v1/presets');
-export const createSession = (preset, seed) => request('POST', 'v1/sessions', { preset, seed });
+/** Creates a session: {preset, seed} and, for a model's own definition, model and lsystem
+ * ({source}) or inverse ({fset}). A definition that does not read is a Problem with
+ * `line` and `column`. */
+export const createSession = (spec) => request('POST', 'v1/sessions', spec);
 export const getSession = (id) => request('GET', `v1/sessions/${id}`);
+/** An inverse session's functions: {functions: [{name, kind, samples, points: [[x, y, m]]}]}. */
+export const functions = (id) => request('GET', `v1/sessions/${id}/functions?format=json`);
+/** The URL of an inverse session's functions as .fset text (a download). */
+export const functionsUrl = (id) => `v1/sessions/${id}/functions`;
+/** An L-system session's cpfg source: {source}. */
+export const lsystemSource = (id) => request('GET', `v1/sessions/${id}/lsystem`);
 export const cancel = (id) => request('POST', `v1/sessions/${id}/cancel`, {});
 
 /** A page of the session's revisions after `after` (null: from the first). */
@@ -61,7 +72,7 @@ export function skeleton(id) {
  * assimp and every other glTF importer read.
  */
 export function snapshotUrl(id, { detail = 3, leaves = false, markers = false, color = 'none',
-  compact = false, revision = null } = {}) {
+  compact = false, revision = null, t = null } = {}) {
   const q = new URLSearchParams({ detail: String(detail), leaves: leaves ? '1' : '0',
     markers: markers ? '1' : '0', color });
   if (compact) {
@@ -71,16 +82,18 @@ export function snapshotUrl(id, { detail = 3, leaves = false, markers = false, c
     q.set('twig_lines', '1');
   }
   if (revision !== null) q.set('revision', String(revision));   // a past tree
+  if (t !== null) q.set('t', String(t));                         // an inverse tree at a fractional year
   return `v1/sessions/${id}/snapshot.glb?${q}`;
 }
 
 /**
  * Fetches a snapshot with If-None-Match: resolves to {buffer, etag} or {notModified: true}
- * when the ETag still matches (the tree and the options have not changed).
+ * when the ETag still matches (the tree and the options have not changed). An AbortSignal
+ * cancels it (an AbortError).
  */
-export async function fetchSnapshot(url, etag) {
+export async function fetchSnapshot(url, etag, signal = undefined) {
   const headers = etag ? { 'If-None-Match': etag } : {};
-  const r = await fetch(url, { headers, cache: 'no-store' });
+  const r = await fetch(url, { headers, cache: 'no-store', signal });
   if (r.status === 304) {
     await r.arrayBuffer();   // finish the (empty) body, or Chromium counts the request as aborted
     return { notModified: true, etag };

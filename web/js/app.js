@@ -11,6 +11,7 @@ import { TOOLS } from './tools/index.js';
 import { PANELS } from './panels/index.js';
 import { viewOptions, viewFromQuery } from './panels/view.js';
 import { mountProblemBox, setStatus } from './status.js';
+import { showModel } from './models.js';
 
 const params = new URLSearchParams(location.search);
 
@@ -26,16 +27,9 @@ for (const p of panels) if (p.show) session.onSummary((s) => p.show(s));
 for (const p of panels) if (p.edited) session.onEdited((edits) => p.edited(edits));
 for (const part of [...panels, ...tools]) if (part.loaded) session.onLoaded((l) => part.loaded(l));
 
-const topbar = new TopBar({
-  onNew: async (preset, seed) => {
-    session.state.playing = false;
-    try {
-      await openSession(await api.createSession(preset, seed));
-    } catch (err) {
-      session.problem(err);
-    }
-  },
-});
+// A preset names its model: the top bar's model choice only filters the presets.
+const topbar = new TopBar({ onNew: ({ preset, seed }) => session.create({ preset, seed }) });
+session.opener = openSession;
 mountProblemBox();
 
 // Every slider shows its value beside it.
@@ -48,7 +42,13 @@ for (const slider of document.querySelectorAll('input[type=range]')) {
 
 async function openSession(summary) {
   topbar.show(summary);
+  useModel(summary.model || 'p09');
   await session.open(summary);
+}
+
+/** The panels and tools of growth model `model` (models.js). */
+function useModel(model) {
+  showModel(model, { tools, activeTool: session.state.tool, setTool: (id) => input.setTool(id) });
 }
 
 async function start() {
@@ -78,6 +78,7 @@ async function start() {
   } catch (e) {
     session.problem(e);
   }
+  useModel('p09');   // until a session says otherwise
   if (id) {
     try {
       await openSession(await sessionReply);

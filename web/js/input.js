@@ -2,6 +2,7 @@
 // active tool (tools/index.js says what a tool answers), and keys to tools and panels.
 import * as THREE from 'three';
 import { $ } from './util.js';
+import { toolApplies } from './models.js';
 
 /** While a tool that has no `buttons` of its own is active. */
 const TOOL_BUTTONS = { LEFT: null, MIDDLE: THREE.MOUSE.DOLLY, RIGHT: THREE.MOUSE.ROTATE };
@@ -28,10 +29,10 @@ export class Input {
   /** Whether any tool's gesture is under way. */
   busy() { return this.tools.some((t) => t.busy?.()); }
 
-  /** Makes tool `id` the active one. */
+  /** Makes tool `id` the active one (not one the session's model does not use). */
   setTool(id) {
     const tool = this.tools.find((t) => t.id === id);
-    if (!tool) return;
+    if (!tool || !toolApplies(tool, document.body.dataset.model || 'p09')) return;
     this.tool = tool;
     this.session.state.tool = id;
     for (const b of document.querySelectorAll('#tools [data-tool]')) b.classList.toggle('active', b.dataset.tool === id);

@@ -3,7 +3,7 @@
 // that follow them. Panels and tools follow the session through onSummary and onLoaded.
 import * as api from './api.js';
 import { sleep } from './util.js';
-import { setStatus, showProblem } from './status.js';
+import { hideProblem, setStatus, showProblem } from './status.js';
 import { GrowthConstraint } from './constraint.js';
 import { viewOptions } from './panels/view.js';
 
@@ -109,9 +109,27 @@ export class Session {
     return p;
   }
 
+  /**
+   * Creates a session (api.createSession's spec) and opens it through `opener` (the
+   * page's: the top bar follows it); resolves to its summary, or null when refused
+   * (the problem is shown, and kept in state.lastProblem).
+   */
+  async create(spec) {
+    this.state.playing = false;
+    try {
+      const summary = await api.createSession(spec);
+      await (this.opener ? this.opener(summary) : this.open(summary));
+      return summary;
+    } catch (e) {
+      this.problem(e);
+      return null;
+    }
+  }
+
   /** Shows the session `summary` describes (a new one, or one reopened by its id). */
   async open(summary) {
     const { state, viewer } = this;
+    hideProblem();   // the last session's
     state.id = summary.id;
     state.summary = null;
     state.constraint = null;

@@ -6,7 +6,8 @@ let problemTimer = null;
 
 /**
  * Shows a refusal (an api.Problem) or any other error for 15 s and returns what it
- * showed: {status, title, detail, field}.
+ * showed: {status, title, detail, field, line, column} (line and column: where a
+ * definition stopped reading, else null).
  */
 export function showProblem(e) {
   console.warn('meristemd refused:', e);
@@ -20,7 +21,14 @@ export function showProblem(e) {
   box.hidden = false;
   clearTimeout(problemTimer);
   problemTimer = setTimeout(() => { box.hidden = true; }, 15000);
-  return { status: p.status, title: p.title, detail: p.detail, field: p.field || null };
+  return { status: p.status, title: p.title, detail: p.detail, field: p.field || null,
+    line: p.line ?? null, column: p.column ?? null };
+}
+
+/** Takes the problem box away (another session is shown). */
+export function hideProblem() {
+  clearTimeout(problemTimer);
+  $('#problem').hidden = true;
 }
 
 /** Lets the problem box be dismissed. */

@@ -1,24 +1,39 @@
-// The top bar: the preset list with its description, the seed, New tree, and the open
-// session's id (which the page's URL carries: ?session=ID, so a reload or a shared
-// link returns to the same tree).
+// The top bar: the growth model, its presets with their description, the seed, New
+// tree, and the open session's id (which the page's URL carries: ?session=ID, so a
+// reload or a shared link returns to the same tree).
 import { $ } from './util.js';
+import { MODELS } from './models.js';
 
 export class TopBar {
-  /** @param onNew (preset, seed) => called when the user asks for a new tree */
+  /** @param onNew ({model, preset, seed}) => called when the user asks for a new tree */
   constructor({ onNew }) {
     this.presets = [];
+    for (const m of MODELS) $('#model').add(new Option(m.label, m.id));
+    $('#model').addEventListener('change', () => this.listPresets());
     $('#preset').addEventListener('change', () => this.describePreset());
     $('#session-form').addEventListener('submit', (e) => {
       e.preventDefault();
-      onNew($('#preset').value, Math.max(0, Math.round(Number($('#seed').value) || 0)));
+      onNew({ model: $('#model').value, preset: $('#preset').value,
+        seed: Math.max(0, Math.round(Number($('#seed').value) || 0)) });
     });
   }
 
-  /** Fills the preset list (GET /v1/presets: presets [{name, description}]). */
+  /** Keeps the presets (GET /v1/presets: presets [{name, description, model}]) and lists
+   * the chosen model's. */
   setPresets(presets) {
     this.presets = presets;
-    for (const x of presets) $('#preset').add(new Option(x.name, x.name));
-    $('#preset').value = presets.some((x) => x.name === 'fig15-brushed') ? 'fig15-brushed' : presets[0]?.name;
+    // A model no preset grows is not offered.
+    for (const o of [...$('#model').options]) o.hidden = !presets.some((x) => (x.model || 'p09') === o.value);
+    this.listPresets();
+  }
+
+  /** The preset list: the chosen model's presets (P09's first choice: fig15-brushed). */
+  listPresets(keep = null) {
+    const model = $('#model').value;
+    const mine = this.presets.filter((x) => (x.model || 'p09') === model);
+    $('#preset').replaceChildren(...mine.map((x) => new Option(x.name, x.name)));
+    const first = MODELS.find((m) => m.id === model)?.firstPreset;
+    $('#preset').value = [keep, first].find((n) => mine.some((x) => x.name === n)) || mine[0]?.name || '';
     this.describePreset();
   }
 
@@ -35,7 +50,12 @@ export class TopBar {
     history.replaceState(null, '', url);
     $('#session-id').textContent = summary.id.slice(0, 8);
     $('#session-id').title = `session ${summary.id} (${summary.preset}, seed ${summary.seed}) — the URL reopens it`;
-    if ([...$('#preset').options].some((o) => o.value === summary.preset)) $('#preset').value = summary.preset;
+    if (summary.model && summary.model !== $('#model').value) {
+      $('#model').value = summary.model;
+      this.listPresets(summary.preset);
+    } else if ([...$('#preset').options].some((o) => o.value === summary.preset)) {
+      $('#preset').value = summary.preset;
+    }
     $('#seed').value = String(summary.seed);
     this.describePreset();
     document.body.classList.add('has-session');

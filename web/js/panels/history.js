@@ -112,7 +112,7 @@ export class HistoryPanel {
       return li;
     });
     list.replaceChildren(...items);
-    list.lastElementChild?.scrollIntoView({ block: 'nearest' });
+    list.scrollTop = list.scrollHeight;   // the list only: the side panel stays where it is
     const slider = $('#history-slider');
     slider.max = String(Math.max(0, current));
     if (this.viewing === null) slider.value = String(current);

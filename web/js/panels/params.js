@@ -1,11 +1,14 @@
-// The Parameters panel: the model's key parameters with the paper's symbols
-// (Palubicki et al. 2009, §4), each shown only where the chosen environment and bud-fate
-// models use it. Its rows come from GET /v1/presets (ranges and defaults).
+// The Parameters panel: the session's growth model's key parameters with the papers'
+// symbols (Palubicki et al. 2009, §4; Runions et al. 2007; ABOP), each shown only for
+// the models that read it and, for P09, where the chosen environment and bud-fate models
+// use it. Its rows come from GET /v1/presets (ranges and defaults). An inverse tree's
+// parameters are its functions (the Functions panel).
 import { $ } from '../util.js';
 
 /**
- * The parameters the page edits, by model: name, the paper's symbol and a one-line
- * explanation. `when` says which model makes a parameter active.
+ * The parameters the page edits: name, the paper's symbol and a one-line explanation.
+ * `models`: the growth models whose sessions show it (default: P09's alone); `when`
+ * says which of P09's environment and fate models make it active.
  */
 export const KEY_PARAMS = [
   { name: 'environment', label: 'environment', kind: 'choice',
@@ -42,6 +45,25 @@ export const KEY_PARAMS = [
     explain: 'Depth of the penumbra pyramid, in voxel layers.' },
   { name: 'shed_threshold', symbol: 'shed', label: 'shedding threshold',
     explain: 'A branch whose light per internode falls below this is shed (0: never).' },
+  { name: 'd_i', symbol: 'd_i', label: 'influence distance', models: ['runions'],
+    explain: 'A marker attracts the closest node within this distance (R07).' },
+  { name: 'd_k', symbol: 'd_k', label: 'kill distance', models: ['runions'],
+    explain: 'Markers this close to a node are removed; d_k < d_i.' },
+  { name: 'D', symbol: 'D', label: 'node length', models: ['runions'],
+    explain: 'The length of the node each attracted node grows in a step.' },
+  { name: 'ls_delta', symbol: 'δ', label: 'angle', models: ['lsystem'],
+    explain: 'The turn of + − & ^ \\ / with no parameter, in degrees (ABOP §1.5).' },
+  { name: 'ls_step', symbol: 'd', label: 'step', models: ['lsystem'],
+    explain: 'The length of F with no parameter.' },
+  { name: 'ls_width', symbol: 'w', label: 'width', models: ['lsystem'],
+    explain: 'The segment width before any ! (0: the pipe model gives widths).' },
+  { name: 'ls_width_scale', label: 'width scale', models: ['lsystem'],
+    explain: 'The widths ! sets are multiplied by this.' },
+  { name: 'ls_elasticity', symbol: 'e', label: 'elasticity', models: ['lsystem'],
+    explain: 'Susceptibility to tropism T after each F (ABOP §2.2).' },
+  { name: 'ls_blocking', label: 'blocking', kind: 'choice', models: ['lsystem'],
+    choices: [[0, 'segments pass through the ground and obstacles'], [1, 'the ground and obstacles stop segments']],
+    explain: 'Whether a segment whose end the ground or an obstacle holds stops its branch.' },
 ];
 
 export class ParamsPanel {
@@ -51,6 +73,7 @@ export class ParamsPanel {
     this.root = $('#params');
     this.inputs = new Map();
     this.values = {};
+    this.model = 'p09';
     $('#apply-params').addEventListener('click', () => {
       const changed = this.changed();
       if (!Object.keys(changed).length) return;
@@ -76,6 +99,13 @@ export class ParamsPanel {
     const sym = document.createElement('span');
     sym.className = 'symbol';
     sym.textContent = p.symbol || '';
+    // d_i, w_max: the part after the underscore as a subscript, as the papers set it.
+    const [base, sub] = (p.symbol || '').split('_');
+    if (sub) {
+      const s = document.createElement('sub');
+      s.textContent = sub;
+      sym.replaceChildren(base, s);
+    }
     const name = document.createElement('span');
     name.className = 'pname';
     name.textContent = p.label || p.name;
@@ -103,21 +133,24 @@ export class ParamsPanel {
     this.inputs.set(p.name, { input, def: p, row });
   }
 
-  /** Shows a session's values (summary.params). */
-  show({ params }) {
+  /** Shows a session's values (summary.params: the rows its model reads). */
+  show({ params, model }) {
+    if (model) this.model = model;
     if (!params) return;
     this.values = { ...params };
     for (const [name, { input }] of this.inputs) {
       if (name in params && document.activeElement !== input) input.value = String(params[name]);
+      else if (!(name in params)) input.value = '';
     }
     this.updateVisibility();
   }
 
   updateVisibility() {
     const current = (n) => Number(this.inputs.get(n)?.input.value ?? this.values[n]);
+    const read = (name) => !Object.keys(this.values).length || name in this.values;
     for (const { def, row } of this.inputs.values()) {
-      const on = !def.when || Object.entries(def.when).every(([k, v]) => current(k) === v);
-      row.hidden = !on;
+      const mine = (def.models || ['p09']).includes(this.model) && read(def.name);
+      row.hidden = !mine || (def.when && !Object.entries(def.when).every(([k, v]) => current(k) === v));
     }
   }
 

@@ -20,6 +20,7 @@ export class BrushTool {
   icon = '✎';
   label = 'Brush';
   title = 'Brush: lay markers of free space (B)';
+  models = ['p09', 'runions'];   // the models that grow towards markers
   hint = 'Drag: lay markers · Shift+drag from a branch: grow only from it · right-drag orbits';
 
   constructor({ viewer, session }) {

@@ -15,6 +15,8 @@
 //                       canvas, or the tool was put down
 //   busy()              optional: a gesture is under way (the camera stays put)
 //   loaded()            optional: a new snapshot is drawn
+//   models              optional: the growth models it applies to (default: all);
+//                       its button is hidden for the others (models.js)
 // A new tool is a new file listed here.
 import { ViewTool } from './view.js';
 import { BrushTool } from './brush.js';

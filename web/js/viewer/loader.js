@@ -131,9 +131,10 @@ export function prefetch(viewer, url) {
  * Resolves to {changed, ms}; the time covers fetch + parse + first render (for a
  * prefetched snapshot, the part of fetch and parse still outstanding), not the first load's
  * wait for the page's first paint (lastLoad.paintWaitMs). lastLoad.drawnAt is when
- * the frame was done, in ms since navigation.
+ * the frame was done, in ms since navigation. `signal` (an AbortSignal) cancels it: it
+ * then rejects with an AbortError and the tree drawn before stays.
  */
-export async function load(viewer, url) {
+export async function load(viewer, url, { signal } = {}) {
   await viewer.ready;
   // The page's first load waits for its first paint (the panels it has just filled
   // in): drawing a tree while the browser rasterizes and composites the page takes a
@@ -149,11 +150,13 @@ export async function load(viewer, url) {
   const sameUrl = url === viewer.url;
   const pre = viewer.prefetched?.url === url ? viewer.prefetched.reply : null;
   viewer.prefetched = null;
-  const snap = await (pre || fetchSnapshot(url, sameUrl ? viewer.etag : null));
+  const snap = await (pre || fetchSnapshot(url, sameUrl ? viewer.etag : null, signal));
   if (snap.notModified) return { changed: false, ms: performance.now() - t0 };
   const t1 = performance.now();
   const gltf = snap.gltf || await viewer.loader.parseAsync(snap.buffer, '');
   const t2 = performance.now();
+  // Cancelled while parsing: the tree drawn stays (a newer load draws its own).
+  if (signal?.aborted) throw signal.reason ?? new DOMException('aborted', 'AbortError');
   install(viewer, gltf);
   viewer.url = url;
   viewer.etag = snap.etag;

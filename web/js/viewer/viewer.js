@@ -207,7 +207,7 @@ export class Viewer {
   prefetch(url) { prefetch(this, url); }
 
   /** Loads the snapshot at `url` and draws it; resolves to {changed, ms} (loader.js). */
-  load(url) { return load(this, url); }
+  load(url, opts) { return load(this, url, opts); }
 
   setVisible({ bark, leaves }) {
     if (bark !== undefined) this.showBark = bark;
