@@ -179,7 +179,7 @@ test('L-system presets: listed with their model and source, and grown from their
   const presets = (await api(d.url, 'GET', '/v1/presets')).body.presets;
   const byName = Object.fromEntries(presets.map((p) => [p.name, p]));
   for (const name of ['abop-1.2-algae', 'abop-1.24a', 'abop-1.24f', 'abop-1.27', 'abop-1.31a', 'abop-2.6a',
-    'abop-2.7', 'abop-2.8a']) {
+    'abop-2.7', 'abop-2.8a', 'lsystem-topiary']) {
     assert.equal(byName[name].model, 'lsystem', name);
     assert.match(byName[name].lsystem.source, /axiom:/, name);
   }
