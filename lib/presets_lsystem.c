@@ -113,6 +113,28 @@ static const char fig_2_8a[] =
     "F(l) : * -> F(l*lr)\n"
     "!(w) : * -> !(w*vr)\n";
 
+/* Tier 2 of cpfg: a shrub clipped to a sphere, after Prusinkiewicz, James and
+ * Měch's synthetic topiary (PJM94): every apex A carries a query ?P that the
+ * drawing fills with its position, and A grows only while that position is
+ * inside the sphere. The string holds internodes I and apices A; the
+ * homomorphism draws I as F and each apex as a pair of short needles, so the
+ * drawing differs from the string. */
+static const char topiary[] =
+    "/* A shrub clipped to a sphere by ?P (after Prusinkiewicz, James & Mech 1994),\n"
+    "   drawn through a homomorphism */\n"
+    "#define R 2.2    /* radius of the sphere */\n"
+    "#define C 3      /* height of its centre */\n"
+    "#define a 35     /* branching angle */\n"
+    "#define d 137.5  /* divergence angle */\n"
+    "derivation length: 10\n"
+    "axiom: I(1.2)A(0.5)?P(0,0,0)\n"
+    "A(l) > ?P(x,y,z) : x*x + (y-C)^2 + z*z < R*R -> I(l)[&(a)A(l*0.9)?P(0,0,0)]/(d)A(l*0.95)\n"
+    "homomorphism\n"
+    "maximum depth: 1\n"
+    "I(l) -> F(l)\n"
+    "A(l) -> [&(50)F(0.08)][^(50)F(0.08)]\n"
+    "endlsystem\n";
+
 static const merp_ls_preset presets[] = {
     {"abop-1.2-algae", "ABOP §1.2: the algae DOL system; draws nothing, its string lengths are Fibonacci numbers",
      algae, 90.0f, 1.0f, 1.0f, 0.0f},
@@ -135,6 +157,8 @@ static const merp_ls_preset presets[] = {
      fig_2_7, 90.0f, 1.0f, 0.01f, 0.0f},
     {"abop-2.8a", "ABOP Fig. 2.8a: a ternary tree under gravitropism (e 0.22), n 6", fig_2_8a, 90.0f, 1.0f,
      0.01f, 0.22f},
+    {"lsystem-topiary", "A shrub clipped to a sphere by the query module ?P, drawn through a homomorphism "
+     "(cpfg's tier 2, after Prusinkiewicz, James & Měch 1994)", topiary, 90.0f, 1.0f, 1.0f, 0.0f},
 };
 
 #define NPRESETS (sizeof presets / sizeof presets[0])

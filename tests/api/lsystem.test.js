@@ -120,13 +120,66 @@ test('an L-system session: create, step, a refused source, prune, bend; restored
   assert.deepEqual(s2.body, skeleton.body);
 });
 
+// cpfg's tier 2: a decomposition into whorls, a homomorphism that draws the
+// internodes I, ?P bounding the height and ?E asking the environment (a box).
+const TIER2 = `derivation length: 12
+axiom: A?P(0,0,0)?E(0,0)
+A > ?P(x,y,z) ?E(q,o) : y < 6 && o == 0 -> I(0.5)W/(137.5)A
+decomposition
+maximum depth: 2
+W -> [&(40)V][^(40)V]
+V -> I(0.3)[+(30)I(0.2)]
+homomorphism
+I(l) -> F(l)
+endlsystem
+`;
+
+test('cpfg tier 2: decomposition, homomorphism, ?P and ?E; restored from the journal byte for byte', async (t) => {
+  const dataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-lsystem2-'));
+  t.after(() => fs.rmSync(dataDir, { recursive: true, force: true }));
+  let d = await startDaemon([], { dataDir });
+  t.after(() => d.stop());
+  const c = await api(d.url, 'POST', '/v1/sessions', { model: 'lsystem', seed: 2, lsystem: { source: TIER2 },
+    scene: { obstacles: [{ box: { min: [-3, 4.2, -3], max: [3, 5, 3] } }] } });
+  assert.equal(c.status, 201, JSON.stringify(c.body));
+  const id = c.body.id;
+  let r = await edit(d.url, id, { op: 'step', count: 3 });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  // Three steps: 3 I on the axis and 3 whorls of 2 x (I [I]) decomposed into the string;
+  // the homomorphism draws every I as an F, and the string holds none.
+  assert.equal(r.body.lsystem.modules.I, 3 + 3 * 4);
+  assert.equal(r.body.lsystem.modules.F, undefined);
+  assert.equal(r.body.lsystem.segments, 15);
+  // Node 2 is the first whorl's I(0.2): its module is cut from the string.
+  r = await edit(d.url, id, { op: 'prune', node: 2 });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  r = await edit(d.url, id, { op: 'step', count: 9 });
+  // The apex grows 0.5 a step until ?E finds it inside the box (at y 4.5, after the 9th
+  // step): 9 I on the axis, 9 whorls of 4 I, less the pruned one.
+  assert.equal(r.body.lsystem.derivation_step, 12);
+  assert.equal(r.body.lsystem.modules.A, 1);
+  assert.equal(r.body.lsystem.modules.W, undefined);
+  assert.equal(r.body.lsystem.modules.I, 9 + 9 * 4 - 1);
+  assert.equal(r.body.lsystem.segments, 44);
+  const glb = await glbOf(d.url, id);
+  await validates(glb);
+  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+
+  await d.stop('SIGKILL');
+  d = await startDaemon([], { dataDir });
+  const again = await api(d.url, 'GET', `/v1/sessions/${id}`);
+  assert.equal(again.body.hash, summary.hash);
+  assert.deepEqual(again.body.lsystem, summary.lsystem);
+  assert.ok(Buffer.compare(await glbOf(d.url, id), glb) === 0, 'the same GLB bytes after restore');
+});
+
 test('L-system presets: listed with their model and source, and grown from their name', async (t) => {
   const d = await startDaemon();
   t.after(() => d.stop());
   const presets = (await api(d.url, 'GET', '/v1/presets')).body.presets;
   const byName = Object.fromEntries(presets.map((p) => [p.name, p]));
   for (const name of ['abop-1.2-algae', 'abop-1.24a', 'abop-1.24f', 'abop-1.27', 'abop-1.31a', 'abop-2.6a',
-    'abop-2.7', 'abop-2.8a']) {
+    'abop-2.7', 'abop-2.8a', 'lsystem-topiary']) {
     assert.equal(byName[name].model, 'lsystem', name);
     assert.match(byName[name].lsystem.source, /axiom:/, name);
   }

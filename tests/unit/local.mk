@@ -176,6 +176,11 @@ tests_unit_test_lsystem_SOURCES = tests/unit/test_lsystem.c
 tests_unit_test_lsystem_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_lsystem_tier2
+tests_unit_test_lsystem_tier2_SOURCES = tests/unit/test_lsystem_tier2.c
+tests_unit_test_lsystem_tier2_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_lsystem_tier2_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_lsystem_turtle
 tests_unit_test_lsystem_turtle_SOURCES = tests/unit/test_lsystem_turtle.c
 tests_unit_test_lsystem_turtle_CPPFLAGS = $(UNIT_CPPFLAGS)

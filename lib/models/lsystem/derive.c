@@ -15,6 +15,17 @@
  * in the string skips the child branch unless the context itself has "[" there,
  * a "]" ends the branch, and a "]" in the context skips the rest of the branch.
  * Symbols of the ignore list are skipped either way.
+ *
+ * Decomposition and homomorphism (cpfg): a module is rewritten by the first
+ * matching production of the section, and each module of its successor again,
+ * depth first, until no production applies or the section's maximum depth is
+ * reached (the module then stays as it is: truncation, as cpfg does, not an
+ * error). The decomposition's result replaces the derived string; the
+ * homomorphism's is only read by the turtle. Their productions are
+ * context-free, so a module's rewriting needs nothing but the module: one
+ * buffer per depth holds the successors being expanded, and the cost is linear
+ * in the output. Draws are keyed by (seed, step, module) at the top and by the
+ * parent's key, the depth and the position in the successor below it.
  */
 #include "config.h"
 
@@ -27,6 +38,7 @@
 
 typedef struct dctx {
     const merp_lsys *ls;
+    const merp_ls_table *tab; /* the section being applied */
     const merp_lstr *in;
     const size_t *match;
     int *cand; /* matching stochastic productions of one module */
@@ -137,16 +149,17 @@ static int applies(dctx *d, const merp_ls_prod *pr, size_t i, merp_ls_rand *rnd)
 static const merp_ls_prod *choose(dctx *d, size_t i, merp_ls_rand *rnd)
 {
     const merp_lsys *ls = d->ls;
+    const merp_ls_table *tab = d->tab;
     merp_sym y = d->in->sym[i];
     int ncand = 0;
     double total = 0.0;
-    for (int k = ls->head_off[y]; k < ls->head_off[y + 1]; k++) {
-        const merp_ls_prod *pr = &ls->prods[ls->by_head[k]];
+    for (int k = tab->head_off[y]; k < tab->head_off[y + 1]; k++) {
+        const merp_ls_prod *pr = &ls->prods[tab->by_head[k]];
         if ((ncand > 0 && !pr->has_prob) || !applies(d, pr, i, rnd))
             continue;
         if (!pr->has_prob)
             return pr;
-        d->cand[ncand++] = ls->by_head[k];
+        d->cand[ncand++] = tab->by_head[k];
         total += pr->prob;
     }
     if (ncand == 0 || !(total > 0.0))
@@ -199,6 +212,8 @@ static int reserve_output(const merp_lsys *ls, const merp_lstr *in, merp_lstr *o
     for (int k = 0; k < ls->nprod; k++) {
         const merp_ls_prod *pr = &ls->prods[k];
         uint32_t np = 0;
+        if (pr->section != MERP_LS_PRODUCTIONS)
+            continue;
         for (int m = 0; m < pr->nsucc; m++)
             np += pr->succ[m].nargs;
         merp_sym y = pr->pred.sym;
@@ -228,10 +243,11 @@ int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
               reserve_output(ls, in, out))
                  ? -1
                  : 0;
+    const merp_ls_table *tab = &ls->tab[MERP_LS_PRODUCTIONS];
     if (d)
-        *d = (dctx){.ls = ls, .in = in, .match = match, .cand = cand};
+        *d = (dctx){.ls = ls, .tab = tab, .in = in, .match = match, .cand = cand};
     for (size_t i = 0; !rc && i < in->n; i++) {
-        if (ls->head_off[in->sym[i]] == ls->head_off[in->sym[i] + 1]) {
+        if (tab->head_off[in->sym[i]] == tab->head_off[in->sym[i] + 1]) {
             rc = merp_lstr_push(out, in->sym[i], in->par + in->poff[i], merp_lstr_np(in, i));
             continue;
         }
@@ -249,15 +265,128 @@ int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
     return rc;
 }
 
+/* ---- decomposition and homomorphism ---- */
+
+typedef struct sub {
+    dctx d;
+    merp_lstr *lvl;  /* the successor being expanded at each depth */
+    merp_lstr *out;
+    uint32_t *map;   /* homomorphism only: out's origins */
+    size_t mcap;
+    uint32_t top;    /* the module of the input being expanded */
+} sub;
+
+static int emit(sub *x, const merp_lstr *in, size_t i, int depth)
+{
+    if (x->map) {
+        size_t n = x->out->n;
+        if (n == x->mcap) {
+            size_t c = x->mcap ? 2 * x->mcap : 256;
+            uint32_t *q = merp_realloc(x->map, c * sizeof *q);
+            if (!q)
+                return -1;
+            x->map = q, x->mcap = c;
+        }
+        x->map[n] = x->top | (depth > 0 ? MERP_LS_PRODUCED : 0);
+    }
+    return merp_lstr_push(x->out, in->sym[i], in->par + in->poff[i], merp_lstr_np(in, i));
+}
+
+/* Module i of `in`, at `depth`, rewritten recursively into x->out. */
+static int expand(sub *x, const merp_lstr *in, size_t i, int depth, uint64_t key)
+{
+    const merp_ls_table *tab = x->d.tab;
+    merp_sym y = in->sym[i];
+    if (depth >= tab->depth || tab->head_off[y] == tab->head_off[y + 1])
+        return emit(x, in, i, depth);
+    merp_ls_rand rnd = {key, 0};
+    x->d.in = in;
+    const merp_ls_prod *pr = choose(&x->d, i, &rnd);
+    if (!pr)
+        return emit(x, in, i, depth);
+    merp_lstr *buf = &x->lvl[depth];
+    merp_lstr_clear(buf);
+    if (produce(&x->d, pr, buf, &rnd))
+        return -1;
+    for (size_t j = 0; j < buf->n; j++)
+        if (expand(x, buf, j, depth + 1, merp_ls_key(key, (uint32_t)depth + 1, j)))
+            return -1;
+    return 0;
+}
+
+/* Section `sect` applied to every module of `in`, into `out`. */
+static int rewrite(const merp_lsys *ls, int sect, const merp_lstr *in, merp_lstr *out,
+                   uint32_t **map, uint64_t seed, uint32_t step)
+{
+    assert(ls && in && out && in != out);
+    merp_lstr_clear(out);
+    const merp_ls_table *tab = &ls->tab[sect];
+    sub x = {.d = {.ls = ls, .tab = tab}, .out = out};
+    x.d.cand = merp_malloc(((size_t)ls->nprod + 1) * sizeof *x.d.cand);
+    x.lvl = merp_calloc((size_t)tab->depth, sizeof *x.lvl);
+    int rc = x.d.cand && x.lvl && (!map || (x.map = merp_malloc(256 * sizeof *x.map)))
+                 ? merp_lstr_reserve(out, in->n, in->npar)
+                 : -1;
+    x.mcap = x.map ? 256 : 0;
+    for (size_t i = 0; !rc && i < in->n; i++) {
+        x.top = (uint32_t)i;
+        rc = expand(&x, in, i, 0, merp_ls_key(seed, step, i));
+    }
+    for (int k = 0; x.lvl && k < tab->depth; k++)
+        merp_lstr_free(&x.lvl[k]);
+    merp_free(x.lvl);
+    merp_free(x.d.cand);
+    if (rc) {
+        merp_free(x.map);
+        x.map = NULL;
+    }
+    if (map)
+        *map = x.map;
+    return rc;
+}
+
+/* Keys of the decomposition's and the homomorphism's draws, apart from the
+ * derivation's. */
+#define DECOMPOSITION_KEY UINT64_C(0x6465636f6d706f73)
+#define HOMOMORPHISM_KEY UINT64_C(0x686f6d6f6d6f7270)
+
+int merp_lsys_decompose(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
+                        uint64_t seed, uint32_t step)
+{
+    return rewrite(ls, MERP_LS_DECOMPOSITION, in, out, NULL, seed ^ DECOMPOSITION_KEY, step);
+}
+
+int merp_lsys_homomorphism(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
+                           uint32_t **map, uint64_t seed, uint32_t step)
+{
+    assert(map);
+    return rewrite(ls, MERP_LS_HOMOMORPHISM, in, out, map, seed ^ HOMOMORPHISM_KEY, step);
+}
+
+/* The decomposition of `s` in place, when the text has one. */
+static int decompose_in_place(const merp_lsys *ls, merp_lstr *s, merp_lstr *tmp,
+                              uint64_t seed, uint32_t step)
+{
+    if (ls->tab[MERP_LS_DECOMPOSITION].nprod == 0)
+        return 0;
+    int rc = merp_lsys_decompose(ls, s, tmp, seed, step);
+    merp_lstr_swap(s, tmp);
+    return rc;
+}
+
 int merp_lsys_run(const merp_lsys *ls, int n, uint64_t seed, merp_lstr *out)
 {
     assert(ls && out && n >= 0);
     merp_lstr tmp;
     merp_lstr_init(&tmp);
     int rc = merp_lstr_copy(out, &ls->axiom);
+    if (!rc)
+        rc = decompose_in_place(ls, out, &tmp, seed, UINT32_MAX);
     for (int t = 0; !rc && t < n; t++) {
         rc = merp_lsys_derive(ls, out, &tmp, seed, (uint32_t)t);
         merp_lstr_swap(out, &tmp);
+        if (!rc)
+            rc = decompose_in_place(ls, out, &tmp, seed, (uint32_t)t);
     }
     merp_lstr_free(&tmp);
     return rc;

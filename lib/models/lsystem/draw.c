@@ -22,6 +22,66 @@ merp_ls_turtle merp_lsm_turtle(const mer_params *p)
     return t;
 }
 
+/* ---- the string through the homomorphism, queries answered ---- */
+
+/* ?E: Q and whether the point is blocked (model_private.h). */
+static void env_answer(void *ctx, const double pos[3], const double head[3], float *par,
+                       unsigned np)
+{
+    const merp_world *w = ctx;
+    (void)head;
+    float p[3] = {(float)pos[0], (float)pos[1], (float)pos[2]};
+    if (np > 0)
+        par[0] = w->env->shadow != NULL ? merp_env_light_at(w->env, merp_env_cell(w->env, p))
+                                        : w->p->shadow_c + w->p->shadow_a;
+    if (np > 1)
+        par[1] = merp_env_blocked(w->env, p) ? 1.0f : 0.0f;
+}
+
+/* The answers to the string's own query modules, from the homomorphism's
+ * output `view` back into m->str. */
+static void copy_answers(merp_model *m, const merp_lstr *view, const uint32_t *map)
+{
+    for (size_t j = 0; j < view->n; j++) {
+        if (view->sym[j] < 256 || (map[j] & MERP_LS_PRODUCED))
+            continue;
+        unsigned np = merp_lstr_np(view, j);
+        memcpy(m->str.par + m->str.poff[map[j]], view->par + view->poff[j], np * sizeof(float));
+    }
+}
+
+int merp_lsm_interpret(merp_model *m, const merp_world *w, merp_ls_segs *segs)
+{
+    merp_ls_turtle tp = merp_lsm_turtle(w->p);
+    int homo = merp_lsys_section_size(m->ls, MERP_LS_HOMOMORPHISM) > 0;
+    int ask = merp_lsys_has_queries(m->ls);
+    if (!homo && !ask)
+        return merp_ls_interpret(&m->str, &tp, segs);
+    merp_lstr view;
+    merp_lstr_init(&view);
+    uint32_t *map = NULL;
+    const merp_lstr *s = &m->str;
+    int rc = 0;
+    if (homo) {
+        rc = merp_lsys_homomorphism(m->ls, &m->str, &view, &map, m->seed, m->dstep);
+        s = &view;
+    }
+    merp_ls_query q = {.par = s->par, .env = env_answer, .ctx = (void *)w};
+    for (int k = 0; k < 3; k++)
+        q.origin[k] = (double)m->base[k];
+    if (rc == 0)
+        rc = merp_ls_interpret_query(s, &tp, ask ? &q : NULL, segs);
+    if (rc == 0 && homo) {
+        for (size_t k = 0; k < segs->n; k++)
+            segs->seg[k].module = map[segs->seg[k].module] & ~MERP_LS_PRODUCED;
+        if (ask)
+            copy_answers(m, &view, map);
+    }
+    merp_free(map);
+    merp_lstr_free(&view);
+    return rc;
+}
+
 /* ---- segments onto the skeleton ---- */
 
 typedef struct node_spec {

@@ -119,10 +119,19 @@ static inline unsigned merp_lstr_np(const merp_lstr *s, size_t i)
 
 typedef struct merp_lsys merp_lsys;
 
+/* The sections of a cpfg text: the L-system's productions, then optionally
+ * "decomposition" and "homomorphism", each with its "maximum depth:". */
+enum { MERP_LS_PRODUCTIONS, MERP_LS_DECOMPOSITION, MERP_LS_HOMOMORPHISM, MERP_LS_SECTIONS };
+
+/* The maximum depth of a section that names none. */
+#define MERP_LS_DEPTH_DEFAULT 1
+#define MERP_LS_DEPTH_MAX 1000
+
 /* Parses cpfg text: comments, #define, derivation length:, axiom:, ignore: or
  * consider:, productions "lc < pred > rc : cond -> succ : prob" (also "-->"),
- * lsystem:/endlsystem lines. NULL with `err` filled on error or out of memory.
- * Cost O(length of text). */
+ * lsystem:/endlsystem lines, and the sections "decomposition" and
+ * "homomorphism" with "maximum depth: n", whose productions are context-free.
+ * NULL with `err` filled on error or out of memory. Cost O(length of text). */
 merp_lsys *merp_lsys_parse(const char *text, merp_ls_error *err);
 void merp_lsys_free(merp_lsys *ls);
 
@@ -130,8 +139,14 @@ void merp_lsys_free(merp_lsys *ls);
 int merp_lsys_derivation_length(const merp_lsys *ls);
 /* The axiom, as a string (owned by ls). */
 const merp_lstr *merp_lsys_axiom(const merp_lsys *ls);
-/* How many productions. */
+/* How many productions (of every section). */
 int merp_lsys_nprod(const merp_lsys *ls);
+/* How many productions section `sect` (MERP_LS_DECOMPOSITION, ...) holds. */
+int merp_lsys_section_size(const merp_lsys *ls, int sect);
+/* 1 when the axiom or a successor of the productions or the decomposition
+ * holds a query module (?P ?H ?L ?U ?E): then the string must be interpreted
+ * after every step for the next one to read them. */
+int merp_lsys_has_queries(const merp_lsys *ls);
 
 /* One derivation step (ABOP §1.2: every module rewritten in parallel): `out`
  * receives the successor of `in` (out is cleared first and must not be in).
@@ -141,7 +156,29 @@ int merp_lsys_nprod(const merp_lsys *ls);
 int merp_lsys_derive(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
                      uint64_t seed, uint32_t step);
 
-/* Derives `n` steps from the axiom into `out`, steps numbered 0 .. n-1. */
+/* The decomposition of cpfg: every module of `in` that a decomposition
+ * production matches is replaced by its successor, whose modules are
+ * decomposed in turn, down to the section's maximum depth, where a module is
+ * left as it is (truncation, not an error). `out` (cleared first, not in)
+ * becomes the string. Draws are keyed by (seed, step, module, depth). 0, or -1
+ * when out of memory. Linear in |out| (times the production work). */
+int merp_lsys_decompose(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
+                        uint64_t seed, uint32_t step);
+
+/* Marks in a homomorphism's map a module that a production made. */
+#define MERP_LS_PRODUCED UINT32_C(0x80000000)
+
+/* The homomorphism of cpfg: the string the turtle reads instead of `in`,
+ * rewritten like merp_lsys_decompose by the homomorphism productions (to the
+ * section's maximum depth, then truncated); `in` is not changed. *map
+ * (allocated here, |out| entries, freed with merp_free) gives for each module
+ * of out the index of the module of `in` that gave it, or'ed with
+ * MERP_LS_PRODUCED when a production made it. 0, or -1 when out of memory. */
+int merp_lsys_homomorphism(const merp_lsys *ls, const merp_lstr *in, merp_lstr *out,
+                           uint32_t **map, uint64_t seed, uint32_t step);
+
+/* Derives `n` steps from the axiom into `out`, steps numbered 0 .. n-1, the
+ * decomposition applied to the axiom and after every step. */
 int merp_lsys_run(const merp_lsys *ls, int n, uint64_t seed, merp_lstr *out);
 
 /* ---- the turtle (turtle.c) ---- */
@@ -171,6 +208,20 @@ typedef struct merp_ls_segs {
     merp_ls_seg *seg;
 } merp_ls_segs;
 
+/* The answers to query modules while a string is interpreted (cpfg's query
+ * and communication modules): ?P(x,y,z) receives the turtle's position plus
+ * `origin`, ?H ?L ?U its heading, left and up vectors, ?E whatever `env`
+ * writes (NULL: ?E keeps its parameters), each into as many of the module's
+ * parameters as it has (at most three for ?P ?H ?L ?U). The values are
+ * written into `par`, an array laid out like the string's own parameters. */
+typedef struct merp_ls_query {
+    float *par;
+    double origin[3];
+    void (*env)(void *ctx, const double pos[3], const double head[3], float *par,
+                unsigned np);
+    void *ctx;
+} merp_ls_query;
+
 /* ABOP's defaults: δ 90, step 1, width 1, no tropism. */
 merp_ls_turtle merp_ls_turtle_default(void);
 
@@ -178,6 +229,9 @@ merp_ls_turtle merp_ls_turtle_default(void);
  * first): the turtle starts at the origin heading up (+y), its left -x, its up
  * +z. 0, or -1 when out of memory. O(|s|) time; memory O(segments + depth). */
 int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs *out);
+/* merp_ls_interpret answering the query modules through `q` (may be NULL). */
+int merp_ls_interpret_query(const merp_lstr *s, const merp_ls_turtle *tp,
+                            const merp_ls_query *q, merp_ls_segs *out);
 
 void merp_ls_segs_free(merp_ls_segs *segs);
 

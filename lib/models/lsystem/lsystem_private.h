@@ -34,13 +34,24 @@ typedef struct merp_ls_prod {
     int nargs;
     double prob;          /* weight, when has_prob */
     int has_prob, nvars, line;
+    int section;          /* MERP_LS_PRODUCTIONS, _DECOMPOSITION, _HOMOMORPHISM */
 } merp_ls_prod;
+
+/* The productions of one section, grouped by predecessor symbol (in text order
+ * within a group), and the section's maximum depth of recursion (cpfg's
+ * "maximum depth:"; unused by the L-system's own productions). */
+typedef struct merp_ls_table {
+    int *by_head;   /* production indices */
+    int *head_off;  /* MERP_LS_NSYM + 1 offsets into by_head */
+    int nprod, depth;
+} merp_ls_table;
 
 struct merp_lsys {
     merp_ls_prod *prods;
     int nprod, pcap;
-    int *by_head;   /* production indices grouped by predecessor symbol */
-    int *head_off;  /* MERP_LS_NSYM + 1 offsets into by_head */
+    merp_ls_table tab[MERP_LS_SECTIONS];
+    int queries;    /* a query module (?P ?H ?L ?U ?E) in the axiom or a successor of
+                     * the productions or the decomposition */
     merp_lstr axiom;
     int dlen;
     uint8_t skip[MERP_LS_NSYM]; /* ignored by context matching (ABOP §1.8) */

@@ -68,13 +68,30 @@ static mer_result parse(const char *src, size_t len, char **text, merp_lsys **ls
     return rc;
 }
 
+/* The derivation step the axiom's decomposition is keyed with (merp_lsys_run's). */
+#define AXIOM_STEP UINT32_MAX
+
+/* The decomposition of `s` in place, when the text has one. 0, or -1 when out
+ * of memory (s unchanged). */
+static int decompose_with(const merp_lsys *ls, merp_lstr *s, uint64_t seed, uint32_t step)
+{
+    if (merp_lsys_section_size(ls, MERP_LS_DECOMPOSITION) == 0)
+        return 0;
+    merp_lstr out;
+    merp_lstr_init(&out);
+    int rc = merp_lsys_decompose(ls, s, &out, seed, step);
+    if (rc == 0)
+        merp_lstr_swap(s, &out);
+    merp_lstr_free(&out);
+    return rc;
+}
+
 /* The turtle's drawing of m->str onto the skeleton. */
 static mer_result draw(merp_model *m, const merp_world *w, mer_error *err)
 {
-    merp_ls_turtle tp = merp_lsm_turtle(w->p);
     merp_ls_segs segs = {0};
     mer_result rc = MER_OK;
-    if (merp_ls_interpret(&m->str, &tp, &segs))
+    if (merp_lsm_interpret(m, w, &segs))
         rc = NOMEM(err);
     else if (segs.n > MER_NODES_MAX)
         rc = mer_error_set(err, MER_ERR_LIMIT, "nodes", "the L-system draws %zu internodes, more than %u",
@@ -95,7 +112,10 @@ static mer_result ls_set_definition(merp_model *m, const merp_world *w, const ch
     if (rc != MER_OK)
         return rc;
     int first = m->text == NULL;
-    if (first && merp_lstr_copy(&m->str, merp_lsys_axiom(ls))) {
+    mer_rng peek = *w->rng; /* the seed drawn below, for the axiom's decomposition */
+    uint64_t seed = mer_rng_next(&peek);
+    if (first && (merp_lstr_copy(&m->str, merp_lsys_axiom(ls)) ||
+                  decompose_with(ls, &m->str, seed, AXIOM_STEP))) {
         merp_free(text);
         merp_lsys_free(ls);
         return NOMEM(err);
@@ -112,6 +132,7 @@ static mer_result ls_set_definition(merp_model *m, const merp_world *w, const ch
     if (sk->nplants > 0)
         memcpy(m->base, sk->pos + 3 * sk->roots[0], sizeof m->base);
     m->seed = mer_rng_next(w->rng);
+    assert(m->seed == seed);
     m->dstep = 0;
     return draw(m, w, err);
 }
@@ -138,7 +159,8 @@ static mer_result ls_step(merp_model *m, const merp_world *w, mer_error *err)
     int changed = 0;
     mer_result rc = MER_OK;
     if (merp_lsm_fold(m, w, &folded, &changed) ||
-        merp_lsys_derive(m->ls, changed ? &folded : &m->str, &next, m->seed, m->dstep))
+        merp_lsys_derive(m->ls, changed ? &folded : &m->str, &next, m->seed, m->dstep) ||
+        decompose_with(m->ls, &next, m->seed, m->dstep))
         rc = NOMEM(err);
     else if (next.n > MERP_LS_MODULES_MAX)
         rc = mer_error_set(err, MER_ERR_LIMIT, "nodes",

@@ -35,6 +35,25 @@
  *    subtree under tropism bends a little differently when it is drawn again.
  * A step past the text's derivation length derives nothing (the edits stay in
  * the skeleton until a step derives).
+ *
+ * Tier 2 of cpfg. The decomposition is applied to the axiom (when the first
+ * definition is given) and after every derivation step; its result is the
+ * string. The homomorphism is applied at every drawing only: the turtle reads
+ * its result, each segment names the module of the string that gave it (a
+ * prune or bend of a segment a homomorphism drew acts on that module, so on
+ * all the segments it gave). When the text holds query modules, every drawing
+ * writes their answers into the string's own modules (not into modules a
+ * homomorphism made), so the next derivation step reads them:
+ *  - ?P(x,y,z): the turtle's position in the scene (the plant's base plus the
+ *    turtle's coordinates); ?H ?L ?U: its heading, left and up vectors;
+ *  - ?E(Q, o): the environment at the turtle's position, in this order: Q, the
+ *    light a bud there would perceive, max(C − s + a, 0) of P09 §4.1 with s the
+ *    shadow grid's value there (0 without a grid: the L-system's own segments
+ *    cast no shadow, obstacles do); o, 1 when the position is below the ground
+ *    or inside an obstacle, else 0. A module with fewer parameters gets the
+ *    first ones; parameters past the second keep their values.
+ * Interpretation is sequential and the environment is only read, so the
+ * answers, and the strings derived from them, do not depend on threads.
  */
 #ifndef MERISTEM_LSYSTEM_MODEL_PRIVATE_H
 #define MERISTEM_LSYSTEM_MODEL_PRIVATE_H
@@ -66,6 +85,10 @@ struct merp_model {
  * whole. MER_ERR_NOMEM, MER_ERR_LIMIT (the skeleton may be partial then). */
 mer_result merp_lsm_build(merp_model *m, const merp_world *w, const merp_ls_segs *segs,
                           mer_error *err);
+/* draw.c: the turtle's drawing of m->str into `segs`, through the homomorphism
+ * and answering the query modules (above). 0, or -1 when out of memory.
+ * O(string + the homomorphism's output). */
+int merp_lsm_interpret(merp_model *m, const merp_world *w, merp_ls_segs *segs);
 /* The turtle of the scene's parameters. */
 merp_ls_turtle merp_lsm_turtle(const mer_params *p);
 /* draw.c: the string with the skeleton's prunes and bends folded in, into

@@ -11,6 +11,12 @@
  * is the empty string. Modules are one character, or "?" and a letter (the query
  * modules of ABOP's successors), optionally followed by "(args)". Every error
  * names its line and column.
+ *
+ * Sections, in cpfg's order: a line "decomposition" starts the decomposition
+ * productions and a line "homomorphism" the homomorphism productions, each
+ * optionally with "maximum depth: n" (default MERP_LS_DEPTH_DEFAULT); both are
+ * context-free here (a context is refused at its position), with conditions
+ * and probabilities as in the L-system's own productions.
  */
 #include "config.h"
 
@@ -35,6 +41,7 @@ typedef struct pctx {
     merp_ls_error *err;
     merp_ls_name names[MERP_LS_MAXVARS + 256];
     int nnames;
+    int sect; /* the section the lines belong to */
 } pctx;
 
 static int error_at(pctx *c, int line, int col, const char *msg)
@@ -209,6 +216,8 @@ static int successor(pctx *c, span s, merp_ls_prod *pr, int nnames)
             grow((void **)&pr->args, &acap, pr->nargs + na, sizeof *pr->args))
             return error_at(c, s.line, s.col, "out of memory");
         pr->succ[pr->nsucc++] = (merp_ls_out){y, (uint16_t)na, (uint32_t)pr->nargs};
+        if (y >= 256 && strchr("PHLUE", y - 256) && c->sect != MERP_LS_HOMOMORPHISM)
+            c->ls->queries = 1;
         for (int k = 0; k < na; k++) {
             merp_expr *e = expr(c, args[k], nnames);
             if (!e)
@@ -252,6 +261,13 @@ static int head(pctx *c, span h, merp_ls_prod *pr)
     }
     pr->pred = pp[0];
     merp_free(pp);
+    if (c->sect != MERP_LS_PRODUCTIONS && pr->nlc + pr->nrc > 0) {
+        span at = pr->nlc > 0 ? trim(lc) : sub(h, gt, h.e);
+        return error_at(c, at.line, at.col,
+                        c->sect == MERP_LS_DECOMPOSITION
+                            ? "a context in a decomposition production (they are context-free)"
+                            : "a context in a homomorphism production (they are context-free)");
+    }
     for (int k = 0; k < pr->nlc; k++)
         if (pr->lc[k].sym == '[' || pr->lc[k].sym == ']')
             return error_at(c, lc.line, lc.col, "brackets in a left context");
@@ -265,6 +281,7 @@ static int production(pctx *c, span s, const char *arrow, int alen)
     merp_ls_prod pr;
     memset(&pr, 0, sizeof pr);
     pr.line = s.line;
+    pr.section = c->sect;
     c->nnames = c->ls->ndefs;
     span left = sub(s, s.b, arrow), right = sub(s, arrow + alen, s.e);
     const char *colon = find(left, ':', 0);
@@ -351,6 +368,33 @@ static int keyword(span s, const char *kw, span *rest)
     return 1;
 }
 
+/* "decomposition" or "homomorphism": the productions that follow belong to it. */
+static int section(pctx *c, span s, span rest)
+{
+    int sect = tolower((unsigned char)*s.b) == 'd' ? MERP_LS_DECOMPOSITION : MERP_LS_HOMOMORPHISM;
+    rest = trim(rest);
+    if (rest.b < rest.e && !(rest.e - rest.b == 1 && *rest.b == ':'))
+        return error_at(c, rest.line, rest.col, "unexpected text after the section's name");
+    if (sect <= c->sect)
+        return error_at(c, s.line, s.col,
+                        sect == c->sect ? "this section was started before"
+                                        : "the decomposition comes before the homomorphism");
+    c->sect = sect;
+    return 0;
+}
+
+static int max_depth(pctx *c, span s, span r)
+{
+    int ok;
+    if (c->sect == MERP_LS_PRODUCTIONS)
+        return error_at(c, s.line, s.col, "maximum depth: outside a decomposition or homomorphism");
+    double v = const_expr(c, r, &ok);
+    if (ok && !(v >= 1.0 && v <= MERP_LS_DEPTH_MAX && v == (double)(int)v))
+        return error_at(c, r.line, trim(r).col, "bad maximum depth (an integer from 1 to 1000)");
+    c->ls->tab[c->sect].depth = (int)v;
+    return ok ? 0 : -1;
+}
+
 static int directive(pctx *c, span s, int *done)
 {
     merp_lsys *ls = c->ls;
@@ -387,8 +431,11 @@ static int directive(pctx *c, span s, int *done)
     }
     if (keyword(s, "lsystem:", &r) || keyword(s, "endlsystem", &r))
         return 0;
-    if (keyword(s, "decomposition", &r) || keyword(s, "homomorphism", &r) ||
-        keyword(s, "maximum depth:", &r) || *s.b == '#')
+    if (keyword(s, "decomposition", &r) || keyword(s, "homomorphism", &r))
+        return section(c, s, r);
+    if (keyword(s, "maximum depth:", &r))
+        return max_depth(c, s, r);
+    if (*s.b == '#')
         return error_at(c, s.line, s.col, "not supported yet");
     *done = 0;
     return 0;
@@ -416,21 +463,27 @@ static int line(pctx *c, span s)
     return production(c, s, a, alen);
 }
 
-/* Groups the productions by predecessor symbol, keeping their order. */
-static int index_heads(merp_lsys *ls)
+/* Groups the productions of section `sect` by predecessor symbol, keeping
+ * their order. */
+static int index_heads(merp_lsys *ls, int sect)
 {
-    ls->head_off = merp_calloc(MERP_LS_NSYM + 1, sizeof *ls->head_off);
-    ls->by_head = merp_malloc(((size_t)ls->nprod + 1) * sizeof *ls->by_head);
-    if (!ls->head_off || !ls->by_head)
+    merp_ls_table *t = &ls->tab[sect];
+    t->head_off = merp_calloc(MERP_LS_NSYM + 1, sizeof *t->head_off);
+    t->by_head = merp_malloc(((size_t)ls->nprod + 1) * sizeof *t->by_head);
+    if (!t->head_off || !t->by_head)
         return -1;
     for (int i = 0; i < ls->nprod; i++)
-        ls->head_off[ls->prods[i].pred.sym + 1]++;
+        if (ls->prods[i].section == sect) {
+            t->head_off[ls->prods[i].pred.sym + 1]++;
+            t->nprod++;
+        }
     for (int y = 0; y < MERP_LS_NSYM; y++)
-        ls->head_off[y + 1] += ls->head_off[y];
+        t->head_off[y + 1] += t->head_off[y];
     int fill[MERP_LS_NSYM];
-    memcpy(fill, ls->head_off, sizeof fill);
+    memcpy(fill, t->head_off, sizeof fill);
     for (int i = 0; i < ls->nprod; i++)
-        ls->by_head[fill[ls->prods[i].pred.sym]++] = i;
+        if (ls->prods[i].section == sect)
+            t->by_head[fill[ls->prods[i].pred.sym]++] = i;
     return 0;
 }
 
@@ -469,6 +522,8 @@ merp_lsys *merp_lsys_parse(const char *text, merp_ls_error *err)
     } else {
         merp_lstr_init(&ls->axiom);
         c->ls = ls, c->err = err;
+        ls->tab[MERP_LS_DECOMPOSITION].depth = MERP_LS_DEPTH_DEFAULT;
+        ls->tab[MERP_LS_HOMOMORPHISM].depth = MERP_LS_DEPTH_DEFAULT;
         const char *b = t;
         for (int ln = 1; !rc; ln++) {
             const char *e = strchr(b, '\n');
@@ -479,8 +534,9 @@ merp_lsys *merp_lsys_parse(const char *text, merp_ls_error *err)
                 break;
             b = e + 1;
         }
-        if (!rc && index_heads(ls))
-            rc = error_at(c, 0, 0, "out of memory");
+        for (int k = 0; !rc && k < MERP_LS_SECTIONS; k++)
+            if (index_heads(ls, k))
+                rc = error_at(c, 0, 0, "out of memory");
         if (!rc && !(ls->defs = merp_malloc(((size_t)ls->ndefs + 1) * sizeof *ls->defs)))
             rc = error_at(c, 0, 0, "out of memory");
         if (!rc)
@@ -502,8 +558,10 @@ void merp_lsys_free(merp_lsys *ls)
     for (int i = 0; i < ls->nprod; i++)
         prod_free(&ls->prods[i]);
     merp_free(ls->prods);
-    merp_free(ls->by_head);
-    merp_free(ls->head_off);
+    for (int k = 0; k < MERP_LS_SECTIONS; k++) {
+        merp_free(ls->tab[k].by_head);
+        merp_free(ls->tab[k].head_off);
+    }
     merp_free(ls->defs);
     merp_lstr_free(&ls->axiom);
     merp_free(ls);
@@ -525,4 +583,16 @@ int merp_lsys_nprod(const merp_lsys *ls)
 {
     assert(ls);
     return ls->nprod;
+}
+
+int merp_lsys_section_size(const merp_lsys *ls, int sect)
+{
+    assert(ls && sect >= 0 && sect < MERP_LS_SECTIONS);
+    return ls->tab[sect].nprod;
+}
+
+int merp_lsys_has_queries(const merp_lsys *ls)
+{
+    assert(ls);
+    return ls->queries;
 }

@@ -10,6 +10,10 @@
  * pop the state; !(w) sets the width and '(c) the colour; % drops the rest of
  * its branch; . ~ { } and unknown symbols draw nothing. After each step the
  * heading bends towards T by e·|H × T| (ABOP §2.2).
+ *
+ * Query modules (cpfg): given a merp_ls_query, ?P receives the position, ?H ?L
+ * ?U the frame's vectors and ?E the environment's answer, written into the
+ * query's parameter array; without one they draw nothing, like any module.
  */
 #include "config.h"
 
@@ -149,9 +153,33 @@ static int draw(tstate *t, double len, uint32_t module, merp_ls_segs *out)
     return 0;
 }
 
+/* Answers query module i (symbol y >= 256) through q. */
+static void query(const tstate *t, const merp_lstr *s, size_t i, const merp_ls_query *q)
+{
+    unsigned np = merp_lstr_np(s, i);
+    float *par = q->par + s->poff[i];
+    double pos[3];
+    for (int k = 0; k < 3; k++)
+        pos[k] = q->origin[k] + t->p[k];
+    const double *v = NULL;
+    switch (s->sym[i] - 256) {
+    case 'P': v = pos; break;
+    case 'H': v = t->h; break;
+    case 'L': v = t->l; break;
+    case 'U': v = t->u; break;
+    case 'E':
+        if (q->env)
+            q->env(q->ctx, pos, t->h, par, np);
+        return;
+    default: return;
+    }
+    for (unsigned k = 0; k < np && k < 3; k++)
+        par[k] = (float)v[k];
+}
+
 /* Changes the state by module i (not a bracket); -1 when out of memory. */
 static int act(tstate *t, const merp_lstr *s, size_t i, const merp_ls_turtle *tp,
-               merp_ls_segs *out, trig *tr)
+               const merp_ls_query *q, merp_ls_segs *out, trig *tr)
 {
     unsigned np = merp_lstr_np(s, i);
     double a = np ? (double)s->par[s->poff[i]] : tp->delta;
@@ -184,14 +212,23 @@ static int act(tstate *t, const merp_lstr *s, size_t i, const merp_ls_turtle *tp
         if (np)
             t->color = (uint16_t)s->par[s->poff[i]];
         break;
-    default: break;
+    default:
+        if (q && s->sym[i] >= 256)
+            query(t, s, i, q);
+        break;
     }
     return 0;
 }
 
 int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs *out)
 {
-    assert(s && tp && out);
+    return merp_ls_interpret_query(s, tp, NULL, out);
+}
+
+int merp_ls_interpret_query(const merp_lstr *s, const merp_ls_turtle *tp,
+                            const merp_ls_query *q, merp_ls_segs *out)
+{
+    assert(s && tp && out && (!q || q->par || s->npar == 0));
     out->n = 0;
     tstate t = {.p = {0, 0, 0}, .h = {0, 1, 0}, .l = {-1, 0, 0}, .u = {0, 0, 1},
                 .width = tp->width, .last = UINT32_MAX};
@@ -205,12 +242,12 @@ int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs
         if (y == '[') {
             if (depth == cap) {
                 size_t c = cap ? cap * 2 : 32;
-                tstate *q = merp_realloc(stack, c * sizeof *q);
-                if (!q) {
+                tstate *grown = merp_realloc(stack, c * sizeof *grown);
+                if (!grown) {
                     rc = -1;
                     break;
                 }
-                stack = q, cap = c;
+                stack = grown, cap = c;
             }
             stack[depth++] = t;
             t.order++;
@@ -220,7 +257,7 @@ int merp_ls_interpret(const merp_lstr *s, const merp_ls_turtle *tp, merp_ls_segs
         } else if (y == '%') {
             i = merp_lstr_branch_end(s, i + 1) - 1; /* the ']' comes next, or the end */
         } else {
-            rc = act(&t, s, i, tp, out, &tr);
+            rc = act(&t, s, i, tp, q, out, &tr);
         }
     }
     merp_free(stack);
