@@ -142,3 +142,24 @@ test('guiding-vector parameters out of range are problems naming the field', asy
   }
 });
 
+
+test('a guiding tree is the same whatever the worker count', async () => {
+  const grow = async (url) => {
+    const c = await api(url, 'POST', '/v1/sessions', { preset: 'gv-shrub', seed: 9 });
+    assert.equal(c.status, 201, JSON.stringify(c.body));
+    const s = await api(url, 'POST', `/v1/sessions/${c.body.id}/edits`, { op: 'step', count: 3 });
+    const g = await api(url, 'GET', `/v1/sessions/${c.body.id}/snapshot.glb?quantize=0`);
+    await api(url, 'DELETE', `/v1/sessions/${c.body.id}`);
+    return [s.body.hash, s.body.internodes, g.raw.length];
+  };
+  const one = await startDaemon(['--workers', '1', '--threads', '1']);
+  const many = await startDaemon(['--workers', '4', '--threads', '4']);
+  try {
+    const [a, b, c] = await Promise.all([grow(one.url), grow(many.url), grow(d.url)]);
+    assert.deepEqual(a, b);
+    assert.deepEqual(a, c);
+  } finally {
+    await one.stop();
+    await many.stop();
+  }
+});

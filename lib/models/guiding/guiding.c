@@ -73,10 +73,14 @@ static void gv_free(merp_model *m)
     merp_free(m);
 }
 
-/* The per-node tree arrays for the graph's n nodes, nobody in the tree. */
+/* The per-node tree arrays for the graph's n nodes, nobody in the tree (those
+ * of a build that ran out of memory before are dropped). */
 static mer_result alloc_tree(merp_model *m, uint32_t n, mer_error *err)
 {
     size_t c = n ? n : 1;
+    merp_free(m->skid);
+    merp_free(m->g);
+    merp_free(m->hop);
     m->skid = merp_malloc(c * sizeof *m->skid);
     m->g = merp_calloc(3 * c, sizeof *m->g);
     m->hop = merp_calloc(c, sizeof *m->hop);
