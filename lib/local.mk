@@ -45,6 +45,13 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/runions/runions.h \
 	lib/models/runions/runions.c \
 	lib/models/runions/associate.c \
+	lib/models/guiding/guiding.h \
+	lib/models/guiding/guiding.c \
+	lib/models/guiding/graph.c \
+	lib/models/guiding/guide.c \
+	lib/models/guiding/dijkstra.c \
+	lib/models/guiding/endpoints.c \
+	lib/models/guiding/tree.c \
 	lib/models/lsystem/lsystem.h \
 	lib/models/lsystem/lsystem_private.h \
 	lib/models/lsystem/expr.c \

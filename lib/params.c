@@ -27,12 +27,14 @@ typedef struct field {
 
 /* W: read by every model (the world: skeleton, environment, initial scene);
  * P: read by P09 alone; R: by the Runions 2007 model alone; L: by the L-system
- * model alone; N: the Perlin noise every model reads. */
+ * model alone; G: by the guiding-vector model alone; N: the Perlin noise every
+ * model reads. */
 #define W MERP_ROWS_WORLD
 #define P MERP_ROWS_P09
 #define R MERP_ROWS_RUNIONS
 #define N MERP_ROWS_NOISE
 #define L MERP_ROWS_LSYSTEM
+#define G MERP_ROWS_GUIDING
 #define FF(rows, name, sym, member, def, lo, hi, open) \
     { name, sym, offsetof(mer_params, member), F_FLOAT, def, lo, hi, open, rows }
 #define FU(rows, name, sym, member, def, lo, hi) \
@@ -91,6 +93,18 @@ static const field fields[] = {
     FF(L, "ls_width_scale", "", ls_width_scale, 1.0, 0.0, 1e4, 1),
     FF(L, "ls_elasticity", "e", ls_elasticity, 0.0, -10.0, 10.0, 0),
     FU(L, "ls_blocking", "", ls_blocking, 0, 0, 1),
+    FF(G, "gv_density", "", gv_density, 1.0, 0.0, 1000.0, 1),
+    FU(G, "gv_cones", "", gv_cones, 14, 4, 64),
+    FF(G, "gv_rotation", "δ", gv_rotation, 4.0, 0.0, 180.0, 0),
+    FF(G, "gv_rotation_falloff", "", gv_rotation_falloff, 1.0, 0.0, 2.0, 0),
+    FU(G, "gv_early_endpoints", "", gv_early_endpoints, 1, 1, 100000),
+    FU(G, "gv_endpoints", "", gv_endpoints, 200, 1, 100000),
+    FU(G, "gv_k_hops", "k", gv_k_hops, 3, 1, 1000),
+    FF(G, "gv_t", "t", gv_t, 0.5, 0.0, 1.0, 1),
+    FU(G, "gv_bound", "", gv_bound, 0, 0, 1),
+    FU(G, "gv_iterations", "", gv_iterations, 4, 1, 1000),
+    FF(G, "gv_epsilon", "ε", gv_epsilon, 0.05, 0.0, 10.0, 1),
+    FF(G, "gv_p", "p", gv_p, 2.0, 0.1, 16.0, 0),
     FU(W, "seedlings", "", seedlings, 1, 0, 1000),
     FF(W, "seedling_spacing", "", seedling_spacing, 10.0, 0.0, 1e4, 0),
     FU(W, "marker_volume", "", marker_volume, MER_VOLUME_ELLIPSOID, 0, 5),
@@ -124,6 +138,7 @@ static const field fields[] = {
 #undef R
 #undef N
 #undef L
+#undef G
 
 #define NFIELDS (sizeof fields / sizeof fields[0])
 

@@ -214,6 +214,76 @@ static void perlin_noise(mer_params *p)
     p->noise_octaves = 3;
 }
 
+/* Guiding-vector trees after Xu & Mould 2015 (the survey's §II; guiding.h), in
+ * an ellipsoid crown like fig4-colonization's (radii 10, 8, 10 at height 14).
+ * XM15 gives no numbers the survey reports; these are ours: a graph of one node
+ * per unit volume, 14 cones, a cost of |e|·(0.05 + (1 − g·ê)/2)², the later
+ * endpoints 3 hops out from the tree among its outer half. */
+static void gv(mer_params *p, float rotation, uint32_t iterations)
+{
+    p->model = MER_MODEL_GUIDING;
+    p->marker_volume = MER_VOLUME_ELLIPSOID;
+    p->marker_center[1] = 14.0f;
+    p->marker_size[0] = p->marker_size[2] = 10.0f;
+    p->marker_size[1] = 8.0f;
+    p->gv_rotation = rotation;
+    p->gv_iterations = iterations;
+    p->gv_endpoints = 60;
+}
+/* Fig. 2: two rotation settings, each after two and after five iterations. A
+ * small increment keeps branches near their parent's heading; a large one
+ * turns them outwards and down within a few hops. */
+static void gv_fig2_small_2(mer_params *p) { gv(p, 2.0f, 2); }
+static void gv_fig2_small_5(mer_params *p) { gv(p, 2.0f, 5); }
+static void gv_fig2_large_2(mer_params *p) { gv(p, 9.0f, 2); }
+static void gv_fig2_large_5(mer_params *p) { gv(p, 9.0f, 5); }
+/* Fig. 3: one early endpoint gives a trunk; the second iteration's endpoints are
+ * held inside a bounding volume: a sphere high above the ground, or a cone. */
+static void gv_fig3_sphere(mer_params *p)
+{
+    gv(p, 4.0f, 4);
+    p->gv_bound = 1;
+    p->marker_volume = MER_VOLUME_SPHERE;
+    p->marker_center[1] = 16.0f;
+    p->marker_size[0] = 7.0f;
+}
+static void gv_fig3_cone(mer_params *p)
+{
+    gv(p, 4.0f, 4);
+    p->gv_bound = 1;
+    p->marker_volume = MER_VOLUME_CONE;
+    p->marker_center[1] = 15.0f;
+    p->marker_size[0] = 7.0f;
+    p->marker_size[1] = 10.0f;
+}
+/* Fig. 4: about 1,000, 2,000 and 4,000 endpoints: one early (the trunk), then
+ * five iterations of 230, 480 and 1,600 asked for, each among all the nodes 4
+ * hops out (t = 1) inside a box crown from 8 to 22 high (so the trunk stays
+ * bare), in a graph of 3 nodes per unit volume. The surface holds fewer than
+ * asked as the crown fills: seed 0 gives 1,034, 1,924 and 3,846 endpoints. */
+static void gv_fig4(mer_params *p, uint32_t per_iteration)
+{
+    gv(p, 4.0f, 6);
+    p->gv_density = 3.0f;
+    p->gv_endpoints = per_iteration;
+    p->gv_k_hops = 4;
+    p->gv_t = 1.0f;
+    p->gv_bound = 1;
+    p->marker_volume = MER_VOLUME_BOX;
+    p->marker_center[1] = 15.0f;
+    p->marker_size[0] = p->marker_size[2] = 11.0f;
+    p->marker_size[1] = 7.0f;
+}
+static void gv_fig4_1000(mer_params *p) { gv_fig4(p, 230); }
+static void gv_fig4_2000(mer_params *p) { gv_fig4(p, 480); }
+static void gv_fig4_4000(mer_params *p) { gv_fig4(p, 1600); }
+/* Several early endpoints: a shrub (the survey's "early endpoint placement"). */
+static void gv_shrub(mer_params *p)
+{
+    gv(p, 4.0f, 4);
+    p->gv_early_endpoints = 6;
+}
+
 static const preset presets[] = {
     {"default", "the defaults: shadow propagation, extended BH with λ = 0.5", p_default},
     {"fig7-bh-0.46", "Fig. 7: extended BH, λ = 0.46, α = 2 (decurrent)", fig7_046},
@@ -242,6 +312,16 @@ static const preset presets[] = {
     {"fig4-colonization", "Fig. 4: space colonization in an ellipsoid of 20000 markers", fig4_colonization},
     {"perlin-noise", "Survey §VII-A: the default tree with Perlin noise (amplitude 0.25, scale 0.3, 3 octaves) on directions, lengths and radii", perlin_noise},
     {"runions-2007", "Fig. 21a: the original space colonization of Runions et al. 2007 (d_i 6, d_k 2, D 1) in fig4-colonization's ellipsoid: no buds, no apical control", runions_2007},
+    {"gv-fig2-small-2", "Xu & Mould 2015 Fig. 2: guiding vectors turning 2° a hop, after 2 iterations", gv_fig2_small_2},
+    {"gv-fig2-small-5", "Xu & Mould 2015 Fig. 2: guiding vectors turning 2° a hop, after 5 iterations", gv_fig2_small_5},
+    {"gv-fig2-large-2", "Xu & Mould 2015 Fig. 2: guiding vectors turning 9° a hop, after 2 iterations", gv_fig2_large_2},
+    {"gv-fig2-large-5", "Xu & Mould 2015 Fig. 2: guiding vectors turning 9° a hop, after 5 iterations", gv_fig2_large_5},
+    {"gv-fig3-sphere", "Xu & Mould 2015 Fig. 3: a trunk, later endpoints bounded by a sphere", gv_fig3_sphere},
+    {"gv-fig3-cone", "Xu & Mould 2015 Fig. 3: a trunk, later endpoints bounded by a cone", gv_fig3_cone},
+    {"gv-fig4-1000", "Xu & Mould 2015 Fig. 4: about 1,000 endpoints in a box crown over a trunk; grow 6 steps", gv_fig4_1000},
+    {"gv-fig4-2000", "Xu & Mould 2015 Fig. 4: about 2,000 endpoints in a box crown over a trunk; grow 6 steps", gv_fig4_2000},
+    {"gv-fig4-4000", "Xu & Mould 2015 Fig. 4: about 4,000 endpoints in a box crown over a trunk; grow 6 steps", gv_fig4_4000},
+    {"gv-shrub", "Xu & Mould 2015: six early endpoints give a shrub", gv_shrub},
 };
 
 #define NPRESETS (sizeof presets / sizeof presets[0])

@@ -567,7 +567,9 @@ static const char *const revert_fields[] = {"op", "revision", NULL};
 static const char *const lsystem_fields[] = {"op", "source", NULL};
 static const char *const functions_fields[] = {"op", "fset", "functions", NULL};
 
-#define ANY (MERD_MODEL_P09 | MERD_MODEL_RUNIONS | MERD_MODEL_LSYSTEM | MERD_MODEL_INVERSE)
+#define ANY                                                                           \
+    (MERD_MODEL_P09 | MERD_MODEL_RUNIONS | MERD_MODEL_LSYSTEM | MERD_MODEL_INVERSE | \
+     MERD_MODEL_GUIDING)
 
 static const merd_edit_op ops[] = {
     {"step", step_fields, "a step edit", decode_step, apply_step, ANY, MERD_OP_STEPS},

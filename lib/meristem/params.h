@@ -53,7 +53,8 @@ typedef enum mer_model_kind {
     MER_MODEL_P09 = 0,    /* self-organizing trees, Palubicki et al. 2009 (default) */
     MER_MODEL_RUNIONS = 1, /* space colonization, Runions, Lane & Prusinkiewicz 2007 */
     MER_MODEL_LSYSTEM = 2, /* L-systems after ABOP, in cpfg's syntax (a definition text) */
-    MER_MODEL_INVERSE = 3  /* Galbraith et al. 2004's inverse model: functions of time (a definition text) */
+    MER_MODEL_INVERSE = 3, /* Galbraith et al. 2004's inverse model: functions of time (a definition text) */
+    MER_MODEL_GUIDING = 4  /* least-cost paths along guiding vectors, Xu & Mould 2015 */
 } mer_model_kind;
 
 /* What Perlin noise perturbs: the bits of mer_params.noise_targets. */
@@ -181,6 +182,22 @@ typedef struct mer_params {
     float ls_elasticity;      /* e, tropism susceptibility towards T = -y (ABOP §2.2); 0; [-10, 10] */
     uint32_t ls_blocking;     /* 1: the ground and obstacles stop a segment whose end they hold, and
                                * the rest of its branch, as they stop P09's shoots; 0 */
+
+    /* guiding-vector trees of Xu & Mould 2015 (model "guiding"; the crown volume is
+     * the marker volume below): see lib/models/guiding/guiding.h. One step is one
+     * iteration. */
+    float gv_density;         /* graph nodes per unit volume; 1; (0, 1000] */
+    uint32_t gv_cones;        /* k cones of the Yao graph; 14; 4..64 */
+    float gv_rotation;        /* δ, guiding-vector rotation at the first hop, degrees; 4; [0, 180] */
+    float gv_rotation_falloff; /* δ(h) = δ·falloff^(h − 1); 1; [0, 2] */
+    uint32_t gv_early_endpoints; /* endpoints of the first iteration (1: a trunk); 1; 1..100000 */
+    uint32_t gv_endpoints;    /* endpoints of each later iteration; 200; 1..100000 */
+    uint32_t gv_k_hops;       /* k, hops from the tree of the later endpoints' surface; 3; 1..1000 */
+    float gv_t;               /* t, outermost fraction of those nodes; 0.5; (0, 1] */
+    uint32_t gv_bound;        /* 1: later endpoints inside the crown volume only; 0 */
+    uint32_t gv_iterations;   /* iterations (steps) that grow; 4; 1..1000 */
+    float gv_epsilon;         /* ε of the edge cost |e|·(ε + (1 − g·ê)/2)^p; 0.05; (0, 10] */
+    float gv_p;               /* p of that cost; 2; [0.1, 16] */
 
     /* initial scene: read by mer_scene_new only (set_params leaves the scene as it is) */
     uint32_t seedlings;       /* plants placed along x at creation; 1; 0..1000 */

@@ -104,7 +104,8 @@ enum {
     MERP_ROWS_P09 = 1u << 1,
     MERP_ROWS_RUNIONS = 1u << 2,
     MERP_ROWS_NOISE = 1u << 3, /* every model's, and only while noise_amplitude > 0 */
-    MERP_ROWS_LSYSTEM = 1u << 4
+    MERP_ROWS_LSYSTEM = 1u << 4,
+    MERP_ROWS_GUIDING = 1u << 5
 };
 
 /* The ops of model `kind` (mer_model_kind), or NULL when there is none. */
@@ -116,6 +117,8 @@ extern const merp_model_ops merp_p09_ops;
 extern const merp_model_ops merp_runions_ops;
 /* models/lsystem/model.c */
 extern const merp_model_ops merp_lsystem_ops;
+/* models/guiding/guiding.c */
+extern const merp_model_ops merp_guiding_ops;
 /* models/inverse/inverse.c */
 extern const merp_model_ops merp_inverse_ops;
 

@@ -1,6 +1,8 @@
 /* meristem benchmark: the Table 1 workloads of Palubicki et al. 2009 (§6), space
- * colonization with a million markers (P09's and Runions et al. 2007's), and a
- * forest of 100 trees growing together.
+ * colonization with a million markers (P09's and Runions et al. 2007's), a
+ * forest of 100 trees growing together, and a guiding-vector tree of about
+ * 4,000 endpoints (Xu & Mould 2015's Fig. 4, its six iterations in its own
+ * crown).
  * Each workload grows until it has its number of internodes (the paper's, for
  * Table 1) and prints how many steps that took beside the paper's step count, so
  * the figures read the same whatever pace the presets grow at. Columns:
@@ -34,15 +36,17 @@ typedef struct workload {
     uint32_t internodes;  /* grow until the scene has this many */
     uint32_t markers;     /* > 0: space colonization with this many markers */
     uint32_t trees;       /* > 1: a square lattice of this many plants */
+    uint32_t steps;       /* > 0: grow this many steps, in the preset's own bounds */
 } workload;
 
 static const workload workloads[] = {
-    {"table1-left", "table1-left", 106, 700000, 0, 1},
-    {"table1-center", "table1-center", 90, 642000, 0, 1},
-    {"table1-right", "table1-right", 68, 225000, 0, 1},
-    {"colonization-1M-markers", "fig4-colonization", 0, 500000, 1000000, 1},
-    {"forest-100-trees", "default", 0, 500000, 0, 100},
-    {"runions-1M-markers", "runions-2007", 0, 50000, 1000000, 1},
+    {"table1-left", "table1-left", 106, 700000, 0, 1, 0},
+    {"table1-center", "table1-center", 90, 642000, 0, 1, 0},
+    {"table1-right", "table1-right", 68, 225000, 0, 1, 0},
+    {"colonization-1M-markers", "fig4-colonization", 0, 500000, 1000000, 1, 0},
+    {"forest-100-trees", "default", 0, 500000, 0, 100, 0},
+    {"runions-1M-markers", "runions-2007", 0, 50000, 1000000, 1, 0},
+    {"guiding-4000-endpoints", "gv-fig4-4000", 0, 8000, 0, 1, 6},
 };
 
 #define NWORK (sizeof workloads / sizeof workloads[0])
@@ -81,7 +85,8 @@ static mer_result make_scene(const workload *w, mer_scene **out, mer_error *err)
     mer_result rc = mer_preset_params(w->preset, &p, err);
     if (rc != MER_OK)
         return rc;
-    paper_grid(&p);
+    if (w->steps == 0)
+        paper_grid(&p);
     if (w->markers > 0) {
         p.marker_count = w->markers;
         p.marker_volume = MER_VOLUME_ELLIPSOID;
@@ -129,7 +134,8 @@ static int grow(const workload *w, outcome *o)
     uint32_t steps = 0;
     double t1 = now(CLOCK_PROCESS_CPUTIME_ID), w1 = now(CLOCK_MONOTONIC);
     /* no shedding or pruning here, so ids issued = internodes (cheaper than a summary) */
-    while (mer_scene_node_bound(s) < w->internodes && steps < STEP_CAP) {
+    while (w->steps > 0 ? steps < w->steps
+                        : mer_scene_node_bound(s) < w->internodes && steps < STEP_CAP) {
         if (mer_scene_step(s, 1, NULL, NULL, NULL, NULL, &err) != MER_OK) {
             fprintf(stderr, "bench: %s: %s\n", w->name, err.message);
             mer_scene_free(s);

@@ -1,7 +1,8 @@
 # `make bench`: the figures behind the performance targets, printed, never
 # judged (these machines are noisy). Built only on demand.
 #  - bench: the Table 1 workloads (P09 §6), space colonization with a million
-#    markers (P09's, and Runions 2007's to 50,000 internodes) and a forest of 100 trees, each grown to its internode count:
+#    markers (P09's, and Runions 2007's to 50,000 internodes) and a forest of 100 trees, each grown to its internode count,
+#    and Xu & Mould 2015's guiding-vector tree of about 4,000 endpoints (gv-fig4-4000's six iterations):
 #    internodes, steps (and the paper's), seconds (min and median of
 #    BENCH_RUNS runs), internodes per second, peak memory (each run in a
 #    process of its own), the scene's hash.
@@ -39,7 +40,7 @@ EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/ref
 	tests/bench/restore.js
 
 BENCH_WORKLOADS = table1-left table1-center table1-right \
-  colonization-1M-markers forest-100-trees runions-1M-markers
+  colonization-1M-markers forest-100-trees runions-1M-markers guiding-4000-endpoints
 BENCH_RUNS = 3
 
 bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/bench_inverse$(EXEEXT) \

@@ -23,6 +23,9 @@ const STEPS = {
   'fig15-brushed': 30,
   'fig4-colonization': 30,
   'perlin-noise': 16,
+  'gv-fig2-small-2': 2, 'gv-fig2-small-5': 5, 'gv-fig2-large-2': 2, 'gv-fig2-large-5': 5,
+  'gv-fig3-sphere': 4, 'gv-fig3-cone': 4, 'gv-fig4-1000': 6, 'gv-fig4-2000': 6, 'gv-fig4-4000': 6,
+  'gv-shrub': 4,
 };
 /** Presets that grow the same tree as another (Table 1 is Fig. 10 at full size). */
 const SAME_AS = { 'table1-left': 'fig10-left', 'table1-center': 'fig10-center', 'table1-right': 'fig10-right' };

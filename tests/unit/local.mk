@@ -228,3 +228,8 @@ tests_unit_test_inverse_edits_SOURCES = tests/unit/test_inverse_edits.c
 nodist_EXTRA_tests_unit_test_inverse_edits_SOURCES = tests/unit/link-as-cxx.cc
 tests_unit_test_inverse_edits_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_inverse_edits_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_guiding
+tests_unit_test_guiding_SOURCES = tests/unit/test_guiding.c tests/unit/scene_helpers.h
+tests_unit_test_guiding_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_guiding_LDADD = $(UNIT_LDADD)

@@ -243,7 +243,7 @@ static void test_model_names(void **state)
 static void test_rows_per_model(void **state)
 {
     (void)state;
-    size_t p09 = 0, world = 0, runions = 0, ls = 0;
+    size_t p09 = 0, world = 0, runions = 0, ls = 0, gv = 0;
     for (size_t i = 0; i < mer_params_field_count(); i++) {
         const char *m = mer_params_field_model(i);
         assert_non_null(m);
@@ -256,6 +256,8 @@ static void test_rows_per_model(void **state)
             assert_string_equal(m, "lsystem");
         if (strcmp(name, "d_i") == 0)
             assert_string_equal(m, "runions");
+        if (strcmp(name, "gv_epsilon") == 0)
+            assert_string_equal(m, "guiding");
         mer_params p = mer_params_default();
         int used = mer_params_field_used(&p, i);
         if (strcmp(name, "noise_scale") == 0) {
@@ -264,16 +266,19 @@ static void test_rows_per_model(void **state)
             p.noise_amplitude = 0.1f;
             assert_true(mer_params_field_used(&p, i));
         } else {
-            assert_int_equal(used, strcmp(m, "runions") != 0 && strcmp(m, "lsystem") != 0 && strncmp(name, "noise_", 6) != 0);
+            assert_int_equal(used, strcmp(m, "runions") != 0 && strcmp(m, "lsystem") != 0 &&
+                                       strcmp(m, "guiding") != 0 && strncmp(name, "noise_", 6) != 0);
         }
         p09 += strcmp(m, "p09") == 0;
         ls += strcmp(m, "lsystem") == 0;
         world += m[0] == '\0';
         runions += strcmp(m, "runions") == 0;
+        gv += strcmp(m, "guiding") == 0;
     }
     assert_true(p09 > 0 && world > 0 && ls > 0);
     assert_int_equal(runions, 3);
-    assert_int_equal(p09 + world + runions + ls, mer_params_field_count());
+    assert_int_equal(gv, 12);
+    assert_int_equal(p09 + world + runions + ls + gv, mer_params_field_count());
     assert_null(mer_params_field_model(mer_params_field_count()));
 }
 
