@@ -157,15 +157,33 @@ static void fig6_sympodial(mer_params *p)
     bh(p, 0.5f);
     p->sympodial = 1;
 }
+/* Fig. 12 (§4.3): a metamer's direction is d_prev + ξV + ηT, normalized. On an
+ * upright axis T is parallel to d_prev: tropism only shortens the sum, and a leader
+ * that starts vertical, with V vertical above the crown, stays exactly straight
+ * whatever η is: a weeping tree staked for ever. Real shoots never grow exactly
+ * straight (nutation, the displacement of the apex by its own leaves), and under a
+ * downward pull that outweighs the pull to the light (|η| > ξ) an upright axis is
+ * unstable: a tilt θ grows to about θ / (1 + ξ − |η|) a metamer, so the leader arches
+ * over and an upper lateral takes its place, the decurrent, gnarled crowns of
+ * Fig. 12c, d. Upward tropism (a) corrects the same deviations. So the four trees
+ * grow with the same small wandering of every new internode (Perlin noise on
+ * directions, amplitude 0.1, about 6°, 3-unit features) and differ only in η and ξ,
+ * as in the caption. The paper gives no values: ±0.1 for the small η and ξ; for (c)
+ * a large ξ = 0.6 and η = −0.8, a downward pull larger than the pull to the light;
+ * for (d) η = −0.5 (at −0.8 with the small ξ the shoots droop into their own shade
+ * and the tree stalls near 200 internodes). */
 static void fig12(mer_params *p, float eta, float xi)
 {
     bh(p, 0.5f);
     p->eta = eta;
     p->xi = xi;
+    p->noise_amplitude = 0.1f;
+    p->noise_scale = 0.3f;
+    p->noise_targets = MER_NOISE_DIRECTIONS;
 }
 static void fig12a(mer_params *p) { fig12(p, 0.1f, 0.1f); }   /* small up η, small ξ */
 static void fig12b(mer_params *p) { fig12(p, -0.1f, 0.1f); }  /* small down η, small ξ */
-static void fig12c(mer_params *p) { fig12(p, -0.5f, 0.6f); }  /* large down η, large ξ */
+static void fig12c(mer_params *p) { fig12(p, -0.8f, 0.6f); }  /* large down η, large ξ */
 static void fig12d(mer_params *p) { fig12(p, -0.5f, 0.1f); }  /* large down η, small ξ */
 /* Fig. 13: "increasing the downward tropism near the end of the simulation" (§4.3).
  * The paper gives neither the values nor the steps; the tree is shown at about 26
@@ -259,10 +277,10 @@ static const preset presets[] = {
     {"fig11-animation", "Fig. 11: apical control everywhere until step 25, then removed", fig11_animation},
     {"fig6-sylleptic", "Fig. 6 left: sylleptic development, a decurrent shrub", fig6_sylleptic},
     {"fig6-sympodial", "Fig. 6 right: proleptic, sympodial (terminal buds flower)", fig6_sympodial},
-    {"fig12a", "Fig. 12a: small upward tropism η = 0.1, small ξ = 0.1", fig12a},
-    {"fig12b", "Fig. 12b: small downward tropism η = -0.1, small ξ = 0.1", fig12b},
-    {"fig12c", "Fig. 12c: large downward tropism η = -0.5, large ξ = 0.6", fig12c},
-    {"fig12d", "Fig. 12d: large downward tropism η = -0.5, small ξ = 0.1", fig12d},
+    {"fig12a", "Fig. 12a: small upward tropism η = 0.1, small ξ = 0.1; shoots wander (noise 0.1 on directions)", fig12a},
+    {"fig12b", "Fig. 12b: small downward tropism η = -0.1, small ξ = 0.1; shoots wander (noise 0.1 on directions)", fig12b},
+    {"fig12c", "Fig. 12c: large downward tropism η = -0.8, large ξ = 0.6; shoots wander (noise 0.1 on directions)", fig12c},
+    {"fig12d", "Fig. 12d: large downward tropism η = -0.5, small ξ = 0.1; shoots wander (noise 0.1 on directions)", fig12d},
     {"fig13-tropism-late", "Fig. 13: downward tropism rising from η 0.05 at step 18 to -1 at step 22; grow 26 steps", fig13},
     {"fig14-tall-bole", "Fig. 14: shedding (threshold 0.6) under an excurrent crown (λ 0.54) raises a tall bole; grow 18 steps", fig14},
     {"fig15-brushed", "Fig. 15: space colonization from a seedling and one light stroke; brush to go on", fig15_brushed},

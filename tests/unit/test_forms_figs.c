@@ -20,6 +20,8 @@
 typedef struct form {
     float margin_max;  /* the highest leader margin over the seeds */
     float margin_min;  /* the lowest */
+    float margin;      /* the mean */
+    int lost;          /* seeds whose leader a lateral has overtopped (margin < 0) */
     float slenderness; /* mean height / width */
     float width;       /* mean crown width */
     float gnarl;       /* mean angle between consecutive internodes of an axis */
@@ -31,7 +33,7 @@ static form measure(const char *preset, uint32_t steps, uint32_t from)
 {
     mer_params p;
     assert_int_equal(mer_preset_params(preset, &p, NULL), MER_OK);
-    form f = {-1.0f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.0f};
+    form f = {-1.0f, 1.0f, 0.0f, 0, 0.0f, 0.0f, 0.0f, 0.0f, -1.0f};
     for (uint64_t seed = 1; seed <= SEEDS; seed++) {
         mer_scene *s = new_scene(&p, seed);
         step(s, steps);
@@ -40,6 +42,8 @@ static form measure(const char *preset, uint32_t steps, uint32_t from)
         float margin = form_leader_margin(s), dy = form_new_dir_y(s, from);
         f.margin_max = margin > f.margin_max ? margin : f.margin_max;
         f.margin_min = margin < f.margin_min ? margin : f.margin_min;
+        f.margin += margin / SEEDS;
+        f.lost += margin < 0.0f;
         f.slenderness += form_slenderness(s) / SEEDS;
         f.width += m.crown_width / SEEDS;
         f.gnarl += form_gnarl(s) / SEEDS;
@@ -47,9 +51,9 @@ static form measure(const char *preset, uint32_t steps, uint32_t from)
         f.dir_y_max = dy > f.dir_y_max ? dy : f.dir_y_max;
         mer_scene_free(s);
     }
-    print_message("%s after %u steps: leader margin %.3f to %.3f, height/width %.2f, width %.1f, "
-                  "gnarl %.1f°, direction y since step %u %.3f (highest %.3f)\n",
-                  preset, steps, (double)f.margin_min, (double)f.margin_max,
+    print_message("%s after %u steps: leader margin %.3f to %.3f (mean %.3f, lost in %d), "
+                  "height/width %.2f, width %.1f, gnarl %.1f°, direction y since step %u %.3f (highest %.3f)\n",
+                  preset, steps, (double)f.margin_min, (double)f.margin_max, (double)f.margin, f.lost,
                   (double)f.slenderness, (double)f.width, (double)f.gnarl, from,
                   (double)f.dir_y, (double)f.dir_y_max);
     return f;
@@ -86,10 +90,15 @@ static void test_fig11_excurrent_young_decurrent_old(void **state)
 }
 
 /* Fig. 12 (P09 §4.3): downward tropism (b) spreads the branches more widely than
- * upward tropism (a); strong downward tropism (c, d) makes highly gnarled branches
- * whose new growth points down, and with a strong pull towards light (c) a crown
- * lower for its width. Measured after 20 steps: height/width 0.86, 0.73, 0.62, 1.07;
- * gnarl 2.7°, 3.7°, 8.6°, 9.2° (a, b, c, d). */
+ * upward tropism (a); "a strong downward tropism combined with a strong tendency to
+ * grow towards light results in decurrent forms with highly gnarled branches (Fig.
+ * 12c, d)". The four trees wander alike (lib/presets.c): a and b keep their leader
+ * in every seed, while in c and d the upright leader arches over and a lateral
+ * overtops it (leader margin below 0 in every seed), the crowns lower
+ * for their width. Measured after 20 steps (a, b, c, d): height/width 0.86, 0.72,
+ * 0.74, 0.41; gnarl 3.1°, 4.0°, 9.4°, 9.0°; mean leader margin 0.012, 0.017, -0.107,
+ * -0.091. Before the wandering the leaders of c and d stayed exactly vertical and led
+ * in every seed (margins 0.025 and 0.032 at the least): the leader test fails there. */
 static void test_fig12_tropism(void **state)
 {
     (void)state;
@@ -105,7 +114,15 @@ static void test_fig12_tropism(void **state)
     assert_true(d.gnarl > 2.0f * straight);
     assert_true(c.dir_y_max < 0.0f);
     assert_true(d.dir_y_max < 0.0f);
-    assert_true(c.slenderness < a.slenderness - 0.15f);
+    /* Decurrent c and d, excurrent a and b. */
+    assert_true(a.margin_min > 0.0f);
+    assert_true(b.margin_min > 0.0f);
+    assert_true(c.margin < -0.05f);
+    assert_true(d.margin < -0.05f);
+    assert_true(c.margin_max < 0.0f);
+    assert_true(d.margin_max < 0.0f);
+    assert_true(c.slenderness < a.slenderness - 0.08f);
+    assert_true(d.slenderness < a.slenderness - 0.3f);
 }
 
 /* Fig. 13: downward tropism raised near the end of the simulation (η from 0.05 at
