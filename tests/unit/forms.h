@@ -141,4 +141,52 @@ static inline float form_gnarl(const mer_scene *s)
     return count > 0 ? (float)(sum / count) : 0.0f;
 }
 
+/* Fork height: where, walking up the trunk, a lateral first carries at least as
+ * many internodes as the trunk above it (the trunk divides into limbs), over the
+ * tree's height; 1 when the trunk stays the dominant axis to its top. The
+ * botanist's excurrent (a main axis that dominates through the crown) against
+ * decurrent (a trunk that breaks up into roughly equal limbs). */
+static inline float form_fork_height(const mer_scene *s)
+{
+    uint32_t bound = mer_scene_node_bound(s);
+    uint32_t *size = calloc(bound, sizeof *size);
+    assert_non_null(size);
+    /* Children have higher ids: sizes accumulate from the last node down. */
+    uint32_t root = MER_NO_NODE;
+    float top = 0.0f, base = 0.0f;
+    for (uint32_t id = bound; id-- > 0;) {
+        mer_node n;
+        if (mer_scene_node(s, id, &n, NULL) != MER_OK || !n.alive || n.plant != 0)
+            continue;
+        size[id] += 1;
+        if (n.parent != MER_NO_NODE)
+            size[n.parent] += size[id];
+        else
+            root = id;
+        if (form_tip_y(&n) > top)
+            top = form_tip_y(&n);
+    }
+    float fork = 0.0f;
+    if (root != MER_NO_NODE) {
+        mer_node n;
+        mer_scene_node(s, root, &n, NULL);
+        base = n.base[1];
+        for (uint32_t id = root;;) {
+            mer_scene_node(s, id, &n, NULL);
+            fork = form_tip_y(&n) - base;
+            if (n.main_child == MER_NO_NODE)
+                break;
+            uint32_t lat = 0;
+            for (int k = 0; k < 2; k++)
+                if (n.lateral_child[k] != MER_NO_NODE && size[n.lateral_child[k]] > lat)
+                    lat = size[n.lateral_child[k]];
+            if (lat >= size[n.main_child])
+                break;
+            id = n.main_child;
+        }
+    }
+    free(size);
+    return top > base ? fork / (top - base) : 0.0f;
+}
+
 #endif

@@ -20,6 +20,8 @@
 typedef struct form {
     float margin_max;  /* the highest leader margin over the seeds */
     float margin_min;  /* the lowest */
+    float margin;      /* the mean */
+    int lost;          /* seeds whose leader a lateral has overtopped (margin < 0) */
     float slenderness; /* mean height / width */
     float width;       /* mean crown width */
     float gnarl;       /* mean angle between consecutive internodes of an axis */
@@ -31,7 +33,7 @@ static form measure(const char *preset, uint32_t steps, uint32_t from)
 {
     mer_params p;
     assert_int_equal(mer_preset_params(preset, &p, NULL), MER_OK);
-    form f = {-1.0f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.0f};
+    form f = {-1.0f, 1.0f, 0.0f, 0, 0.0f, 0.0f, 0.0f, 0.0f, -1.0f};
     for (uint64_t seed = 1; seed <= SEEDS; seed++) {
         mer_scene *s = new_scene(&p, seed);
         step(s, steps);
@@ -40,6 +42,8 @@ static form measure(const char *preset, uint32_t steps, uint32_t from)
         float margin = form_leader_margin(s), dy = form_new_dir_y(s, from);
         f.margin_max = margin > f.margin_max ? margin : f.margin_max;
         f.margin_min = margin < f.margin_min ? margin : f.margin_min;
+        f.margin += margin / SEEDS;
+        f.lost += margin < 0.0f;
         f.slenderness += form_slenderness(s) / SEEDS;
         f.width += m.crown_width / SEEDS;
         f.gnarl += form_gnarl(s) / SEEDS;
@@ -47,9 +51,9 @@ static form measure(const char *preset, uint32_t steps, uint32_t from)
         f.dir_y_max = dy > f.dir_y_max ? dy : f.dir_y_max;
         mer_scene_free(s);
     }
-    print_message("%s after %u steps: leader margin %.3f to %.3f, height/width %.2f, width %.1f, "
-                  "gnarl %.1f°, direction y since step %u %.3f (highest %.3f)\n",
-                  preset, steps, (double)f.margin_min, (double)f.margin_max,
+    print_message("%s after %u steps: leader margin %.3f to %.3f (mean %.3f, lost in %d), "
+                  "height/width %.2f, width %.1f, gnarl %.1f°, direction y since step %u %.3f (highest %.3f)\n",
+                  preset, steps, (double)f.margin_min, (double)f.margin_max, (double)f.margin, f.lost,
                   (double)f.slenderness, (double)f.width, (double)f.gnarl, from,
                   (double)f.dir_y, (double)f.dir_y_max);
     return f;
@@ -58,7 +62,10 @@ static form measure(const char *preset, uint32_t steps, uint32_t from)
 /* Fig. 6: sylleptic development, and proleptic development with sympodial branching,
  * make decurrent shrubs: after 12 steps every seed has lost its leader (a lateral
  * tip above the trunk's) and the crown is lower for its width than the default
- * tree's (measured 0.71 and 0.69 against 0.81; margins at most -0.70 and -0.84). */
+ * tree's (measured 0.70 and 0.71 against 0.82; margins at most -0.75 and -0.84).
+ * The code before issue 19's calibration already reproduced this figure, with the
+ * same measures to the digit (the calibration did not touch these presets): the
+ * test guards the form, it does not mark a fix. */
 static void test_fig6_shrubs_are_decurrent(void **state)
 {
     (void)state;
@@ -74,7 +81,11 @@ static void test_fig6_shrubs_are_decurrent(void **state)
 
 /* Fig. 11: apical control everywhere until step 25, then removed: the young tree is
  * excurrent (its leader leads in every seed at step 25) and the old one decurrent,
- * lower for its width (measured 1.27 at step 25, 0.98 at step 50). */
+ * lower for its width (measured 1.20 at step 25, 1.00 at step 50). The young tree's
+ * claim discriminates: before the Table 1 calibration (shoots of up to 16 metamers a
+ * season) it had lost its leader by step 25 in every seed (margin -0.67, height/width
+ * 0.76). The old tree is less decurrent than the figure's last frame: at step 50 a
+ * lateral has overtopped the leader in 4 seeds of 8 only. */
 static void test_fig11_excurrent_young_decurrent_old(void **state)
 {
     (void)state;
@@ -86,10 +97,16 @@ static void test_fig11_excurrent_young_decurrent_old(void **state)
 }
 
 /* Fig. 12 (P09 §4.3): downward tropism (b) spreads the branches more widely than
- * upward tropism (a); strong downward tropism (c, d) makes highly gnarled branches
- * whose new growth points down, and with a strong pull towards light (c) a crown
- * lower for its width. Measured after 20 steps: height/width 0.86, 0.73, 0.62, 1.07;
- * gnarl 2.7°, 3.7°, 8.6°, 9.2° (a, b, c, d). */
+ * upward tropism (a); "a strong downward tropism combined with a strong tendency to
+ * grow towards light results in decurrent forms with highly gnarled branches (Fig.
+ * 12c, d)". The four trees wander alike (lib/presets.c): a and b keep their leader
+ * in every seed, while in c and d the upright leader arches over and a lateral
+ * overtops it (leader margin below 0 in every seed), the crowns lower
+ * for their width. Measured after 20 steps (a, b, c, d): height/width 0.86, 0.72,
+ * 0.74, 0.41; gnarl 3.1°, 4.0°, 9.4°, 9.0°; mean leader margin 0.012, 0.017, -0.107,
+ * -0.091. Before the wandering the leaders of c and d stayed exactly vertical and led
+ * in every seed (margins 0.025 and 0.032 at the least): the leader test fails there.
+ * The spread of b against a and the gnarl of c and d held already then. */
 static void test_fig12_tropism(void **state)
 {
     (void)state;
@@ -105,7 +122,15 @@ static void test_fig12_tropism(void **state)
     assert_true(d.gnarl > 2.0f * straight);
     assert_true(c.dir_y_max < 0.0f);
     assert_true(d.dir_y_max < 0.0f);
-    assert_true(c.slenderness < a.slenderness - 0.15f);
+    /* Decurrent c and d, excurrent a and b. */
+    assert_true(a.margin_min > 0.0f);
+    assert_true(b.margin_min > 0.0f);
+    assert_true(c.margin < -0.05f);
+    assert_true(d.margin < -0.05f);
+    assert_true(c.margin_max < 0.0f);
+    assert_true(d.margin_max < 0.0f);
+    assert_true(c.slenderness < a.slenderness - 0.08f);
+    assert_true(d.slenderness < a.slenderness - 0.3f);
 }
 
 /* Fig. 13: downward tropism raised near the end of the simulation (η from 0.05 at

@@ -24,6 +24,8 @@ typedef struct form {
     float largest;     /* mean share of the largest first-order branch */
     float order1;      /* mean share of the first-order axes */
     float leader;      /* mean trunk top / height */
+    float fork;        /* mean fork height / height */
+    float margin_min;  /* the lowest leader margin over the seeds */
     float internodes;  /* mean */
 } form;
 
@@ -34,6 +36,7 @@ static form measure(const char *preset, uint32_t steps)
     mer_params p;
     assert_int_equal(mer_preset_params(preset, &p, NULL), MER_OK);
     form f = {0};
+    f.margin_min = 1.0f;
     for (uint64_t seed = 1; seed <= SEEDS; seed++) {
         mer_scene *s = new_scene(&p, seed);
         step(s, steps);
@@ -47,27 +50,34 @@ static form measure(const char *preset, uint32_t steps)
         f.largest += form_largest_branch_share(s) / SEEDS;
         f.order1 += form_order_share(s, 1) / SEEDS;
         f.leader += form_leader_height(s) / SEEDS;
+        f.fork += form_fork_height(s) / SEEDS;
+        float margin = form_leader_margin(s);
+        f.margin_min = margin < f.margin_min ? margin : f.margin_min;
         f.internodes += (float)m.internodes / SEEDS;
         mer_scene_free(s);
     }
     print_message("%s after %u steps: %.0f internodes, height/width %.2f, largest first-order "
-                  "branch %.3f, first order %.4f, leader height %.3f\n",
+                  "branch %.3f, first order %.4f, leader height %.3f, fork height %.3f, "
+                  "lowest leader margin %.3f\n",
                   preset, steps, (double)f.internodes, (double)f.slenderness, (double)f.largest,
-                  (double)f.order1, (double)f.leader);
+                  (double)f.order1, (double)f.leader, (double)f.fork, (double)f.margin_min);
     return f;
 }
 
-/* Fig. 10 at full size, each tree at its Table 1 step count, inside the 200³ grid:
- * the left tree (apical control removed early everywhere) is the most decurrent, the
- * lowest for its width with the largest first-order limb; the right tree (control
- * kept on first-order laterals) puts by far the most growth into first-order axes;
- * the centre tree, its control on the main stem removed at step 40, keeps its trunk
- * higher into the crown than the left one. Measured: height/width 0.89 / 0.96 / 0.96,
- * largest limb 0.245 / 0.180 / 0.210, first order 0.0005 / 0.0015 / 0.015, trunk top
- * at 0.42 / 0.60 / 0.88 of the height (left / centre / right). Not yet the paper's
- * claim that the centre tree is the most excurrent: 50 steps after its control is
- * removed its leader is overtopped, and with shoots capped at 2 metamers a season
- * (Table 1's calibration) keeping the control to step 70 does not save it. */
+/* Fig. 10 at full size, each tree at its Table 1 step count, inside the 200³ grid.
+ * The centre tree (control on the main stem only, removed at step 80; 60° laterals,
+ * see lib/presets.c) is the most excurrent: its trunk's top stands highest in the
+ * crown (overtopped in one seed of eight, 10 steps after the removal) and the trunk
+ * stays the dominant axis highest (no lateral as large as the trunk above it). The
+ * left tree (control removed early everywhere) is the most decurrent: its leader is
+ * overtopped lowest, its trunk breaks up into limbs lowest, it is the lowest for its
+ * width and has a larger first-order limb than the right tree. The right tree
+ * (control kept on first-order laterals) puts by far the most growth into
+ * first-order axes. Measured (left / centre / right): trunk top at 0.42 / 0.97 / 0.88
+ * of the height, trunk dominant to 0.28 / 0.96 / 0.86 of it, height/width 0.89 /
+ * 0.95 / 0.96, largest limb 0.245 / 0.199 / 0.210, first order 0.0005 / 0.0037 /
+ * 0.015; 786,000 / 480,000 / 148,000 internodes. With control removed at step 40 and
+ * 45° laterals the centre tree's trunk top stood at 0.60, below the right tree's. */
 static void test_fig10_full_size(void **state)
 {
     (void)state;
@@ -79,11 +89,14 @@ static void test_fig10_full_size(void **state)
     assert_true(right.internodes > 100000.0f);
     assert_true(left.slenderness < center.slenderness - 0.03f);
     assert_true(left.slenderness < right.slenderness - 0.03f);
-    assert_true(left.largest > center.largest + 0.03f);
     assert_true(left.largest > right.largest + 0.01f);
-    assert_true(right.order1 > 4.0f * left.order1);
-    assert_true(right.order1 > 4.0f * center.order1);
-    assert_true(center.leader > left.leader + 0.05f);
+    assert_true(right.order1 > 3.0f * left.order1);
+    assert_true(right.order1 > 3.0f * center.order1);
+    /* Centre the most excurrent, left the most decurrent. */
+    assert_true(center.leader > right.leader + 0.05f);
+    assert_true(right.leader > left.leader + 0.2f);
+    assert_true(center.fork > right.fork + 0.05f);
+    assert_true(right.fork > left.fork + 0.2f);
 }
 
 /* Under the sanitizers the 24 full-size trees take several minutes; the kernels
