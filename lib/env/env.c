@@ -203,10 +203,10 @@ uint32_t merp_env_cell(const merp_env *e, const float pos[3])
     return merp_shadow_cell(e->shadow, pos);
 }
 
-float merp_env_light_at(const merp_env *e, uint32_t cell)
+void merp_env_light_cells(const merp_env *e, const uint32_t *cells, size_t n, float *q)
 {
-    assert(e != NULL && e->shadow != NULL);
-    return merp_shadow_light_cell(e->shadow, cell, e->p.shadow_c);
+    assert(e != NULL && e->shadow != NULL && (n == 0 || (cells != NULL && q != NULL)));
+    merp_shadow_light_cells(e->shadow, cells, n, e->p.shadow_c, q);
 }
 
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3])

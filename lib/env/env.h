@@ -74,10 +74,12 @@ mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const floa
 /* Under shadow propagation, merp_env_perceive in parts, so that V can be
  * computed for the buds that grow only: the voxel of a bud at `pos`, which a
  * model may keep while merp_env_epoch stays (the grid and the buds' places are
- * the same then); the light Q of a bud in that voxel (O(1)); and the optimal
- * direction V of one bud at `pos` facing `dir` (O(26)). */
+ * the same then); the light Q of buds in the voxels cells[0, n) into q[0, n)
+ * (O(n), the voxels read ahead: a big tree's buds are spread over a grid far
+ * larger than the cache); and the optimal direction V of one bud at `pos`
+ * facing `dir` (O(26)). */
 uint32_t merp_env_cell(const merp_env *e, const float pos[3]);
-float merp_env_light_at(const merp_env *e, uint32_t cell);
+void merp_env_light_cells(const merp_env *e, const uint32_t *cells, size_t n, float *q);
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3]);
 /* A bud at p that may not grow still clears its occupancy zone of markers. */
 void merp_env_occupy(merp_env *e, const float p[3]);
@@ -109,8 +111,10 @@ void merp_env_batch_end(merp_env *e);
  * does), the number of voxels, and `count` casts of a bud's pyramid at a voxel
  * (negative: lifted). */
 uint32_t merp_shadow_cell(const mer_shadow *sh, const float p[3]);
-/* mer_shadow_light of a bud in voxel `cell`. */
+/* mer_shadow_light of a bud in voxel `cell`; of buds in cells[0, n) into q. */
 float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c);
+void merp_shadow_light_cells(const mer_shadow *sh, const uint32_t *cells, size_t n, float c,
+                             float *q);
 size_t merp_shadow_cells(const mer_shadow *sh);
 void merp_shadow_cast_cell(mer_shadow *sh, uint32_t cell, int32_t count);
 

@@ -203,6 +203,22 @@ float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c)
     return q > 0.0f ? q : 0.0f;
 }
 
+/* How many voxels ahead merp_shadow_light_cells asks the memory for: enough reads
+ * in flight to hide a miss, few enough to stay in the cache until used. */
+#define READ_AHEAD 16
+
+void merp_shadow_light_cells(const mer_shadow *sh, const uint32_t *cells, size_t n, float c,
+                             float *q)
+{
+    for (size_t t = 0; t < n; t++) {
+#if defined(__GNUC__)
+        if (t + READ_AHEAD < n)
+            __builtin_prefetch(sh->s + cells[t + READ_AHEAD]);
+#endif
+        q[t] = merp_shadow_light_cell(sh, cells[t], c);
+    }
+}
+
 float mer_shadow_light(const mer_shadow *sh, const float p[3], float c)
 {
     return merp_shadow_light_cell(sh, merp_shadow_cell(sh, p), c);

@@ -19,7 +19,8 @@ static mer_result reserve_buds(merp_model *m, size_t want, mer_error *err)
     size_t cap = want + want / 2 + 64;
     if (!MERP_RESIZE(m->bkey, cap) || !MERP_RESIZE(m->bpos, 3 * cap) ||
         !MERP_RESIZE(m->bdir, 3 * cap) || !MERP_RESIZE(m->bv, 3 * cap) ||
-        !MERP_RESIZE(m->bq, cap) || !MERP_RESIZE(m->bquiet, cap))
+        !MERP_RESIZE(m->bq, cap) || !MERP_RESIZE(m->bquiet, cap) ||
+        !MERP_RESIZE(m->bcell, cap))
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for buds");
     m->bcap = cap;
     return MER_OK;
@@ -74,7 +75,8 @@ static mer_result update_cells(merp_model *m, const merp_world *w, mer_error *er
 }
 
 /* Lists the buds that may grow into the round's scratch (bkey, and bpos and bdir
- * unless V waits, when their light bq is read here from the voxels kept). */
+ * unless V waits, when their voxels bcell are listed, to read their light bq
+ * all at once). */
 static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis,
                                mer_error *err)
 {
@@ -104,7 +106,7 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
                 if (rc != MER_OK)
                     return rc;
                 m->bkey[m->bn] = 3 * i + k;
-                m->bq[m->bn++] = merp_env_light_at(w->env, m->cell[i]);
+                m->bcell[m->bn++] = m->cell[i];
                 continue;
             }
             /* A bud known to have no marker near it, with no marker added and no
@@ -141,7 +143,9 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
     mer_result rc = collect_buds(m, w, syllepsis, err);
     if (rc != MER_OK)
         return rc;
-    if (!m->v_deferred)
+    if (m->v_deferred)
+        merp_env_light_cells(w->env, m->bcell, m->bn, m->bq);
+    else
         rc = merp_env_perceive(w->env, m->bn, m->bpos, m->bdir, m->bq, m->bv, m->bquiet, err);
     if (rc != MER_OK)
         return rc;

@@ -39,6 +39,7 @@ struct merp_model {
     uint32_t *bkey;    /* 3·node + slot */
     float *bpos, *bdir, *bq, *bv;
     uint8_t *bquiet;
+    uint32_t *bcell;   /* under shadow propagation, while V waits: the bud's voxel */
     size_t bn, bcap;
     int v_deferred;    /* bv is not computed yet (merp_p09_directions) */
     /* priority scratch */
