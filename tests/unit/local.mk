@@ -216,3 +216,13 @@ tests_unit_test_inverse_SOURCES = tests/unit/test_inverse.c
 nodist_EXTRA_tests_unit_test_inverse_SOURCES = tests/unit/link-as-cxx.cc
 tests_unit_test_inverse_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_inverse_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_implicit
+tests_unit_test_implicit_SOURCES = tests/unit/test_implicit.c
+tests_unit_test_implicit_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_implicit_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_mtet
+tests_unit_test_mtet_SOURCES = tests/unit/test_mtet.c tests/unit/trimesh_check.h
+tests_unit_test_mtet_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_mtet_LDADD = $(UNIT_LDADD)
