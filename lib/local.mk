@@ -101,6 +101,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/implicit/bounded.c \
 	lib/mesh/implicit/mtet.c \
 	lib/mesh/implicit/junction.c \
+	lib/mesh/implicit/patch.c \
 	lib/scene_private.h \
 	lib/version.c \
 	lib/gltf/gltf_private.h \

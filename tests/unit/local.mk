@@ -226,3 +226,8 @@ check_PROGRAMS += tests/unit/test_mtet
 tests_unit_test_mtet_SOURCES = tests/unit/test_mtet.c tests/unit/trimesh_check.h
 tests_unit_test_mtet_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_mtet_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_patch
+tests_unit_test_patch_SOURCES = tests/unit/test_patch.c tests/unit/trimesh_check.h
+tests_unit_test_patch_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_patch_LDADD = $(UNIT_LDADD)

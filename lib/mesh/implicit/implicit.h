@@ -170,4 +170,47 @@ float merp_junction_field(const float p[3], const void *data);
 /* F_b(p) of the junction: b, the ridge's weight at p. */
 float merp_junction_ridge(const merp_junction *j, const float p[3]);
 
+/* --------------------------------------------------------------- patch.c */
+
+/* A cut plane of a junction's patch: the shaft beyond it (dot(p − o, n) > 0,
+ * n unit, pointing away from the junction) stays a generalized cylinder, whose
+ * ring of `sides` vertices `ring` lies in the plane (any rotation, any
+ * direction around n). The cut acts only within `reach` of the line through o
+ * along n (a few radii of its shaft), so it does not clip another shaft. */
+typedef struct merp_cut {
+    float o[3], n[3];
+    float reach;
+    const float *ring; /* 3 floats a vertex */
+    uint32_t sides;
+} merp_cut;
+
+#define MERP_PATCH_CUTS 4 /* the parent in, out, and two laterals */
+
+/* A junction's patch: its field, the cuts, and the grid it is polygonized on
+ * (which must hold the surface between the cuts; the segments must reach
+ * past their cuts, so the surface there is the plain tube). */
+typedef struct merp_patch {
+    const merp_junction *j;
+    merp_cut cut[MERP_PATCH_CUTS];
+    uint32_t cuts;
+    merp_grid grid;
+} merp_patch;
+
+/* The most vertices and triangles merp_patch_build writes: the polygonizer's
+ * bound for the grid, plus each cut's ring and its stitch (the loop's
+ * vertices are the polygonizer's). */
+void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles);
+
+/* Polygonizes the junction between its cuts and stitches each cut's boundary
+ * loop to that cut's ring: F_g is clipped by the cuts' half-spaces, the flat
+ * caps the clip makes are dropped, and each loop left in a cut plane is
+ * zipped to a copy of the ring (appended to `out`, positions exactly the
+ * ring's), walking both by angle about n. The result's only open edges are
+ * the rings' (so a tube that shares the ring closes it), wound outwards.
+ * `out` holds merp_patch_bound's counts; unused polygonizer vertices are
+ * dropped. Errors: MER_ERR_NOMEM; MER_ERR_INVALID when a cut leaves no single
+ * loop (the grid or cuts do not fit the junction). Cost: the polygonizer's,
+ * plus O(vertices log vertices). */
+mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *err);
+
 #endif
