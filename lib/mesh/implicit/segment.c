@@ -8,10 +8,13 @@
 #include "core/vec.h"
 #include "mesh/implicit/implicit.h"
 
+/* x_c = sqrt(1 − c^(1/3)) for c = 1/2: g(x_c) = (1 − x_c²)³ = c. A constant,
+ * since every field evaluation divides by it (test_implicit checks the iso). */
+#define XC 0.45420201894740647f
+
 float merp_seg_xc(void)
 {
-    /* g(x_c) = (1 − x_c²)³ = c. */
-    return sqrtf(1.0f - cbrtf(MERP_ISO));
+    return XC;
 }
 
 float merp_seg_distance(const merp_seg *s, const float p[3], float *t)
@@ -39,7 +42,7 @@ float merp_seg_field(const merp_seg *s, const float p[3])
     assert(s->ra > 0.0f && s->rb > 0.0f);
     float t;
     float d = merp_seg_distance(s, p, &t);
-    float R = ((1.0f - t) * s->ra + t * s->rb) / merp_seg_xc();
+    float R = ((1.0f - t) * s->ra + t * s->rb) / XC;
     float x2 = (d / R) * (d / R);
     if (x2 >= 1.0f)
         return 0.0f;
@@ -49,5 +52,5 @@ float merp_seg_field(const merp_seg *s, const float p[3])
 
 float merp_seg_support(const merp_seg *s)
 {
-    return (s->ra > s->rb ? s->ra : s->rb) / merp_seg_xc();
+    return (s->ra > s->rb ? s->ra : s->rb) / XC;
 }
