@@ -104,6 +104,14 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/tube.c \
 	lib/mesh/leaves.c \
 	lib/mesh/color.c \
+	lib/mesh/implicit/implicit.h \
+	lib/mesh/implicit/segment.c \
+	lib/mesh/implicit/blend.c \
+	lib/mesh/implicit/pcm.c \
+	lib/mesh/implicit/bounded.c \
+	lib/mesh/implicit/mtet.c \
+	lib/mesh/implicit/junction.c \
+	lib/mesh/implicit/patch.c \
 	lib/scene_private.h \
 	lib/version.c \
 	lib/gltf/gltf_private.h \

@@ -233,3 +233,18 @@ check_PROGRAMS += tests/unit/test_guiding
 tests_unit_test_guiding_SOURCES = tests/unit/test_guiding.c tests/unit/scene_helpers.h
 tests_unit_test_guiding_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_guiding_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_implicit
+tests_unit_test_implicit_SOURCES = tests/unit/test_implicit.c
+tests_unit_test_implicit_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_implicit_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_mtet
+tests_unit_test_mtet_SOURCES = tests/unit/test_mtet.c tests/unit/trimesh_check.h
+tests_unit_test_mtet_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_mtet_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_patch
+tests_unit_test_patch_SOURCES = tests/unit/test_patch.c tests/unit/trimesh_check.h
+tests_unit_test_patch_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_patch_LDADD = $(UNIT_LDADD)

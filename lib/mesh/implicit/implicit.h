@@ -1,0 +1,216 @@
+/* meristem — implicit surfaces for branch junctions (G04 §3): skeletal
+ * primitives, summation blending, precise contact modeling (PCM), generalized
+ * bounded blending (GBB, eq. 4) and a polygonizer. Not installed.
+ *
+ * Conventions. A field f(p) is in [0, 1], largest on its skeleton, decreasing
+ * outwards, and 0 beyond a finite support; a solid is {p : f(p) ≥ c} with the
+ * iso value c = MERP_ISO. All fields are pure functions of p (no state), so a
+ * junction can be evaluated on any thread. */
+#ifndef MERISTEM_MESH_IMPLICIT_H
+#define MERISTEM_MESH_IMPLICIT_H
+
+#include <stdint.h>
+
+#include <meristem/result.h>
+
+#define MERP_ISO 0.5f /* c: the iso value of every field here */
+
+/* ------------------------------------------------------------ segment.c */
+
+/* A skeletal primitive for an internode: the line segment a→b with the pipe
+ * radius ra at a and rb at b (a tapered capsule). Its field is Wyvill's soft
+ * kernel g(x) = (1 − x²)³ (0 for x ≥ 1) of x = d / R(t), where d is the distance
+ * from p to the segment, t ∈ [0, 1] the parameter of p's closest point and
+ * R(t) = r(t) / x_c with r(t) = (1 − t)·ra + t·rb and g(x_c) = c. So the iso
+ * surface f = c lies at distance r(t) from the segment: it matches the pipe
+ * radius along the internode, and the support is R(t) ≈ 2.2·r(t). A segment of
+ * length 0 is a ball. */
+typedef struct merp_seg {
+    float a[3], b[3];
+    float ra, rb;
+} merp_seg;
+
+/* x_c: the x at which g(x) = MERP_ISO, i.e. sqrt(1 − c^(1/3)). */
+float merp_seg_xc(void);
+
+/* The distance from p to segment s; *t gets the parameter of the closest point
+ * (may be NULL). Cost O(1). */
+float merp_seg_distance(const merp_seg *s, const float p[3], float *t);
+
+/* f(p) of the tapered capsule s (see above), in [0, 1]. Requires ra, rb > 0. */
+float merp_seg_field(const merp_seg *s, const float p[3]);
+
+/* The largest distance from the segment at which s's field is not 0. */
+float merp_seg_support(const merp_seg *s);
+
+/* --------------------------------------------------------------- blend.c */
+
+/* B2 of G04 §3.1: summation blending, Σ f_i (Blinn's and Wyvill's blend): two
+ * solids closer than their supports melt into one smooth surface. */
+float merp_blend_sum(const float *f, uint32_t n);
+
+/* --------------------------------------------------------------- pcm.c */
+
+/* Precise contact modeling (Gascuel 1993; Desbrun & Cani-Gascuel 1998, G04 §3),
+ * the formulation we use. Two solids f1 ≥ c and f2 ≥ c that interpenetrate are
+ * each deformed by the other:
+ *     f1'(p) = f1(p) + Δ(c − f2(p)),   f2'(p) = f2(p) + Δ(c − f1(p)),
+ *     Δ(x) = x                 for x < 0   (inside the other: compression),
+ *     Δ(x) = x·(1 − x / w)²    for 0 ≤ x ≤ w (the bulge of the propagation zone),
+ *     Δ(x) = 0                 for x > w.
+ * Inside the other solid f1' = c ⟺ f1 = f2: both deformed surfaces meet on
+ * the contact surface {f1 = f2} exactly, with no gap and no overlap. Δ is C¹
+ * (Δ(0) = 0, Δ'(0⁻) = Δ'(0⁺) = 1, Δ(w) = Δ'(w) = 0), so each deformed surface
+ * is C¹ where compression turns to bulge. The bulge's height, 4w/27 in field
+ * units at x = w/3, follows from C¹ continuity; w (in field units, 0 < w ≤ c)
+ * sets its width: the bulge spans c − w ≤ f2 < c. The contact pair as one solid is B1 = max(f1', f2'), whose
+ * surface has a crease where the two deformed surfaces meet: the branch bark
+ * ridge (G04 Figs. 4, 5). */
+float merp_pcm_delta(float x, float w);
+
+/* f1' and f2' of the pair (f1, f2) with bulge width w (see above). */
+void merp_pcm_pair(float f1, float f2, float w, float *f1d, float *f2d);
+
+/* B1: the union max(f1', f2') of the pair deformed by PCM. */
+float merp_pcm_union(float f1, float f2, float w);
+
+/* ------------------------------------------------------------- bounded.c */
+
+/* The bounding field's skeleton: a segment a→b, with F_b = 1 within distance
+ * r_in of it and F_b = 0 beyond r_out (0 ≤ r_in < r_out). */
+typedef struct merp_bound {
+    float a[3], b[3];
+    float r_in, r_out;
+} merp_bound;
+
+/* F_b(p) = ((1 − r)²)³ (G04 §3.1) with r = s², s = (d − r_in)/(r_out − r_in)
+ * clamped to [0, 1] and d the distance from p to the bound's segment. r is
+ * the SQUARED normalized distance, as Wyvill's kernels take r²: then F_b ∈
+ * [0, 1] and ∇F_b = 0 where F_b = 1 (s = 0) and where F_b = 0 (s = 1), the two
+ * criteria of §3.1 (with r the plain distance, ∇F_b would be 6/(r_out − r_in)
+ * at F_b = 1). Cost O(1). */
+float merp_bound_field(const merp_bound *bnd, const float p[3]);
+
+/* Generalized bounded blending, G04 eq. (4): F_g = F_b·b1 + (1 − F_b)·b2, where
+ * b1 = B1(f1..fn) (eq. 2) and b2 = B2(f1..fn) (eq. 3). */
+static inline float merp_gbb(float F_b, float b1, float b2)
+{
+    return F_b * b1 + (1.0f - F_b) * b2;
+}
+
+/* --------------------------------------------------------------- mtet.c */
+
+/* A field to polygonize: f(p) with user data; the solid is f ≥ MERP_ISO. */
+typedef float (*merp_field_fn)(const float p[3], const void *data);
+
+/* A regular grid of (n[0]+1)·(n[1]+1)·(n[2]+1) samples from `origin` with
+ * spacing h. */
+typedef struct merp_grid {
+    float origin[3];
+    float h;
+    uint32_t n[3]; /* cells along x, y, z, each ≥ 1 */
+} merp_grid;
+
+/* A triangle mesh the polygonizer writes: positions and unit normals (3 floats
+ * a vertex), triangles (3 indices), counter-clockwise seen from outside. */
+typedef struct merp_trimesh {
+    uint32_t vertex_count, triangle_count;
+    float *positions, *normals;
+    uint32_t *triangles;
+} merp_trimesh;
+
+/* The most vertices and triangles merp_mtet_polygonize can write for `g`: one
+ * vertex per grid edge of the Freudenthal triangulation (7 a sample), two
+ * triangles per tetrahedron (6 a cell). */
+void merp_mtet_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles);
+
+/* Marching tetrahedra over the Freudenthal (Kuhn) triangulation of `g`: each
+ * cell is 6 tetrahedra about its main diagonal, the same in every cell, so
+ * neighbouring cells share faces and edges and one vertex per crossed edge
+ * joins them: where the surface stays inside the grid the result is a closed
+ * 2-manifold, oriented outwards (every triangle faces from the inside sample to
+ * the outside one). Vertices are refined on their edge by regula falsi to
+ * |f − c| small; normals are −∇f by central differences. Samples are
+ * evaluated once; edges are only solved in cells whose corners differ in sign.
+ * `out` must hold merp_mtet_bound's counts; its counts are set. Errors:
+ * MER_ERR_NOMEM (scratch). Cost O(samples) evaluations + O(crossed cells). */
+mer_result merp_mtet_polygonize(const merp_grid *g, merp_field_fn f, const void *data,
+                                merp_trimesh *out, mer_error *err);
+
+/* ------------------------------------------------------------ junction.c */
+
+#define MERP_JUNCTION_LATERALS 2 /* a node has at most two lateral children */
+
+/* The field of one branch junction (G04 §3.2): the parent's axis through the
+ * junction point J (the parent internode in, its continuation out, as one
+ * solid A = max(f_in, f_out), so the axis does not bulge at its elbow) and the
+ * laterals L_k leaving J. With B2 = A + Σ L_k (summation, eq. 3) and
+ * B1 = max(A', L_k') (PCM, eq. 2: A' = A + Σ Δ(c − L_k), L_k' = L_k + Δ(c − A)),
+ * F_g = F_b·B1 + (1 − F_b)·B2 (eq. 4) with F_b = max_k F_b,k: the crease of
+ * contact (the branch bark ridge) in the crotch above each lateral, where its
+ * bound sits, and the smooth blend elsewhere. */
+typedef struct merp_junction {
+    merp_seg in, out;        /* the parent's axis; out.ra = 0: no continuation */
+    merp_seg lateral[MERP_JUNCTION_LATERALS];
+    merp_bound bound[MERP_JUNCTION_LATERALS];
+    uint32_t laterals;       /* 1..MERP_JUNCTION_LATERALS */
+    float w;                 /* PCM's bulge width (field units) */
+} merp_junction;
+
+/* Places lateral k's bound at the crotch C between it and the parent's
+ * continuation (`up`, unit): where the parent's surface meets the lateral's
+ * upper side in the plane of the two axes, reaching along the lateral, with
+ * its extent and r_in, r_out proportional to the lateral's radius and grown by
+ * `ridge` ∈ [0, 1] (the ridge's age, G04 Fig. 7; 0: no ridge, F_b = 0). */
+void merp_junction_bound(merp_junction *j, uint32_t k, const float up[3], float ridge);
+
+/* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
+float merp_junction_field(const float p[3], const void *data);
+
+/* F_b(p) of the junction: b, the ridge's weight at p. */
+float merp_junction_ridge(const merp_junction *j, const float p[3]);
+
+/* --------------------------------------------------------------- patch.c */
+
+/* A cut plane of a junction's patch: the shaft beyond it (dot(p − o, n) > 0,
+ * n unit, pointing away from the junction) stays a generalized cylinder, whose
+ * ring of `sides` vertices `ring` lies in the plane (any rotation, any
+ * direction around n). The cut acts only within `reach` of the line through o
+ * along n (a few radii of its shaft), so it does not clip another shaft. */
+typedef struct merp_cut {
+    float o[3], n[3];
+    float reach;
+    const float *ring; /* 3 floats a vertex */
+    uint32_t sides;
+} merp_cut;
+
+#define MERP_PATCH_CUTS 4 /* the parent in, out, and two laterals */
+
+/* A junction's patch: its field, the cuts, and the grid it is polygonized on
+ * (which must hold the surface between the cuts; the segments must reach
+ * past their cuts, so the surface there is the plain tube). */
+typedef struct merp_patch {
+    const merp_junction *j;
+    merp_cut cut[MERP_PATCH_CUTS];
+    uint32_t cuts;
+    merp_grid grid;
+} merp_patch;
+
+/* The most vertices and triangles merp_patch_build writes: the polygonizer's
+ * bound for the grid, plus each cut's ring and its stitch (the loop's
+ * vertices are the polygonizer's). */
+void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles);
+
+/* Polygonizes the junction between its cuts and stitches each cut's boundary
+ * loop to that cut's ring: F_g is clipped by the cuts' half-spaces, the flat
+ * caps the clip makes are dropped, and each loop left in a cut plane is
+ * zipped to a copy of the ring (appended to `out`, positions exactly the
+ * ring's), walking both by angle about n. The result's only open edges are
+ * the rings' (so a tube that shares the ring closes it), wound outwards.
+ * `out` holds merp_patch_bound's counts; unused polygonizer vertices are
+ * dropped. Errors: MER_ERR_NOMEM; MER_ERR_INVALID when a cut leaves no single
+ * loop (the grid or cuts do not fit the junction). Cost: the polygonizer's,
+ * plus O(vertices log vertices). */
+mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *err);
+
+#endif

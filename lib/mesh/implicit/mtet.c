@@ -1,0 +1,256 @@
+/* meristem — marching tetrahedra over the Freudenthal triangulation of a
+ * regular grid (implicit.h). A polygonizer for smooth fields: no ambiguous
+ * case (a tetrahedron's sign pattern has one surface piece), so the output is
+ * a closed manifold wherever the surface stays inside the grid. */
+#include "config.h"
+
+#include <assert.h>
+#include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/vec.h"
+#include "mesh/implicit/implicit.h"
+
+/* The six tetrahedra of a cell: paths 0 → a → a|b → 7 over the corner bits
+ * (x = 1, y = 2, z = 4), one per order of the three axes. */
+static const uint8_t kuhn[6][4] = {
+    {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7},
+};
+
+enum { REFINE_STEPS = 8 };
+
+typedef struct mtet {
+    const merp_grid *g;
+    merp_field_fn f;
+    const void *data;
+    uint32_t sx, sy;   /* samples along x, y */
+    float *value;      /* per sample */
+    uint32_t *edge_v;  /* per sample × 7 directions: vertex + 1, 0 when none yet */
+    merp_trimesh *out;
+} mtet;
+
+void merp_mtet_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles)
+{
+    uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
+    uint64_t cells = (uint64_t)g->n[0] * g->n[1] * g->n[2];
+    *vertices = samples * 7;
+    *triangles = cells * 6 * 2;
+}
+
+static uint32_t sample_index(const mtet *m, uint32_t i, uint32_t j, uint32_t k)
+{
+    return i + m->sx * (j + m->sy * k);
+}
+
+static void sample_pos(const merp_grid *g, uint32_t i, uint32_t j, uint32_t k, float p[3])
+{
+    p[0] = g->origin[0] + (float)i * g->h;
+    p[1] = g->origin[1] + (float)j * g->h;
+    p[2] = g->origin[2] + (float)k * g->h;
+}
+
+/* −∇f / |∇f| at p by central differences; `fallback` where ∇f vanishes. */
+static void normal_at(const mtet *m, const float p[3], const float fallback[3], float n[3])
+{
+    float e = m->g->h * 0.05f;
+    for (int a = 0; a < 3; a++) {
+        float q[3] = {p[0], p[1], p[2]}, r[3] = {p[0], p[1], p[2]};
+        q[a] += e;
+        r[a] -= e;
+        n[a] = m->f(r, m->data) - m->f(q, m->data);
+    }
+    if (!v3_normalize(n)) {
+        memcpy(n, fallback, sizeof(float) * 3);
+        v3_normalize(n);
+    }
+}
+
+/* The surface point on the segment from pa (inside, fa ≥ c) to pb (outside):
+ * regula falsi with the Illinois modification, keeping the bracket. */
+static void solve_edge(const mtet *m, const float pa[3], float fa, const float pb[3], float fb,
+                       float p[3])
+{
+    float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
+    int side = 0;
+    float t = 0.5f;
+    for (int it = 0; it < REFINE_STEPS; it++) {
+        t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
+        for (int k = 0; k < 3; k++)
+            p[k] = pa[k] + t * (pb[k] - pa[k]);
+        float gt = m->f(p, m->data) - MERP_ISO;
+        if (gt >= 0.0f) {
+            ta = t, ga = gt;
+            if (side == 1)
+                gb *= 0.5f;
+            side = 1;
+        } else {
+            tb = t, gb = gt;
+            if (side == -1)
+                ga *= 0.5f;
+            side = -1;
+        }
+    }
+    t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
+    for (int k = 0; k < 3; k++)
+        p[k] = pa[k] + t * (pb[k] - pa[k]);
+}
+
+/* The vertex on the edge between corners c1 ⊂ c2 (bit masks) of cell (i,j,k),
+ * made once for all the tetrahedra that share the edge. */
+static uint32_t edge_vertex(mtet *m, const uint32_t cell[3], uint8_t c1, uint8_t c2)
+{
+    uint32_t i1 = cell[0] + (c1 & 1), j1 = cell[1] + (c1 >> 1 & 1), k1 = cell[2] + (c1 >> 2 & 1);
+    uint32_t i2 = cell[0] + (c2 & 1), j2 = cell[1] + (c2 >> 1 & 1), k2 = cell[2] + (c2 >> 2 & 1);
+    uint32_t s1 = sample_index(m, i1, j1, k1), s2 = sample_index(m, i2, j2, k2);
+    uint32_t *slot = &m->edge_v[(size_t)s1 * 7 + (uint32_t)(c1 ^ c2) - 1];
+    if (*slot != 0)
+        return *slot - 1;
+    float p1[3], p2[3], p[3], dir[3];
+    sample_pos(m->g, i1, j1, k1, p1);
+    sample_pos(m->g, i2, j2, k2, p2);
+    bool in1 = m->value[s1] >= MERP_ISO;
+    if (in1)
+        solve_edge(m, p1, m->value[s1], p2, m->value[s2], p);
+    else
+        solve_edge(m, p2, m->value[s2], p1, m->value[s1], p);
+    for (int a = 0; a < 3; a++)
+        dir[a] = in1 ? p2[a] - p1[a] : p1[a] - p2[a];
+    merp_trimesh *o = m->out;
+    uint32_t v = o->vertex_count++;
+    memcpy(o->positions + 3 * (size_t)v, p, sizeof p);
+    normal_at(m, p, dir, o->normals + 3 * (size_t)v);
+    *slot = v + 1;
+    return v;
+}
+
+/* The corner's position in cell units (0 or 1 per axis). */
+static void corner_pos(uint8_t c, float p[3])
+{
+    p[0] = (float)(c & 1);
+    p[1] = (float)(c >> 1 & 1);
+    p[2] = (float)(c >> 2 & 1);
+}
+
+/* Emits the triangle (e[0], e[1], e[2]) of edges given as corner pairs,
+ * oriented from the tetrahedron's inside corners (centroid `ci`) to its outside
+ * ones (`co`). The orientation is decided on the edges' midpoints, which are
+ * never degenerate, and carried over to the surface points: both lie on the
+ * same side of each corner along each edge, so the winding is the same. */
+static void emit(mtet *m, const uint32_t cell[3], const uint8_t e[3][2], const float ci[3],
+                 const float co[3])
+{
+    float mid[3][3], a[3], b[3], n[3], ref[3];
+    for (int t = 0; t < 3; t++) {
+        float p[3], q[3];
+        corner_pos(e[t][0], p);
+        corner_pos(e[t][1], q);
+        for (int k = 0; k < 3; k++)
+            mid[t][k] = 0.5f * (p[k] + q[k]);
+    }
+    for (int k = 0; k < 3; k++) {
+        a[k] = mid[1][k] - mid[0][k];
+        b[k] = mid[2][k] - mid[0][k];
+        ref[k] = co[k] - ci[k];
+    }
+    v3_cross(a, b, n);
+    bool flip = v3_dot(n, ref) < 0.0f;
+    uint32_t v[3];
+    for (int t = 0; t < 3; t++) {
+        uint8_t c1 = e[t][0] < e[t][1] ? e[t][0] : e[t][1];
+        uint8_t c2 = e[t][0] ^ e[t][1] ^ c1;
+        v[t] = edge_vertex(m, cell, c1, c2);
+    }
+    merp_trimesh *o = m->out;
+    uint32_t *tri = o->triangles + 3 * (size_t)o->triangle_count++;
+    tri[0] = v[0];
+    tri[1] = flip ? v[2] : v[1];
+    tri[2] = flip ? v[1] : v[2];
+}
+
+/* One tetrahedron of corners c[4] (bit masks) of `cell`. */
+static void tetra(mtet *m, const uint32_t cell[3], const uint8_t c[4], const float f[4])
+{
+    uint8_t in[4], out[4];
+    int ni = 0, no = 0;
+    float ci[3] = {0, 0, 0}, co[3] = {0, 0, 0}, p[3];
+    for (int t = 0; t < 4; t++) {
+        bool inside = f[t] >= MERP_ISO;
+        corner_pos(c[t], p);
+        for (int k = 0; k < 3; k++) {
+            if (inside)
+                ci[k] += p[k];
+            else
+                co[k] += p[k];
+        }
+        if (inside)
+            in[ni++] = c[t];
+        else
+            out[no++] = c[t];
+    }
+    if (ni == 0 || no == 0)
+        return;
+    for (int k = 0; k < 3; k++)
+        ci[k] /= (float)ni, co[k] /= (float)no;
+    if (ni == 1 || no == 1) {
+        uint8_t lone = ni == 1 ? in[0] : out[0];
+        const uint8_t *rest = ni == 1 ? out : in;
+        const uint8_t e[3][2] = {{lone, rest[0]}, {lone, rest[1]}, {lone, rest[2]}};
+        emit(m, cell, e, ci, co);
+        return;
+    }
+    /* Two in, two out: the quad (i0o0, i0o1, i1o1, i1o0), as two triangles. */
+    const uint8_t e1[3][2] = {{in[0], out[0]}, {in[0], out[1]}, {in[1], out[1]}};
+    const uint8_t e2[3][2] = {{in[0], out[0]}, {in[1], out[1]}, {in[1], out[0]}};
+    emit(m, cell, e1, ci, co);
+    emit(m, cell, e2, ci, co);
+}
+
+/* Marches the cell at (i, j, k) when its corners differ in sign. */
+static void cell_march(mtet *m, uint32_t i, uint32_t j, uint32_t k)
+{
+    float cf[8];
+    int inside = 0;
+    for (uint8_t c = 0; c < 8; c++) {
+        cf[c] = m->value[sample_index(m, i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1))];
+        inside += cf[c] >= MERP_ISO;
+    }
+    if (inside == 0 || inside == 8)
+        return;
+    const uint32_t cell[3] = {i, j, k};
+    for (int t = 0; t < 6; t++) {
+        const float f[4] = {cf[kuhn[t][0]], cf[kuhn[t][1]], cf[kuhn[t][2]], cf[kuhn[t][3]]};
+        tetra(m, cell, kuhn[t], f);
+    }
+}
+
+mer_result merp_mtet_polygonize(const merp_grid *g, merp_field_fn f, const void *data,
+                                merp_trimesh *out, mer_error *err)
+{
+    assert(g->n[0] >= 1 && g->n[1] >= 1 && g->n[2] >= 1 && g->h > 0.0f);
+    mtet m = {g, f, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, out};
+    size_t samples = (size_t)m.sx * m.sy * (g->n[2] + 1);
+    m.value = merp_malloc(samples * sizeof(float));
+    m.edge_v = merp_calloc(samples * 7, sizeof(uint32_t));
+    if (m.value == NULL || m.edge_v == NULL) {
+        merp_free(m.value);
+        merp_free(m.edge_v);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
+    }
+    for (uint32_t k = 0; k <= g->n[2]; k++)
+        for (uint32_t j = 0; j <= g->n[1]; j++)
+            for (uint32_t i = 0; i <= g->n[0]; i++) {
+                float p[3];
+                sample_pos(g, i, j, k, p);
+                m.value[sample_index(&m, i, j, k)] = f(p, data);
+            }
+    out->vertex_count = out->triangle_count = 0;
+    for (uint32_t k = 0; k < g->n[2]; k++)
+        for (uint32_t j = 0; j < g->n[1]; j++)
+            for (uint32_t i = 0; i < g->n[0]; i++)
+                cell_march(&m, i, j, k);
+    merp_free(m.value);
+    merp_free(m.edge_v);
+    return MER_OK;
+}

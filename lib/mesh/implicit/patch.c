@@ -1,0 +1,281 @@
+/* meristem — a junction's local patch: the junction field polygonized
+ * between cut planes, and its boundary loops stitched to the shafts' rings
+ * (implicit.h; issue 18, item 2). */
+#include "config.h"
+
+#include <assert.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/vec.h"
+#include "mesh/implicit/implicit.h"
+
+typedef struct clipped {
+    const merp_patch *pt;
+    float kappa; /* the slope of each cut's half-space field, per unit length */
+} clipped;
+
+static float cut_distance(const merp_cut *c, const float p[3])
+{
+    return (p[0] - c->o[0]) * c->n[0] + (p[1] - c->o[1]) * c->n[1] + (p[2] - c->o[2]) * c->n[2];
+}
+
+/* Whether p is within the cut's reach of its axis; *dist gets its signed
+ * distance to the plane. */
+static bool in_reach(const merp_cut *c, const float p[3], float *dist)
+{
+    float q[3];
+    *dist = cut_distance(c, p);
+    for (int k = 0; k < 3; k++)
+        q[k] = p[k] - c->o[k] - *dist * c->n[k];
+    return v3_dot(q, q) <= c->reach * c->reach;
+}
+
+/* F_g ∩ the cuts' half-spaces: min(F_g, c − κ·dist_i). */
+static float clipped_field(const float p[3], const void *data)
+{
+    const clipped *cl = data;
+    float f = merp_junction_field(p, cl->pt->j);
+    for (uint32_t i = 0; i < cl->pt->cuts; i++) {
+        float dist;
+        if (!in_reach(&cl->pt->cut[i], p, &dist))
+            continue;
+        float g = MERP_ISO - cl->kappa * dist;
+        f = g < f ? g : f;
+    }
+    return f;
+}
+
+void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
+{
+    merp_mtet_bound(&pt->grid, vertices, triangles);
+    for (uint32_t i = 0; i < pt->cuts; i++) {
+        *vertices += pt->cut[i].sides;
+        /* A stitch is a triangle per loop vertex and per ring vertex; the
+         * loop's vertices are among the polygonizer's. */
+        *triangles += pt->cut[i].sides;
+    }
+    *triangles += *vertices;
+}
+
+typedef struct edge {
+    uint32_t a, b;
+} edge;
+
+static int edge_cmp(const void *x, const void *y)
+{
+    const edge *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    return p->b < q->b ? -1 : p->b > q->b;
+}
+
+/* Drops the triangles of the clip's flat caps: all three corners on one cut. */
+static void drop_caps(merp_trimesh *m, const int8_t *on_cut)
+{
+    uint32_t kept = 0;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *v = m->triangles + 3 * (size_t)t;
+        if (on_cut[v[0]] >= 0 && on_cut[v[0]] == on_cut[v[1]] && on_cut[v[0]] == on_cut[v[2]])
+            continue;
+        memmove(m->triangles + 3 * (size_t)kept++, v, 3 * sizeof *v);
+    }
+    m->triangle_count = kept;
+}
+
+/* next[a] = b for every directed edge a→b whose reverse no triangle has (a
+ * boundary edge); UINT32_MAX elsewhere. MER_ERR_INVALID when a vertex starts
+ * two boundary edges (the loops are not simple). */
+static mer_result boundary_next(const merp_trimesh *m, uint32_t *next, mer_error *err)
+{
+    size_t n = (size_t)m->triangle_count * 3;
+    edge *e = merp_malloc((n ? n : 1) * sizeof *e);
+    if (e == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
+    for (size_t t = 0; t < m->triangle_count; t++)
+        for (int k = 0; k < 3; k++)
+            e[3 * t + k] = (edge){m->triangles[3 * t + k], m->triangles[3 * t + (k + 1) % 3]};
+    qsort(e, n, sizeof *e, edge_cmp);
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        next[v] = UINT32_MAX;
+    mer_result rc = MER_OK;
+    for (size_t i = 0; i < n && rc == MER_OK; i++) {
+        edge r = {e[i].b, e[i].a};
+        if (bsearch(&r, e, n, sizeof *e, edge_cmp) != NULL)
+            continue;
+        if (next[e[i].a] != UINT32_MAX)
+            rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction patch's boundary is not simple");
+        next[e[i].a] = e[i].b;
+    }
+    merp_free(e);
+    return rc;
+}
+
+/* The angle of p about the cut's normal, in the frame (u, v). */
+static float angle_about(const merp_cut *c, const float u[3], const float v[3], const float p[3])
+{
+    float d[3] = {p[0] - c->o[0], p[1] - c->o[1], p[2] - c->o[2]};
+    return atan2f(v3_dot(d, v), v3_dot(d, u));
+}
+
+static float wrap_2pi(float a)
+{
+    while (a < 0.0f)
+        a += MERP_TWO_PI;
+    while (a >= MERP_TWO_PI)
+        a -= MERP_TWO_PI;
+    return a;
+}
+
+/* Appends cut c's ring to m (normals radial) and zips the loop L (m_len
+ * vertices in the patch's direction) to it by angle about n: a triangle
+ * (L_{i+1}, L_i, R_j) when the loop's next vertex comes first, (R_j, R_{j+1},
+ * L_i) when the ring's does, so the band runs each loop edge backwards. */
+static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, uint32_t m_len,
+                         float *scratch, uint32_t *order, mer_error *err)
+{
+    float u[3], v[3];
+    v3_any_perp(c->n, u);
+    v3_cross(c->n, u, v);
+    float *theta = scratch, *phi = scratch + m_len + 1;
+    float turn = 0.0f, a0 = angle_about(c, u, v, m->positions + 3 * (size_t)L[0]), prev = a0;
+    for (uint32_t i = 1; i <= m_len; i++) {
+        float a = angle_about(c, u, v, m->positions + 3 * (size_t)L[i % m_len]);
+        float d = wrap_2pi(a - prev + MERP_TWO_PI * 0.5f) - MERP_TWO_PI * 0.5f;
+        turn += d, prev = a;
+    }
+    if (fabsf(fabsf(turn) - MERP_TWO_PI) > 0.5f)
+        return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's loop does not go round its cut");
+    float sgn = turn > 0.0f ? 1.0f : -1.0f;
+    for (uint32_t i = 0; i <= m_len; i++) /* unwrapped, increasing, θ_0 = 0, θ_m = 2π */
+        theta[i] = i == m_len ? MERP_TWO_PI
+                              : wrap_2pi(sgn * (angle_about(c, u, v, m->positions + 3 * (size_t)L[i]) - a0));
+    for (uint32_t i = 1; i < m_len; i++)
+        if (theta[i] < theta[i - 1] - 1.0f) /* a wiggle back over 0 */
+            theta[i] = 0.0f;
+    uint32_t base = m->vertex_count;
+    for (uint32_t j = 0; j < c->sides; j++) {
+        const float *p = c->ring + 3 * (size_t)j;
+        float *q = m->positions + 3 * (size_t)(base + j), *nr = m->normals + 3 * (size_t)(base + j);
+        memcpy(q, p, 3 * sizeof(float));
+        for (int k = 0; k < 3; k++)
+            nr[k] = p[k] - c->o[k];
+        v3_normalize(nr);
+        phi[j] = wrap_2pi(sgn * (angle_about(c, u, v, p) - a0));
+        order[j] = j;
+    }
+    m->vertex_count += c->sides;
+    for (uint32_t j = 1; j < c->sides; j++) /* insertion sort by φ: rings are small */
+        for (uint32_t k = j; k > 0 && phi[order[k]] < phi[order[k - 1]]; k--) {
+            uint32_t t = order[k];
+            order[k] = order[k - 1], order[k - 1] = t;
+        }
+    uint32_t i = 0, j = 0, s = c->sides;
+    while (i < m_len || j < s) {
+        float next_ring = j + 1 < s ? phi[order[j + 1]] : phi[order[0]] + MERP_TWO_PI;
+        uint32_t *t = m->triangles + 3 * (size_t)m->triangle_count++;
+        if (j == s || (i < m_len && theta[i + 1] <= next_ring)) {
+            t[0] = L[(i + 1) % m_len], t[1] = L[i], t[2] = base + order[j % s];
+            i++;
+        } else {
+            t[0] = base + order[j], t[1] = base + order[(j + 1) % s], t[2] = L[i % m_len];
+            j++;
+        }
+    }
+    return MER_OK;
+}
+
+/* Removes the vertices no triangle uses (the caps' insides), keeping order. */
+static void compact(merp_trimesh *m, uint32_t *remap)
+{
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        remap[v] = UINT32_MAX;
+    for (size_t k = 0; k < 3 * (size_t)m->triangle_count; k++)
+        remap[m->triangles[k]] = 0;
+    uint32_t n = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        if (remap[v] == UINT32_MAX)
+            continue;
+        memmove(m->positions + 3 * (size_t)n, m->positions + 3 * (size_t)v, 3 * sizeof(float));
+        memmove(m->normals + 3 * (size_t)n, m->normals + 3 * (size_t)v, 3 * sizeof(float));
+        remap[v] = n++;
+    }
+    for (size_t k = 0; k < 3 * (size_t)m->triangle_count; k++)
+        m->triangles[k] = remap[m->triangles[k]];
+    m->vertex_count = n;
+}
+
+/* Walks cut i's one boundary loop into L (its length in *len), marking its
+ * vertices used (next[] set to UINT32_MAX − 1). */
+static mer_result take_loop(const merp_trimesh *m, const int8_t *on_cut, uint32_t *next, uint32_t i,
+                            uint32_t *L, uint32_t *len, mer_error *err)
+{
+    uint32_t start = UINT32_MAX;
+    for (uint32_t v = 0; v < m->vertex_count && start == UINT32_MAX; v++)
+        if (next[v] < UINT32_MAX - 1 && on_cut[v] == (int8_t)i)
+            start = v;
+    if (start == UINT32_MAX)
+        return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's cut %u has no loop", i);
+    uint32_t n = 0, v = start;
+    do {
+        if (next[v] >= UINT32_MAX - 1 || on_cut[v] != (int8_t)i || n == m->vertex_count)
+            return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's loop at cut %u is broken", i);
+        L[n++] = v;
+        uint32_t w = next[v];
+        next[v] = UINT32_MAX - 1;
+        v = w;
+    } while (v != start);
+    *len = n;
+    return MER_OK;
+}
+
+static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, float kappa, mer_error *err)
+{
+    size_t n = m->vertex_count, all = n + 2;
+    for (uint32_t i = 0; i < pt->cuts; i++)
+        all += pt->cut[i].sides;
+    int8_t *on_cut = merp_malloc(n + 1);
+    uint32_t *next = merp_malloc(all * sizeof *next), *L = merp_malloc(all * sizeof *L);
+    uint32_t *order = merp_malloc(all * sizeof *order);
+    float *scratch = merp_malloc(2 * all * sizeof *scratch);
+    mer_result rc = MER_OK;
+    if (on_cut == NULL || next == NULL || L == NULL || order == NULL || scratch == NULL)
+        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
+    for (uint32_t v = 0; v < n && rc == MER_OK; v++) {
+        on_cut[v] = -1;
+        for (uint32_t i = 0; i < pt->cuts; i++) {
+            float dist;
+            if (in_reach(&pt->cut[i], m->positions + 3 * (size_t)v, &dist) && fabsf(dist) * kappa < 1e-4f)
+                on_cut[v] = (int8_t)i;
+        }
+    }
+    if (rc == MER_OK) {
+        drop_caps(m, on_cut);
+        rc = boundary_next(m, next, err);
+    }
+    uint32_t vertices = m->vertex_count;
+    for (uint32_t i = 0; i < pt->cuts && rc == MER_OK; i++) {
+        uint32_t len = 0;
+        rc = take_loop(m, on_cut, next, i, L, &len, err);
+        if (rc == MER_OK)
+            rc = stitch(m, &pt->cut[i], L, len, scratch, order, err);
+    }
+    for (uint32_t v = 0; v < vertices && rc == MER_OK; v++)
+        if (next[v] < UINT32_MAX - 1)
+            rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction patch has a loop on no cut");
+    if (rc == MER_OK)
+        compact(m, next);
+    merp_free(on_cut), merp_free(next), merp_free(L), merp_free(order), merp_free(scratch);
+    return rc;
+}
+
+mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *err)
+{
+    assert(pt->cuts >= 1 && pt->cuts <= MERP_PATCH_CUTS);
+    clipped cl = {pt, 1.0f / pt->grid.h};
+    mer_result rc = merp_mtet_polygonize(&pt->grid, clipped_field, &cl, out, err);
+    return rc == MER_OK ? stitch_all(out, pt, cl.kappa, err) : rc;
+}

@@ -1,0 +1,156 @@
+/* The fields of the implicit junctions (G04 §3): the tapered capsule's iso
+ * surface at the pipe radius, summation, PCM's contact surface and C¹ bulge,
+ * F_b's range and flat ends, and eq. (4)'s reductions. */
+#include "config.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "mesh/implicit/implicit.h"
+
+static const merp_seg seg_x = {{0, 0, 0}, {2, 0, 0}, 0.5f, 0.25f};
+
+/* At distance r(t) from the segment, f = c; inside more, outside less. */
+static void capsule_iso_at_radius(void **state)
+{
+    (void)state;
+    for (int i = 0; i <= 10; i++) {
+        float t = (float)i / 10.0f, r = (1 - t) * 0.5f + t * 0.25f;
+        float on[3] = {2 * t, r * 0.6f, r * 0.8f}, in[3] = {2 * t, 0.9f * r, 0}, out[3] = {2 * t, 0, 1.1f * r};
+        assert_float_equal(merp_seg_field(&seg_x, on), MERP_ISO, 1e-5);
+        assert_true(merp_seg_field(&seg_x, in) > MERP_ISO);
+        assert_true(merp_seg_field(&seg_x, out) < MERP_ISO);
+    }
+    /* The end caps are spheres of the end radii. */
+    const float cap_a[3] = {-0.5f, 0, 0}, cap_b[3] = {2.25f, 0, 0};
+    assert_float_equal(merp_seg_field(&seg_x, cap_a), MERP_ISO, 1e-5);
+    assert_float_equal(merp_seg_field(&seg_x, cap_b), MERP_ISO, 1e-5);
+    /* Compact support: 0 at and beyond R = r / x_c. */
+    const float far[3] = {0, merp_seg_support(&seg_x) * 1.001f, 0};
+    assert_float_equal(merp_seg_field(&seg_x, far), 0.0f, 0);
+}
+
+static void sum_blend(void **state)
+{
+    (void)state;
+    const float f[3] = {0.25f, 0.125f, 0.5f};
+    assert_float_equal(merp_blend_sum(f, 3), 0.875f, 1e-7);
+    assert_float_equal(merp_blend_sum(f, 0), 0.0f, 0);
+}
+
+/* Δ is C¹: continuous with slope 1 through 0, flat and 0 at w. */
+static void pcm_delta_c1(void **state)
+{
+    (void)state;
+    const float w = 0.3f, e = 1e-3f;
+    assert_float_equal(merp_pcm_delta(0, w), 0.0f, 0);
+    assert_float_equal((merp_pcm_delta(e, w) - merp_pcm_delta(0, w)) / e, 1.0f, 0.02);
+    assert_float_equal((merp_pcm_delta(0, w) - merp_pcm_delta(-e, w)) / e, 1.0f, 1e-3);
+    assert_float_equal(merp_pcm_delta(w, w), 0.0f, 1e-7);
+    assert_float_equal((merp_pcm_delta(w, w) - merp_pcm_delta(w - e, w)) / e, 0.0f, 0.02);
+    assert_float_equal(merp_pcm_delta(w + e, w), 0.0f, 0);
+    assert_float_equal(merp_pcm_delta(w / 3, w), 4 * w / 27, 1e-6); /* the bulge's top */
+}
+
+/* Two overlapping balls: on their contact surface {f1 = f2} inside both, both
+ * deformed fields are exactly c, and the union max(f1', f2') is ≥ c there. */
+static void pcm_keeps_contact_surface(void **state)
+{
+    (void)state;
+    const merp_seg s1 = {{-0.5f, 0, 0}, {-0.5f, 0, 0}, 1, 1}, s2 = {{0.5f, 0, 0}, {0.5f, 0, 0}, 1, 1};
+    int checked = 0;
+    for (int j = -8; j <= 8; j++)
+        for (int k = -8; k <= 8; k++) {
+            const float p[3] = {0, 0.1f * (float)j, 0.1f * (float)k}; /* the plane x = 0: f1 = f2 */
+            float f1 = merp_seg_field(&s1, p), f2 = merp_seg_field(&s2, p), a, b;
+            assert_float_equal(f1, f2, 1e-6);
+            if (f1 < MERP_ISO)
+                continue;
+            merp_pcm_pair(f1, f2, 0.2f, &a, &b);
+            assert_float_equal(a, MERP_ISO, 1e-6);
+            assert_float_equal(b, MERP_ISO, 1e-6);
+            assert_true(merp_pcm_union(f1, f2, 0.2f) >= MERP_ISO - 1e-6f);
+            checked++;
+        }
+    assert_true(checked > 20);
+    /* Off the plane inside both, each deformed solid keeps only its own side. */
+    const float p[3] = {0.2f, 0, 0};
+    float a, b;
+    merp_pcm_pair(merp_seg_field(&s1, p), merp_seg_field(&s2, p), 0.2f, &a, &b);
+    assert_true(a < MERP_ISO && b > MERP_ISO);
+    /* Outside the other solid, near it, the bulge adds; far from it, nothing. */
+    const float q[3] = {-1.4f, 0, 0}, qfar[3] = {-1.8f, 0, 0};
+    merp_pcm_pair(merp_seg_field(&s1, q), merp_seg_field(&s2, q), 0.5f, &a, &b);
+    assert_true(a > merp_seg_field(&s1, q));
+    merp_pcm_pair(merp_seg_field(&s1, qfar), merp_seg_field(&s2, qfar), 0.5f, &a, &b);
+    assert_float_equal(a, merp_seg_field(&s1, qfar), 0);
+}
+
+static const merp_bound bound_y = {{0, 0, 0}, {0, 1, 0}, 0.2f, 0.7f};
+
+static float fb_at(float d)
+{
+    const float p[3] = {d, 0.5f, 0};
+    return merp_bound_field(&bound_y, p);
+}
+
+/* F_b ∈ [0, 1], 1 inside r_in, 0 beyond r_out, monotone between. */
+static void fb_range(void **state)
+{
+    (void)state;
+    float prev = 2;
+    for (int i = 0; i <= 100; i++) {
+        float v = fb_at(0.01f * (float)i);
+        assert_true(v >= 0 && v <= 1 && v <= prev);
+        prev = v;
+    }
+    assert_float_equal(fb_at(0.1f), 1.0f, 0);
+    assert_float_equal(fb_at(0.8f), 0.0f, 0);
+    assert_true(fb_at(0.45f) > 0 && fb_at(0.45f) < 1);
+}
+
+/* ∇F_b = 0 where F_b = 1 and where F_b = 0 (G04 §3.1): the one-sided
+ * difference quotient at r_in and r_out vanishes with the step. */
+static void fb_gradient_vanishes_at_ends(void **state)
+{
+    (void)state;
+    for (float e = 1e-2f; e > 1e-3f; e *= 0.5f) {
+        float g_in = (fb_at(0.2f + e) - fb_at(0.2f)) / e;
+        float g_out = (fb_at(0.7f) - fb_at(0.7f - e)) / e;
+        assert_true(fabsf(g_in) < 40 * e);      /* O(e): the slope at the end is 0 */
+        assert_true(fabsf(g_out) < 1e-3f);      /* (1 − s²)^6: the slope is O(e^5) */
+    }
+    /* In between the slope is not 0 (the field does fall). */
+    assert_true(fabsf((fb_at(0.46f) - fb_at(0.44f)) / 0.02f) > 0.5f);
+}
+
+/* Eq. (4): F_g = B1 where F_b = 1, B2 where F_b = 0, a convex mix between. */
+static void gbb_reduces(void **state)
+{
+    (void)state;
+    const float f[2] = {0.4f, 0.3f};
+    float b1 = merp_pcm_union(f[0], f[1], 0.2f), b2 = merp_blend_sum(f, 2);
+    assert_float_equal(merp_gbb(fb_at(0.0f), b1, b2), b1, 0);
+    assert_float_equal(merp_gbb(fb_at(0.9f), b1, b2), b2, 0);
+    float mid = merp_gbb(fb_at(0.45f), b1, b2);
+    assert_true(mid > (b1 < b2 ? b1 : b2) && mid < (b1 > b2 ? b1 : b2));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(capsule_iso_at_radius),
+        cmocka_unit_test(sum_blend),
+        cmocka_unit_test(pcm_delta_c1),
+        cmocka_unit_test(pcm_keeps_contact_surface),
+        cmocka_unit_test(fb_range),
+        cmocka_unit_test(fb_gradient_vanishes_at_ends),
+        cmocka_unit_test(gbb_reduces),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
