@@ -31,9 +31,13 @@ static void env_answer(void *ctx, const double pos[3], const double head[3], flo
     const merp_world *w = ctx;
     (void)head;
     float p[3] = {(float)pos[0], (float)pos[1], (float)pos[2]};
-    if (np > 0)
-        par[0] = w->env->shadow != NULL ? merp_env_light_at(w->env, merp_env_cell(w->env, p))
-                                        : w->p->shadow_c + w->p->shadow_a;
+    if (np > 0) {
+        par[0] = w->p->shadow_c + w->p->shadow_a;
+        if (w->env->shadow != NULL) {
+            uint32_t cell = merp_env_cell(w->env, p);
+            merp_env_light_cells(w->env, &cell, 1, &par[0]);
+        }
+    }
     if (np > 1)
         par[1] = merp_env_blocked(w->env, p) ? 1.0f : 0.0f;
 }
