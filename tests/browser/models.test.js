@@ -53,7 +53,10 @@ test('P09 first: its schedule, brush and parameters; no model panel of another',
 test('an L-system from the page: its source, an error at its line, derive steps the summary', async () => {
   await page.selectOption('#model', 'lsystem');
   const offered = await page.$$eval('#preset option', (os) => os.map((o) => o.value));
-  assert.ok(offered.length > 0 && offered.every((n) => n.startsWith('abop-')), offered.join(' '));
+  const listed = await page.evaluate(async () => (await (await fetch('/v1/presets')).json()).presets);
+  const lsystems = listed.filter((p) => p.model === 'lsystem').map((p) => p.name);
+  assert.ok(offered.includes('abop-2.6a'), offered.join(' '));
+  assert.deepEqual([...offered].sort(), [...lsystems].sort());
   await newTree('lsystem', 'abop-2.6a');
   const s0 = await summary();
   assert.equal(s0.model, 'lsystem');
@@ -118,7 +121,7 @@ test('an inverse tree: a dragged control point regrows it; the time slider draws
   await page.click('#step-n');
   await page.waitForFunction(() => window.meristem.summary?.inverse?.year === 8, null, { timeout: 30000 });
   await idle();
-  await page.waitForFunction(() => document.querySelectorAll('#inv-functions .fn').length === 13);
+  await page.waitForFunction(() => document.querySelectorAll('#inv-functions .fn').length === 14);
   const names = await page.$$eval('#inv-functions .fn', (fs) => fs.map((f) => f.dataset.name));
   assert.ok(names.includes('G_s2') && names.includes('G_h'), names.join(' '));
   assert.match(await page.textContent('.fn[data-name="G_s2"] figcaption'), /mature silhouette/);
@@ -197,6 +200,17 @@ test('runions: its parameters and the brush, no P09 schedule; no page errors', a
   assert.ok(!(await visible('#schedule-panel')));
   assert.ok(await visible('[data-tool="brush"]'));
   assert.ok(await visible('#param-d_k'));
+  assert.ok(!(await visible('#param-lambda')));
+  assert.deepEqual(errors, []);
+});
+
+test('guiding: its parameters, no brush and no P09 schedule; no page errors', async () => {
+  await newTree('guiding', 'gv-shrub');
+  assert.ok(!(await visible('#schedule-panel')));
+  assert.ok(!(await visible('[data-tool="brush"]')));
+  assert.ok(await visible('#param-gv_rotation'));
+  assert.ok(await visible('#param-gv_endpoints'));
+  assert.ok(!(await visible('#param-d_k')));
   assert.ok(!(await visible('#param-lambda')));
   assert.deepEqual(errors, []);
 });

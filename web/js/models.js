@@ -10,6 +10,7 @@ export const MODELS = [
   { id: 'lsystem', label: 'L-system (ABOP)', firstPreset: 'abop-2.6a' },
   { id: 'inverse', label: 'inverse (G04)', firstPreset: 'populus-deltoides' },
   { id: 'runions', label: 'space colonization (R07)', firstPreset: 'runions-2007' },
+  { id: 'guiding', label: 'guiding vectors (XM15)', firstPreset: 'gv-fig2-small-5' },
 ];
 
 /**

@@ -21,6 +21,7 @@ export const FUNCTION_INFO = {
   G_e: ['elongation', 'internode elongation over its growing time (Fig. 12)', 'time in its growth'],
   G_lg: ['leaf growth', 'leaf growth over its growing time (Fig. 13)', 'time in its growth'],
   G_bg: ['bud growth', 'bud growth over its growing time (§4.3)', 'time in its growth'],
+  G_r: ['radius', 'radius along the branch, times r_max·L/h_max (§4.1)', 'position on the branch'],
 };
 
 /** The clamped uniform knot t_i for n control points of degree 3 (gfunc.c's). */
