@@ -16,7 +16,8 @@ after(async () => { await d.stop(); });
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
 test('a session with ttl_seconds is removed with its journal and checkpoint', async () => {
-  const short = await J('POST', '/v1/sessions', { preset: 'default', ttl_seconds: 1 });
+  // 3 s: long enough for the step below on a busy machine, short enough to wait for.
+  const short = await J('POST', '/v1/sessions', { preset: 'default', ttl_seconds: 3 });
   assert.equal(short.status, 201, JSON.stringify(short.body));
   assert.equal(typeof short.body.expires_at, 'string');
   const keep = await J('POST', '/v1/sessions', { preset: 'default' });
@@ -26,7 +27,7 @@ test('a session with ttl_seconds is removed with its journal and checkpoint', as
   const files = [`${id}.journal`, `${id}.checkpoint`].map((f) => path.join(d.dataDir, f));
   for (const f of files) assert.ok(fs.existsSync(f), f);
   let gone = false;
-  for (let i = 0; i < 100 && !gone; i++) {
+  for (let i = 0; i < 150 && !gone; i++) {
     await sleep(100);
     gone = (await J('GET', `/v1/sessions/${id}`)).status === 404;
   }
