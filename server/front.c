@@ -27,6 +27,8 @@
 #define PAUSE_SECONDS 0.1
 /* How long relayed answers may take to go out once the front stops. */
 #define FLUSH_SECONDS 2.0
+/* The socket buffer of libmicrohttpd's end of a socketpair, for answers. */
+#define ANSWER_BUFFER (1 << 20)
 /* How often a relay waiting for libmicrohttpd to read is looked at. */
 #define POLL_SECONDS 0.005
 /* The most descriptors the completion slots cover. */
@@ -251,6 +253,10 @@ static void hand_on(merd_front *f, conn *c)
         drop(f, c);
         return;
     }
+    // A large answer goes into the socketpair in one go, as it would into a
+    // TCP socket, not in many rounds of waking libmicrohttpd (the kernel caps it).
+    int room = ANSWER_BUFFER;
+    setsockopt(pair[1], SOL_SOCKET, SO_SNDBUF, &room, sizeof room);
     dequeue(f, c);
     enqueue(f, c, RELAYED);
     // libmicrohttpd closes its end itself when it cannot take it (its limits):

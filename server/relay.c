@@ -16,7 +16,7 @@
 #include "server/request.h"
 
 /* Bytes of a response held between libmicrohttpd and a slow client. */
-#define DOWN_SIZE 32768
+#define DOWN_SIZE 65536
 /* Bytes of request held beyond the largest head. */
 #define UP_EXTRA 16384
 
@@ -132,7 +132,9 @@ static bool read_client(merd_relay *r)
 {
     if (r->refusing || r->client_eof || r->pair_eof)
         return false;
-    if (r->up_fill == r->up_size && r->up_sent > 0) {
+    if (r->up_sent == r->up_fill) {
+        r->up_sent = r->up_ok = r->up_fill = 0;
+    } else if (r->up_fill == r->up_size && r->up_sent > 0) {
         memmove(r->up, r->up + r->up_sent, r->up_fill - r->up_sent);
         r->up_ok -= r->up_sent;
         r->up_fill -= r->up_sent;
