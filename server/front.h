@@ -24,7 +24,7 @@
  * chunked body is checked before it goes on (head.h, framing.h); a bad one is
  * answered with problem+json once the requests before it are answered. So
  * libmicrohttpd never sees a request it would refuse in HTML. Responses are
- * copied back as they come (a large snapshot streams through 32 KiB).
+ * copied back as they come (a large snapshot streams through 64 KiB).
  *
  * While a head arrives the front protects the daemon as the guard (guard.h)
  * does inside libmicrohttpd: a first head not complete --header-timeout
