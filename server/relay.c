@@ -15,8 +15,10 @@
 #include "server/relay.h"
 #include "server/request.h"
 
-/* Bytes of a response held between libmicrohttpd and a slow client. */
+/* Bytes of answer held between libmicrohttpd and the client: DOWN_SIZE, and
+ * up to DOWN_MAX while a large answer streams (fewer, larger copies). */
 #define DOWN_SIZE 65536
+#define DOWN_MAX (1 << 20)
 /* Bytes of request held beyond the largest head. */
 #define UP_EXTRA 16384
 
@@ -38,7 +40,7 @@ struct merd_relay {
     char *up;
     size_t up_size, up_sent, up_ok, up_fill;
     char *down;
-    size_t down_sent, down_fill;
+    size_t down_size, down_sent, down_fill;
 };
 
 merd_relay *merd_relay_new(int client, int pair, merd_relay_slot *slot, size_t budget)
@@ -49,6 +51,7 @@ merd_relay *merd_relay_new(int client, int pair, merd_relay_slot *slot, size_t b
     r->up_size = budget + 1 + UP_EXTRA;
     r->up = malloc(r->up_size);
     r->down = malloc(DOWN_SIZE);
+    r->down_size = DOWN_SIZE;
     if (r->up == NULL || r->down == NULL) {
         free(r->up);
         free(r->down);
@@ -177,14 +180,21 @@ static bool read_pair(merd_relay *r, bool *dry)
 {
     if (r->pair_eof)
         return false;
-    if (r->down_fill == DOWN_SIZE && r->down_sent > 0) {
+    if (r->down_fill == r->down_size && r->down_sent > 0) {
         memmove(r->down, r->down + r->down_sent, r->down_fill - r->down_sent);
         r->down_fill -= r->down_sent;
         r->down_sent = 0;
     }
-    if (r->down_fill == DOWN_SIZE)
+    if (r->down_fill == r->down_size && r->down_size < DOWN_MAX) {
+        char *grown = realloc(r->down, 2 * r->down_size);
+        if (grown != NULL) {
+            r->down = grown;
+            r->down_size *= 2;
+        }
+    }
+    if (r->down_fill == r->down_size)
         return false;
-    ssize_t n = recv(r->pair, r->down + r->down_fill, DOWN_SIZE - r->down_fill, 0);
+    ssize_t n = recv(r->pair, r->down + r->down_fill, r->down_size - r->down_fill, 0);
     if (n > 0) {
         r->down_fill += (size_t)n;
         return true;
@@ -197,6 +207,18 @@ static bool read_pair(merd_relay *r, bool *dry)
     return true;
 }
 
+/* An empty answer buffer goes back to DOWN_SIZE (in place). */
+static void shrink(merd_relay *r)
+{
+    if (r->down_size == DOWN_SIZE)
+        return;
+    char *smaller = realloc(r->down, DOWN_SIZE);
+    if (smaller != NULL) {
+        r->down = smaller;
+        r->down_size = DOWN_SIZE;
+    }
+}
+
 static bool write_client(merd_relay *r)
 {
     if (r->down_sent == r->down_fill)
@@ -204,8 +226,10 @@ static bool write_client(merd_relay *r)
     ssize_t n = send(r->client, r->down + r->down_sent, r->down_fill - r->down_sent, MSG_NOSIGNAL);
     if (n > 0) {
         r->down_sent += (size_t)n;
-        if (r->down_sent == r->down_fill)
+        if (r->down_sent == r->down_fill) {
             r->down_sent = r->down_fill = 0;
+            shrink(r);
+        }
         return true;
     }
     if (n < 0 && !again())
@@ -246,7 +270,7 @@ static void conclude(merd_relay *r, bool answered)
         r->pair_eof = true;
     }
     if (owed)
-        r->down_fill = merd_relay_refusal(&r->verdict, r->down, DOWN_SIZE);
+        r->down_fill = merd_relay_refusal(&r->verdict, r->down, r->down_size);
 }
 
 /* Bytes sent to libmicrohttpd that it has not read yet. */
@@ -328,7 +352,7 @@ uint32_t merd_relay_pair_events(const merd_relay *r)
     uint32_t e = 0;
     if (r->pair_eof)
         return 0;
-    if (r->down_fill - r->down_sent < DOWN_SIZE)
+    if (r->down_fill - r->down_sent < DOWN_MAX)
         e |= EPOLLIN;
     if (r->up_sent < r->up_ok && !r->pair_shut)
         e |= EPOLLOUT;
