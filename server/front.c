@@ -414,10 +414,12 @@ static void handle(merd_front *f, end *e, uint32_t events)
         return;
     case RELAYED:
     case ENDING:
-        if (e == &c->client && (events & (EPOLLHUP | EPOLLERR)) != 0)
+        if (e == &c->client && (events & (EPOLLHUP | EPOLLERR)) != 0) {
             drop(f, c);
-        else
+        } else {
+            merd_relay_ready(c->relay, e == &c->client);
             advance(f, c);
+        }
         return;
     case DEAD:
         return;

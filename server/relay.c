@@ -35,6 +35,7 @@ struct merd_relay {
     bool pair_shut;       /* libmicrohttpd's input is ended */
     bool refusing, in_flight, refusal_sent;
     bool polling;         /* waits for libmicrohttpd to read before ending its input */
+    bool client_dry, pair_dry; /* read to the end; epoll says when there is more */
     merd_head_verdict verdict;
     /* up: [0, sent) gone on, [sent, ok) checked, [ok, fill) not checked yet */
     char *up;
@@ -143,10 +144,12 @@ static bool read_client(merd_relay *r)
         r->up_fill -= r->up_sent;
         r->up_sent = 0;
     }
-    if (r->up_fill == r->up_size)
+    if (r->up_fill == r->up_size || r->client_dry)
         return false;
-    ssize_t n = recv(r->client, r->up + r->up_fill, r->up_size - r->up_fill, 0);
+    size_t room = r->up_size - r->up_fill;
+    ssize_t n = recv(r->client, r->up + r->up_fill, room, 0);
     if (n > 0) {
+        r->client_dry = (size_t)n < room;
         r->up_fill += (size_t)n;
         check_up(r);
         return true;
@@ -155,6 +158,8 @@ static bool read_client(merd_relay *r)
         r->client_eof = true;
     else if (!again())
         r->client_gone = true;
+    else
+        r->client_dry = true;
     return n == 0;
 }
 
@@ -175,11 +180,17 @@ static bool write_pair(merd_relay *r)
     return false;
 }
 
-/* Reads libmicrohttpd's output; *dry when it had nothing more. */
+/* Reads libmicrohttpd's output; *dry when it had nothing more. While
+ * refusing, what was read dry before is read again: the refusal waits for a
+ * dry read after the completions were counted. */
 static bool read_pair(merd_relay *r, bool *dry)
 {
     if (r->pair_eof)
         return false;
+    if (r->pair_dry && !r->refusing) {
+        *dry = true;
+        return false;
+    }
     if (r->down_fill == r->down_size && r->down_sent > 0) {
         memmove(r->down, r->down + r->down_sent, r->down_fill - r->down_sent);
         r->down_fill -= r->down_sent;
@@ -194,13 +205,16 @@ static bool read_pair(merd_relay *r, bool *dry)
     }
     if (r->down_fill == r->down_size)
         return false;
-    ssize_t n = recv(r->pair, r->down + r->down_fill, r->down_size - r->down_fill, 0);
+    size_t room = r->down_size - r->down_fill;
+    ssize_t n = recv(r->pair, r->down + r->down_fill, room, 0);
     if (n > 0) {
         r->down_fill += (size_t)n;
+        // A short read took all there was: dry, as a failed read would say.
+        r->pair_dry = *dry = (size_t)n < room;
         return true;
     }
     if (n < 0 && again()) {
-        *dry = true;
+        r->pair_dry = *dry = true;
         return false;
     }
     r->pair_eof = true;
@@ -324,6 +338,14 @@ merd_relay_state merd_relay_pump(merd_relay *r)
     if (r->pair_eof || r->refusal_sent)
         return r->down_fill == 0 ? MERD_RELAY_DONE : MERD_RELAY_ENDING;
     return r->refusing ? MERD_RELAY_ENDING : MERD_RELAY_OPEN;
+}
+
+void merd_relay_ready(merd_relay *r, bool client)
+{
+    if (client)
+        r->client_dry = false;
+    else
+        r->pair_dry = false;
 }
 
 bool merd_relay_polling(const merd_relay *r)

@@ -53,6 +53,11 @@ merd_relay *merd_relay_new(int client, int pair, merd_relay_slot *slot, size_t b
  * client, and says where the connection stands. O(bytes moved). */
 merd_relay_state merd_relay_pump(merd_relay *r);
 
+/* epoll reported the client's end (`client`) or libmicrohttpd's: the next
+ * pump reads it again. A side read dry (a short read) is not read again until
+ * then, as epoll reports what arrives later. O(1). */
+void merd_relay_ready(merd_relay *r, bool client);
+
 /* The epoll events each socket waits for now (0: none, leave it out of the set). */
 uint32_t merd_relay_client_events(const merd_relay *r);
 uint32_t merd_relay_pair_events(const merd_relay *r);
