@@ -11,26 +11,51 @@
 #include <string.h>
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "server/clock.h"
 #include "server/front.h"
 #include "server/head.h"
-#include "server/request.h"
+#include "server/relay.h"
 
-/* Bytes of a chunked body looked at beyond the head. */
+/* Bytes of a chunked body looked at beyond the first head. */
 #define BODY_LOOK 4096
 /* How long a refused connection is drained before it is closed. */
 #define LINGER_SECONDS 2.0
 /* How long accepting pauses when the process is out of descriptors. */
 #define PAUSE_SECONDS 0.1
+/* How long relayed answers may take to go out once the front stops. */
+#define FLUSH_SECONDS 2.0
+/* The socket buffer of libmicrohttpd's end of a socketpair, for answers. */
+#define ANSWER_BUFFER (1 << 20)
+/* How often a relay waiting for libmicrohttpd to read is looked at. */
+#define POLL_SECONDS 0.005
+/* The most descriptors the completion slots cover. */
+#define MAX_SLOTS (1u << 20)
+
+typedef enum where {
+    WAITING,   /* its first head arrives (peeked, not read) */
+    RELAYED,   /* relayed to libmicrohttpd */
+    ENDING,    /* relayed, refusing or flushing the last answers */
+    LINGERING, /* answered: draining until closed */
+    DEAD,      /* closed; freed after the current batch of events */
+} where;
+
+struct conn;
+typedef struct end {
+    struct conn *c;
+} end;
 
 typedef struct conn {
     int fd;
-    bool refused; /* answered: draining until closed */
+    where at;
     double deadline;
     struct sockaddr_storage address;
     socklen_t address_size;
+    merd_relay *relay;
+    uint32_t client_events, pair_events; /* in the epoll set now */
+    end client, pair;                    /* epoll data of each socket */
     struct conn *prev, *next;
 } conn;
 
@@ -50,13 +75,18 @@ struct merd_front {
     merd_front_config config;
     struct MHD_Daemon *daemon;
     merd_guard *guard;
-    queue waiting, refused;
+    queue queues[4]; /* by `where`, DEAD excepted */
+    conn *dead;
     char *peek;
     size_t peek_size;
+    merd_relay_slot *slots; /* by libmicrohttpd's descriptor */
+    unsigned slot_count;
 };
 
-static void enqueue(queue *q, conn *c)
+static void enqueue(merd_front *f, conn *c, where at)
 {
+    queue *q = &f->queues[at];
+    c->at = at;
     c->prev = q->last;
     c->next = NULL;
     if (q->last != NULL)
@@ -67,8 +97,9 @@ static void enqueue(queue *q, conn *c)
     q->count++;
 }
 
-static void dequeue(queue *q, conn *c)
+static void dequeue(merd_front *f, conn *c)
 {
+    queue *q = &f->queues[c->at];
     if (c->prev != NULL)
         c->prev->next = c->next;
     else
@@ -80,11 +111,41 @@ static void dequeue(queue *q, conn *c)
     q->count--;
 }
 
+/* Closes the connection; its memory goes after the current batch of events,
+ * which may still name it. */
 static void drop(merd_front *f, conn *c)
 {
-    dequeue(c->refused ? &f->refused : &f->waiting, c);
+    dequeue(f, c);
     close(c->fd);
-    free(c);
+    merd_relay_free(c->relay);
+    c->relay = NULL;
+    c->at = DEAD;
+    c->next = f->dead;
+    f->dead = c;
+}
+
+static void bury(merd_front *f)
+{
+    while (f->dead != NULL) {
+        conn *c = f->dead;
+        f->dead = c->next;
+        free(c);
+    }
+}
+
+/* Makes the epoll set wait for `want` on `fd` (0: leave it out, for even a
+ * hang-up would wake the loop again and again); *now is what it waits for.
+ * False when the set refuses it. */
+static bool watch_fd(merd_front *f, int fd, uint32_t *now, uint32_t want, end *data)
+{
+    if (want == *now)
+        return true;
+    struct epoll_event e = {.events = want, .data.ptr = data};
+    int op = want == 0 ? EPOLL_CTL_DEL : *now == 0 ? EPOLL_CTL_ADD : EPOLL_CTL_MOD;
+    bool done = epoll_ctl(f->epoll, op, fd, &e) == 0;
+    if (done || want == 0)
+        *now = want;
+    return done;
 }
 
 static bool same_address(const struct sockaddr_storage *a, const struct sockaddr_storage *b)
@@ -100,12 +161,14 @@ static bool same_address(const struct sockaddr_storage *a, const struct sockaddr
     return false;
 }
 
-/* Heads waiting from `address`: O(waiting), a few thousand at most. */
-static unsigned waiting_from(const merd_front *f, const struct sockaddr_storage *address)
+/* Connections from `address`, waiting for a head or relayed, counted once:
+ * O(connections), a few thousand at most. */
+static unsigned open_from(const merd_front *f, const struct sockaddr_storage *address)
 {
     unsigned n = 0;
-    for (const conn *c = f->waiting.first; c != NULL; c = c->next)
-        n += same_address(&c->address, address);
+    for (where at = WAITING; at <= ENDING; at++)
+        for (const conn *c = f->queues[at].first; c != NULL; c = c->next)
+            n += same_address(&c->address, address);
     return n;
 }
 
@@ -118,16 +181,7 @@ static void listen_for(merd_front *f, bool on)
     f->listening = on;
 }
 
-static void hand_on(merd_front *f, conn *c)
-{
-    epoll_ctl(f->epoll, EPOLL_CTL_DEL, c->fd, NULL);
-    dequeue(&f->waiting, c);
-    // libmicrohttpd closes the socket itself when it cannot take it (its limits).
-    MHD_add_connection(f->daemon, c->fd, (const struct sockaddr *)&c->address, c->address_size);
-    free(c);
-}
-
-/* Reads and drops what the client of a refused connection still sends, a
+/* Reads and drops what the client of an answered connection still sends, a
  * bounded amount at a time; closes it at the end of its input. */
 static void drain(merd_front *f, conn *c)
 {
@@ -143,29 +197,83 @@ static void drain(merd_front *f, conn *c)
     }
 }
 
-/* Sends the problem and closes gracefully (front.h). */
+/* Closes gracefully: the write side is shut and what the client still sends
+ * is read and dropped for a moment, so that the answer is not lost to a reset. */
+static void linger(merd_front *f, conn *c)
+{
+    merd_relay_free(c->relay);
+    c->relay = NULL;
+    c->pair_events = 0;
+    shutdown(c->fd, SHUT_WR);
+    dequeue(f, c);
+    c->deadline = merd_now() + LINGER_SECONDS;
+    enqueue(f, c, LINGERING);
+    watch_fd(f, c->fd, &c->client_events, EPOLLIN | EPOLLRDHUP, &c->client);
+    drain(f, c);
+}
+
+/* Moves a relayed connection's bytes and follows where it stands. */
+static void advance(merd_front *f, conn *c)
+{
+    switch (merd_relay_pump(c->relay)) {
+    case MERD_RELAY_GONE:
+        drop(f, c);
+        return;
+    case MERD_RELAY_DONE:
+        linger(f, c);
+        return;
+    case MERD_RELAY_ENDING:
+        if (c->at == RELAYED) {
+            dequeue(f, c);
+            c->deadline = merd_now() + f->config.idle_seconds;
+            enqueue(f, c, ENDING);
+        }
+        break;
+    case MERD_RELAY_OPEN:
+        break;
+    }
+    watch_fd(f, merd_relay_pair(c->relay), &c->pair_events, merd_relay_pair_events(c->relay),
+             &c->pair);
+    watch_fd(f, c->fd, &c->client_events, merd_relay_client_events(c->relay), &c->client);
+}
+
+/* A good first head: libmicrohttpd gets one end of a socketpair, the front
+ * relays between it and the client from now on. */
+static void hand_on(merd_front *f, conn *c)
+{
+    int pair[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, pair) != 0) {
+        drop(f, c);
+        return;
+    }
+    if ((unsigned)pair[1] >= f->slot_count ||
+        (c->relay = merd_relay_new(c->fd, pair[0], &f->slots[pair[1]], f->config.budget)) == NULL) {
+        close(pair[0]);
+        close(pair[1]);
+        drop(f, c);
+        return;
+    }
+    // A large answer goes into the socketpair in one go, as it would into a
+    // TCP socket, not in many rounds of waking libmicrohttpd (the kernel caps it).
+    int room = ANSWER_BUFFER;
+    setsockopt(pair[1], SOL_SOCKET, SO_SNDBUF, &room, sizeof room);
+    dequeue(f, c);
+    enqueue(f, c, RELAYED);
+    // libmicrohttpd closes its end itself when it cannot take it (its limits):
+    // the relay then sees the end of the connection.
+    MHD_add_connection(f->daemon, pair[1], (const struct sockaddr *)&c->address, c->address_size);
+    advance(f, c);
+}
+
+/* Answers a bad first head with its problem and closes gracefully. */
 static void refuse(merd_front *f, conn *c, const merd_head_verdict *v)
 {
-    const char *title = merd_status_title(v->status);
-    char *body = merd_problem_body(v->status, v->slug, title, v->detail, NULL);
-    char head[320];
-    int n = snprintf(head, sizeof head,
-                     "HTTP/1.1 %u %s\r\nContent-Type: application/problem+json\r\n"
-                     "Content-Length: %zu\r\nConnection: close\r\n"
-                     "X-Content-Type-Options: nosniff\r\n\r\n",
-                     v->status, title, body != NULL ? strlen(body) : 0);
-    // A fresh socket's send buffer takes both: short writes are not retried.
-    if (send(c->fd, head, (size_t)n, MSG_NOSIGNAL) == n && body != NULL)
-        (void)send(c->fd, body, strlen(body), MSG_NOSIGNAL);
-    free(body);
-    shutdown(c->fd, SHUT_WR);
-    dequeue(&f->waiting, c);
-    c->refused = true;
-    c->deadline = merd_now() + LINGER_SECONDS;
-    enqueue(&f->refused, c);
-    struct epoll_event e = {.events = EPOLLIN | EPOLLRDHUP, .data.ptr = c};
-    epoll_ctl(f->epoll, EPOLL_CTL_MOD, c->fd, &e);
-    drain(f, c);
+    char reply[1024];
+    size_t n = merd_relay_refusal(v, reply, sizeof reply);
+    // A fresh socket's send buffer takes it: a short write is not retried.
+    if (n > 0)
+        (void)send(c->fd, reply, n, MSG_NOSIGNAL);
+    linger(f, c);
 }
 
 /* Looks at what a waiting connection has sent so far. */
@@ -196,29 +304,29 @@ static void look(merd_front *f, conn *c, uint32_t events)
 
 static void admit(merd_front *f, int fd, const struct sockaddr_storage *address, socklen_t size)
 {
-    if (waiting_from(f, address) >= f->config.per_ip_limit) {
+    if (open_from(f, address) >= f->config.per_ip_limit) {
         close(fd);
         return;
     }
     // Full: the oldest head still arriving makes room (the guard does the same
     // inside libmicrohttpd for connections between requests).
-    if (f->waiting.count + merd_guard_open(f->guard) >= f->config.soft_limit &&
-        f->waiting.first != NULL)
-        drop(f, f->waiting.first);
+    queue *waiting = &f->queues[WAITING];
+    if (waiting->count + merd_guard_open(f->guard) >= f->config.soft_limit && waiting->first != NULL)
+        drop(f, waiting->first);
     conn *c = calloc(1, sizeof *c);
     if (c == NULL) {
         close(fd);
         return;
     }
     c->fd = fd;
+    c->client.c = c->pair.c = c;
     c->address = *address;
     c->address_size = size;
     c->deadline = merd_now() + f->config.head_seconds;
-    enqueue(&f->waiting, c);
-    // Edge-triggered: each arrival of bytes wakes the front once; adding
-    // reports bytes already there.
-    struct epoll_event e = {.events = EPOLLIN | EPOLLRDHUP | EPOLLET, .data.ptr = c};
-    if (epoll_ctl(f->epoll, EPOLL_CTL_ADD, fd, &e) != 0)
+    enqueue(f, c, WAITING);
+    // Edge-triggered while peeking: each arrival of bytes wakes the front
+    // once; adding reports bytes already there.
+    if (!watch_fd(f, fd, &c->client_events, EPOLLIN | EPOLLRDHUP | EPOLLET, &c->client))
         drop(f, c);
 }
 
@@ -238,8 +346,8 @@ static void accept_all(merd_front *f)
         if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
             // Out of descriptors: the oldest waiting head gives its own, or
             // accepting pauses (the listener would wake the loop at once).
-            if (f->waiting.first != NULL) {
-                drop(f, f->waiting.first);
+            if (f->queues[WAITING].first != NULL) {
+                drop(f, f->queues[WAITING].first);
                 continue;
             }
             listen_for(f, false);
@@ -252,23 +360,83 @@ static void accept_all(merd_front *f)
 /* Closes what is due at `now`; returns milliseconds until the next deadline. */
 static int expire(merd_front *f, double now)
 {
-    while (f->waiting.first != NULL && f->waiting.first->deadline <= now)
-        drop(f, f->waiting.first);
-    while (f->refused.first != NULL && f->refused.first->deadline <= now)
-        drop(f, f->refused.first);
+    double next = now + 0.5;
+    for (where at = WAITING; at <= LINGERING; at++) {
+        if (at == RELAYED)
+            continue;
+        queue *q = &f->queues[at];
+        while (q->first != NULL && q->first->deadline <= now)
+            drop(f, q->first);
+        if (q->first != NULL && q->first->deadline < next)
+            next = q->first->deadline;
+    }
+    for (where at = RELAYED; at <= ENDING; at++)
+        for (conn *c = f->queues[at].first, *after; c != NULL; c = after) {
+            after = c->next;
+            if (c->at == at && merd_relay_polling(c->relay)) {
+                advance(f, c);
+                if (c->relay != NULL && merd_relay_polling(c->relay) && now + POLL_SECONDS < next)
+                    next = now + POLL_SECONDS;
+            }
+        }
     if (f->paused_until != 0 && f->paused_until <= now) {
         f->paused_until = 0;
         if (!atomic_load(&f->quiescing))
             listen_for(f, true);
     }
-    double next = now + 0.5;
-    if (f->waiting.first != NULL && f->waiting.first->deadline < next)
-        next = f->waiting.first->deadline;
-    if (f->refused.first != NULL && f->refused.first->deadline < next)
-        next = f->refused.first->deadline;
     if (f->paused_until != 0 && f->paused_until < next)
         next = f->paused_until;
     return (int)((next - now) * 1e3) + 1;
+}
+
+/* Relays that wait for libmicrohttpd's completions look again. */
+static void woken(merd_front *f)
+{
+    uint64_t ignored;
+    (void)!read(f->wake, &ignored, sizeof ignored);
+    if (atomic_load(&f->quiescing))
+        listen_for(f, false);
+    for (conn *c = f->queues[ENDING].first, *next; c != NULL; c = next) {
+        next = c->next;
+        advance(f, c);
+    }
+}
+
+static void handle(merd_front *f, end *e, uint32_t events)
+{
+    conn *c = e->c;
+    switch (c->at) {
+    case WAITING:
+        look(f, c, events);
+        return;
+    case LINGERING:
+        drain(f, c);
+        return;
+    case RELAYED:
+    case ENDING:
+        if (e == &c->client && (events & (EPOLLHUP | EPOLLERR)) != 0) {
+            drop(f, c);
+        } else {
+            merd_relay_ready(c->relay, e == &c->client);
+            advance(f, c);
+        }
+        return;
+    case DEAD:
+        return;
+    }
+}
+
+/* Once stopping: no client is read any more; what libmicrohttpd has answered
+ * goes out, for at most FLUSH_SECONDS. */
+static void finish_all(merd_front *f)
+{
+    listen_for(f, false);
+    for (where at = RELAYED; at <= ENDING; at++)
+        for (conn *c = f->queues[at].first, *next; c != NULL; c = next) {
+            next = c->next;
+            merd_relay_finish(c->relay);
+            advance(f, c);
+        }
 }
 
 static void *run(void *arg)
@@ -276,27 +444,33 @@ static void *run(void *arg)
     merd_front *f = arg;
     struct epoll_event events[64];
     int wait_ms = 0;
-    while (!atomic_load(&f->stopping)) {
+    double flush_until = 0;
+    for (;;) {
+        if (atomic_load(&f->stopping)) {
+            if (flush_until == 0) {
+                flush_until = merd_now() + FLUSH_SECONDS;
+                finish_all(f);
+            }
+            if (f->queues[RELAYED].count + f->queues[ENDING].count == 0 || merd_now() > flush_until)
+                break;
+            if (wait_ms > 50)
+                wait_ms = 50;
+        }
         int n = epoll_wait(f->epoll, events, 64, wait_ms);
         bool arrivals = false;
         for (int i = 0; i < n; i++) {
             void *what = events[i].data.ptr;
-            if (what == &f->wake) {
-                uint64_t ignored;
-                (void)!read(f->wake, &ignored, sizeof ignored);
-                if (atomic_load(&f->quiescing))
-                    listen_for(f, false);
-            } else if (what == &f->listener) {
+            if (what == &f->wake)
+                woken(f);
+            else if (what == &f->listener)
                 arrivals = true;  // after the batch: admitting may drop a connection in it
-            } else if (((conn *)what)->refused) {
-                drain(f, what);
-            } else {
-                look(f, what, events[i].events);
-            }
+            else
+                handle(f, what, events[i].events);
         }
         if (arrivals && f->listening)
             accept_all(f);
         wait_ms = expire(f, merd_now());
+        bury(f);
     }
     return NULL;
 }
@@ -324,29 +498,18 @@ static int open_listener(const struct sockaddr_storage *address, unsigned *port)
     return fd;
 }
 
-merd_front *merd_front_start(const struct sockaddr_storage *address, const merd_front_config *config,
-                             struct MHD_Daemon *daemon, merd_guard *guard)
+/* One slot per descriptor the process may open (up to MAX_SLOTS). */
+static unsigned slot_count(void)
 {
-    merd_front *f = calloc(1, sizeof *f);
-    if (f == NULL)
-        return NULL;
-    f->config = *config;
-    f->daemon = daemon;
-    f->guard = guard;
-    f->peek_size = config->budget + 1 + BODY_LOOK;
-    f->peek = malloc(f->peek_size);
-    f->epoll = epoll_create1(EPOLL_CLOEXEC);
-    f->wake = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-    f->listener = open_listener(address, &f->port);
-    struct epoll_event e = {.events = EPOLLIN, .data.ptr = &f->wake};
-    if (f->peek == NULL || f->epoll < 0 || f->wake < 0 || f->listener < 0 ||
-        epoll_ctl(f->epoll, EPOLL_CTL_ADD, f->wake, &e) != 0)
-        goto fail;
-    listen_for(f, true);
-    if (pthread_create(&f->thread, NULL, run, f) != 0)
-        goto fail;
-    return f;
-fail:
+    struct rlimit files;
+    if (getrlimit(RLIMIT_NOFILE, &files) != 0 || files.rlim_cur == RLIM_INFINITY ||
+        files.rlim_cur > MAX_SLOTS)
+        return MAX_SLOTS;
+    return (unsigned)files.rlim_cur;
+}
+
+static void free_front(merd_front *f)
+{
     if (f->listener >= 0)
         close(f->listener);
     if (f->wake >= 0)
@@ -354,8 +517,41 @@ fail:
     if (f->epoll >= 0)
         close(f->epoll);
     free(f->peek);
+    free(f->slots);
     free(f);
-    return NULL;
+}
+
+bool merd_front_start(const struct sockaddr_storage *address, const merd_front_config *config,
+                      struct MHD_Daemon *daemon, merd_guard *guard, merd_front **out)
+{
+    merd_front *f = calloc(1, sizeof *f);
+    if (f == NULL)
+        return false;
+    f->config = *config;
+    f->daemon = daemon;
+    f->guard = guard;
+    f->peek_size = config->budget + 1 + BODY_LOOK;
+    f->peek = malloc(f->peek_size);
+    f->slot_count = slot_count();
+    f->slots = calloc(f->slot_count, sizeof *f->slots);
+    f->epoll = epoll_create1(EPOLL_CLOEXEC);
+    f->wake = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    f->listener = open_listener(address, &f->port);
+    struct epoll_event e = {.events = EPOLLIN, .data.ptr = &f->wake};
+    if (f->peek == NULL || f->slots == NULL || f->epoll < 0 || f->wake < 0 || f->listener < 0 ||
+        epoll_ctl(f->epoll, EPOLL_CTL_ADD, f->wake, &e) != 0) {
+        free_front(f);
+        return false;
+    }
+    listen_for(f, true);
+    // Published before the thread hands anything on: completions may follow at once.
+    *out = f;
+    if (pthread_create(&f->thread, NULL, run, f) != 0) {
+        *out = NULL;
+        free_front(f);
+        return false;
+    }
+    return true;
 }
 
 unsigned merd_front_port(const merd_front *f)
@@ -367,6 +563,18 @@ static void wake(merd_front *f)
 {
     uint64_t one = 1;
     (void)!write(f->wake, &one, sizeof one);
+}
+
+void merd_front_answered(merd_front *f, int fd, bool replied)
+{
+    if (f == NULL || fd < 0 || (unsigned)fd >= f->slot_count)
+        return;
+    merd_relay_slot *s = &f->slots[fd];
+    if (replied)
+        atomic_fetch_add(&s->replied, 1);
+    atomic_fetch_add(&s->done, 1);
+    if (atomic_load(&s->watch))
+        wake(f);
 }
 
 void merd_front_quiesce(merd_front *f)
@@ -382,13 +590,14 @@ void merd_front_stop(merd_front *f)
     atomic_store(&f->stopping, true);
     wake(f);
     pthread_join(f->thread, NULL);
-    while (f->waiting.first != NULL)
-        drop(f, f->waiting.first);
-    while (f->refused.first != NULL)
-        drop(f, f->refused.first);
-    close(f->listener);
-    close(f->wake);
-    close(f->epoll);
-    free(f->peek);
-    free(f);
+    for (where at = WAITING; at <= LINGERING; at++)
+        while (f->queues[at].first != NULL)
+            drop(f, f->queues[at].first);
+    bury(f);
+}
+
+void merd_front_free(merd_front *f)
+{
+    if (f != NULL)
+        free_front(f);
 }

@@ -11,15 +11,8 @@
 
 #include "server/head.h"
 
-static merd_head_state refuse(merd_head_verdict *v, unsigned status, const char *slug,
-                              const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 4, 5)))
-#endif
-    ;
-
-static merd_head_state refuse(merd_head_verdict *v, unsigned status, const char *slug,
-                              const char *fmt, ...)
+merd_head_state merd_head_refuse(merd_head_verdict *v, unsigned status, const char *slug,
+                                 const char *fmt, ...)
 {
     v->status = status;
     v->slug = slug;
@@ -45,6 +38,17 @@ static bool next_line(const char *d, size_t size, size_t *at, const char **line,
     return true;
 }
 
+int merd_head_hex_digit(char c)
+{
+    if (c >= '0' && c <= '9')
+        return c - '0';
+    if (c >= 'a' && c <= 'f')
+        return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F')
+        return c - 'A' + 10;
+    return -1;
+}
+
 /* Digits of base 10 or 16 at the start of s[0..n) into *value: how many were
  * read, 0 on overflow of 64 bits (MHD_str_to_uint64_n_, MHD_strx_to_uint64_n_). */
 static size_t parse_number(const char *s, size_t n, unsigned base, uint64_t *value)
@@ -52,27 +56,15 @@ static size_t parse_number(const char *s, size_t n, unsigned base, uint64_t *val
     uint64_t v = 0;
     size_t i = 0;
     for (; i < n; i++) {
-        char c = s[i];
-        unsigned d;
-        if (c >= '0' && c <= '9')
-            d = (unsigned)(c - '0');
-        else if (base == 16 && c >= 'a' && c <= 'f')
-            d = (unsigned)(c - 'a' + 10);
-        else if (base == 16 && c >= 'A' && c <= 'F')
-            d = (unsigned)(c - 'A' + 10);
-        else
+        int d = merd_head_hex_digit(s[i]);
+        if (d < 0 || (unsigned)d >= base)
             break;
-        if (v > (UINT64_MAX - d) / base)
+        if (v > (UINT64_MAX - (unsigned)d) / base)
             return 0;
-        v = v * base + d;
+        v = v * base + (unsigned)d;
     }
     *value = v;
     return i;
-}
-
-static bool is_hex(char c)
-{
-    return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
 }
 
 /* The request line (parse_initial_message_line, parse_http_version). Adds the
@@ -83,7 +75,7 @@ static merd_head_state check_request_line(const char *line, size_t len, size_t *
     const char *end = line + len;
     const char *sp = memchr(line, ' ', len);
     if (sp == NULL || sp == line)
-        return refuse(v, 400, "bad-request-line",
+        return merd_head_refuse(v, 400, "bad-request-line",
                       "the request line must be METHOD, a space, the target, a space and "
                       "HTTP/1.1 (RFC 9112 §3)");
     const char *uri = sp + 1;
@@ -106,11 +98,11 @@ static merd_head_state check_request_line(const char *line, size_t len, size_t *
     size_t n = (size_t)(end - version);
     if (n != 8 || memcmp(version, "HTTP/", 5) != 0 || version[6] != '.' || version[5] < '0' ||
         version[5] > '9' || version[7] < '0' || version[7] > '9')
-        return refuse(v, 400, "bad-request-line",
+        return merd_head_refuse(v, 400, "bad-request-line",
                       "the request line must end with the protocol version, HTTP/1.1 "
                       "(RFC 9112 §2.3)");
     if (version[5] != '1')
-        return refuse(v, 505, "http-version", "meristemd speaks HTTP/1.0 and HTTP/1.1, not %.8s",
+        return merd_head_refuse(v, 505, "http-version", "meristemd speaks HTTP/1.0 and HTTP/1.1, not %.8s",
                       version);
     return MERD_HEAD_GOOD;
 }
@@ -131,14 +123,14 @@ static merd_head_state check_field(const char *line, size_t len, fields *f, size
                                    merd_head_verdict *v)
 {
     if (line[0] == ' ' || line[0] == '\t')
-        return refuse(v, 400, "bad-header",
+        return merd_head_refuse(v, 400, "bad-header",
                       "a header line must not begin with a space or tab (obsolete line "
                       "folding, RFC 9112 §5.2)");
     // The value ends at a NUL, and a colon after a NUL is not seen (strchr).
     size_t text = strnlen(line, len);
     const char *colon = memchr(line, ':', text);
     if (colon == NULL)
-        return refuse(v, 400, "bad-header", "a header line must be NAME: VALUE (RFC 9112 §5)");
+        return merd_head_refuse(v, 400, "bad-header", "a header line must be NAME: VALUE (RFC 9112 §5)");
     size_t key = (size_t)(colon - line);
     const char *value = colon + 1;
     while (value < line + text && (*value == ' ' || *value == '\t'))
@@ -162,33 +154,45 @@ static merd_head_state check_field(const char *line, size_t len, fields *f, size
 }
 
 /* The body's framing as announced (parse_connection_headers): a
- * Transfer-Encoding wins over Content-Length; *chunked when it is "chunked". */
-static merd_head_state check_framing(const fields *f, bool *chunked, merd_head_verdict *v)
+ * Transfer-Encoding wins over Content-Length. */
+static merd_head_state check_framing(const fields *f, merd_head_verdict *v)
 {
-    *chunked = false;
+    v->body = MERD_BODY_NONE;
+    v->length = 0;
     if (f->encoding != NULL) {
-        *chunked = f->encoding_size == 7 && strncasecmp(f->encoding, "chunked", 7) == 0;
+        bool chunked = f->encoding_size == 7 && strncasecmp(f->encoding, "chunked", 7) == 0;
+        v->body = chunked ? MERD_BODY_CHUNKED : MERD_BODY_UNTIL_CLOSE;
         return MERD_HEAD_GOOD;
     }
     if (f->length == NULL)
         return MERD_HEAD_GOOD;
     uint64_t n = 0;
     size_t digits = parse_number(f->length, f->length_size, 10, &n);
-    if (digits == f->length_size && digits != 0)
+    if (digits == f->length_size && digits != 0) {
+        v->body = n != 0 ? MERD_BODY_LENGTH : MERD_BODY_NONE;
+        v->length = n;
         return MERD_HEAD_GOOD;
+    }
     if (digits == 0 && f->length_size != 0 && f->length[0] >= '0' && f->length[0] <= '9')
-        return refuse(v, 413, "body-too-large",
+        return merd_head_refuse(v, 413, "body-too-large",
                       "Content-Length does not fit in 64 bits; meristemd takes bodies of "
                       "at most --max-body bytes");
-    return refuse(v, 400, "bad-content-length",
+    return merd_head_refuse(v, 400, "bad-content-length",
                   "Content-Length must be a decimal number of bytes (RFC 9110 §8.6)");
 }
 
-static merd_head_state bad_chunk(merd_head_verdict *v)
+merd_head_state merd_head_bad_chunk(merd_head_verdict *v)
 {
-    return refuse(v, 400, "bad-chunk",
+    return merd_head_refuse(v, 400, "bad-chunk",
                   "a chunk must begin with its size in hexadecimal on a line of its own and "
                   "end with a line end (RFC 9112 §7.1)");
+}
+
+merd_head_state merd_head_chunk_too_large(merd_head_verdict *v)
+{
+    return merd_head_refuse(v, 413, "body-too-large",
+                            "a chunk size does not fit in 64 bits; meristemd takes bodies of at "
+                            "most --max-body bytes");
 }
 
 /* Trailer lines after the last chunk, as far as they go: each NAME: VALUE. */
@@ -200,7 +204,7 @@ static merd_head_state check_trailers(const char *d, size_t size, size_t at, mer
     while (next_line(d, size, &at, &line, &len) && len > 0) {
         bool folded = any && (line[0] == ' ' || line[0] == '\t');
         if (!folded && memchr(line, ':', strnlen(line, len)) == NULL)
-            return bad_chunk(v);
+            return merd_head_bad_chunk(v);
         any = true;
     }
     return MERD_HEAD_GOOD;
@@ -226,20 +230,18 @@ static merd_head_state check_chunks(const char *d, size_t size, size_t at, merd_
             }
         }
         if (found && len == 0)
-            return bad_chunk(v);
+            return merd_head_bad_chunk(v);
         if (!found) {
             len = avail;
             if (s[avail - 1] == '\r' && --len == 0)
-                return bad_chunk(v);
+                return merd_head_bad_chunk(v);
         }
         uint64_t chunk = 0;
         size_t digits = parse_number(s, len, 16, &chunk);
-        if (digits == 0 && is_hex(s[0]))
-            return refuse(v, 413, "body-too-large",
-                          "a chunk size does not fit in 64 bits; meristemd takes bodies of at "
-                          "most --max-body bytes");
+        if (digits == 0 && merd_head_hex_digit(s[0]) >= 0)
+            return merd_head_chunk_too_large(v);
         if (digits != len)
-            return bad_chunk(v);
+            return merd_head_bad_chunk(v);
         if (!ended)
             return MERD_HEAD_GOOD;
         at += i + 1;
@@ -255,7 +257,7 @@ static merd_head_state check_chunks(const char *d, size_t size, size_t at, merd_
         else if (size - at < 2)
             return MERD_HEAD_GOOD;
         else
-            return bad_chunk(v);
+            return merd_head_bad_chunk(v);
     }
     return MERD_HEAD_GOOD;
 }
@@ -263,10 +265,10 @@ static merd_head_state check_chunks(const char *d, size_t size, size_t at, merd_
 static merd_head_state too_large(merd_head_verdict *v, bool in_request_line, size_t budget)
 {
     if (in_request_line)
-        return refuse(v, 414, "uri-too-long",
+        return merd_head_refuse(v, 414, "uri-too-long",
                       "the request line is longer than meristemd takes (%zu bytes; "
                       "--connection-memory is twice that)", budget);
-    return refuse(v, 431, "header-fields-too-large",
+    return merd_head_refuse(v, 431, "header-fields-too-large",
                   "the request head is larger than meristemd takes (%zu bytes, with %d for "
                   "each field; --connection-memory is twice that)", budget,
                   MERD_HEAD_FIELD_COST);
@@ -305,9 +307,15 @@ merd_head_state merd_head_check(const char *data, size_t size, size_t budget,
     }
     if (cost > budget)
         return too_large(v, false, budget);
-    bool chunked = false;
-    s = check_framing(&f, &chunked, v);
-    if (s != MERD_HEAD_GOOD || !chunked)
+    s = check_framing(&f, v);
+    if (s != MERD_HEAD_GOOD)
         return s;
-    return check_chunks(data, size, at, v);
+    v->head_size = at;
+    if (v->body != MERD_BODY_CHUNKED)
+        return s;
+    merd_head_verdict chunks;
+    s = check_chunks(data, size, at, &chunks);
+    if (s == MERD_HEAD_BAD)
+        *v = chunks;
+    return s;
 }

@@ -2,12 +2,14 @@
  * post_example: state on the first call, body chunks appended up to a hard
  * cap, dispatch on the last call, cleanup and the log line when completed.
  * libmicrohttpd does not listen: the front (front.h) accepts, answers the
- * heads libmicrohttpd would refuse in HTML with problem+json, and hands the
- * others on. */
+ * requests libmicrohttpd would refuse in HTML with problem+json, and relays
+ * the others; it counts connections per address, and learns here when a
+ * request is completed. */
 #include "config.h"
 
 #include <limits.h>
 #include <netdb.h>
+#include <stdarg.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -21,6 +23,7 @@
 #include "server/clock.h"
 #include "server/front.h"
 #include "server/guard.h"
+#include "server/head.h"
 #include "server/host.h"
 #include "server/http.h"
 #include "server/request.h"
@@ -143,17 +146,6 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
     return merd_route(req, server->web_root);
 }
 
-static int hex_value(char c)
-{
-    if (c >= '0' && c <= '9')
-        return c - '0';
-    if (c >= 'a' && c <= 'f')
-        return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F')
-        return c - 'A' + 10;
-    return -1;
-}
-
 /* Percent-decodes the path in place, as libmicrohttpd would, except that "%00"
  * stays encoded: a decoded NUL would silently cut "/%00x" down to "/", and a
  * request for a name with a NUL in it should find nothing. */
@@ -164,8 +156,8 @@ static size_t unescape_path(void *cls, struct MHD_Connection *connection, char *
     char *out = s;
     for (const char *in = s; *in != '\0'; in++) {
         int hi, lo;
-        if (in[0] == '%' && (hi = hex_value(in[1])) >= 0 && (lo = hex_value(in[2])) >= 0 &&
-            (hi | lo) != 0) {
+        if (in[0] == '%' && (hi = merd_head_hex_digit(in[1])) >= 0 &&
+            (lo = merd_head_hex_digit(in[2])) >= 0 && (hi | lo) != 0) {
             *out++ = (char)(hi * 16 + lo);
             in += 2;
         } else {
@@ -181,6 +173,11 @@ static void on_completed(void *cls, struct MHD_Connection *connection, void **st
 {
     merd_server *server = cls;
     merd_request *req = *state;
+    const union MHD_ConnectionInfo *fd =
+        MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CONNECTION_FD);
+    if (fd != NULL)
+        merd_front_answered(server->front, fd->connect_fd,
+                            code == MHD_REQUEST_TERMINATED_COMPLETED_OK);
     if (req == NULL)
         return;
     merd_guard_request_ended(server->guard, connection);
@@ -196,6 +193,23 @@ static void on_completed(void *cls, struct MHD_Connection *connection, void **st
     free(req);
     *state = NULL;
     atomic_fetch_sub(&server->requests, 1);
+}
+
+static void log_mhd(void *cls, const char *fmt, va_list ap)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 0)))
+#endif
+    ;
+
+/* libmicrohttpd's messages, but its complaints that TCP options cannot be set:
+ * its sockets are the front's socketpairs, where they mean nothing, and it
+ * says so for every answer. */
+static void log_mhd(void *cls, const char *fmt, va_list ap)
+{
+    (void)cls;
+    if (strncmp(fmt, "Setting %s option", 17) == 0 || strncmp(fmt, "Failed to push the data", 23) == 0)
+        return;
+    vfprintf(stderr, fmt, ap);
 }
 
 static bool resolve_bind(merd_server *server, FILE *err)
@@ -244,21 +258,21 @@ merd_server *merd_server_start(const merd_settings *config, merd_app *app, FILE 
         // connection not in a request; the margin absorbs arrivals meanwhile.
         MHD_OPTION_CONNECTION_LIMIT, (unsigned)config->connection_limit + GUARD_MARGIN,
         MHD_OPTION_NOTIFY_CONNECTION, merd_guard_notify, server->guard,
-        MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)config->per_ip_limit,
         MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)config->memory_limit,
         MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)config->timeout,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, server,
         MHD_OPTION_UNESCAPE_CALLBACK, unescape_path, NULL,
+        MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL,
         MHD_OPTION_END);
     merd_front_config front = {
         .head_seconds = (double)config->header_timeout,
+        .idle_seconds = (double)config->timeout,
         .per_ip_limit = (unsigned)config->per_ip_limit,
         .soft_limit = (unsigned)config->connection_limit,
         .budget = (size_t)config->memory_limit / 2,
     };
-    if (server->daemon != NULL)
-        server->front = merd_front_start(&server->address, &front, server->daemon, server->guard);
-    if (server->front == NULL) {
+    if (server->daemon == NULL ||
+        !merd_front_start(&server->address, &front, server->daemon, server->guard, &server->front)) {
         fprintf(err, "meristemd: cannot listen on %s port %ld (in use, or not permitted)\n",
                 config->bind, config->port);
         if (server->daemon != NULL)
@@ -298,7 +312,9 @@ void merd_server_stop(merd_server *server)
     if (server == NULL)
         return;
     merd_front_stop(server->front);
+    // Completions of the requests it aborts still reach the front's slots.
     MHD_stop_daemon(server->daemon);
+    merd_front_free(server->front);
     merd_guard_stop(server->guard);
     free(server);
 }

@@ -6,6 +6,7 @@ server_meristemd_SOURCES = \
 	server/http.c server/http.h \
 	server/guard.c server/guard.h server/guard_private.h \
 	server/front.c server/front.h server/head.c server/head.h \
+	server/relay.c server/relay.h server/framing.c server/framing.h \
 	server/host.c server/host.h \
 	server/request.c server/request.h \
 	server/routes.c server/routes.h \

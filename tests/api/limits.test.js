@@ -71,3 +71,31 @@ test('a full work queue answers 503 with Retry-After at once', async (t) => {
   assert.equal((await long).status, 200);
   assert.equal((await others[0].pending).status, 200);
 });
+
+test('one address holds at most --max-connections-per-ip connections, kept-alive and arriving alike', async (t) => {
+  const LIMIT = 8;
+  const d = await startDaemon(['--quiet', '--max-connections-per-ip', String(LIMIT), '--header-timeout', '60']);
+  t.after(() => d.stop());
+  const sockets = [];
+  t.after(() => sockets.forEach((s) => s.destroy()));
+  const open = (text, waitForAnswer) => new Promise((resolve) => {
+    const socket = net.connect(d.port, '127.0.0.1');
+    sockets.push(socket);
+    const state = { socket, closed: false, answered: false };
+    socket.on('data', () => { state.answered = true; if (waitForAnswer) resolve(state); });
+    socket.on('error', () => {});
+    socket.on('close', () => { state.closed = true; resolve(state); });
+    socket.on('connect', () => { socket.write(text); if (!waitForAnswer) setTimeout(() => resolve(state), 200); });
+  });
+  const host = `Host: 127.0.0.1:${d.port}\r\n`;
+  // LIMIT kept-alive connections between requests, then LIMIT heads arriving.
+  const kept = [];
+  for (let i = 0; i < LIMIT; i++) kept.push(await open(`GET /v1/health HTTP/1.1\r\n${host}\r\n`, true));
+  assert.ok(kept.every((s) => s.answered && !s.closed), 'the kept-alive connections are answered and open');
+  const arriving = [];
+  for (let i = 0; i < LIMIT; i++) arriving.push(await open(`GET /v1/health HTTP/1.1\r\n${host}`, false));
+  await new Promise((r) => setTimeout(r, 500));
+  const refused = arriving.filter((s) => s.closed).length;
+  assert.equal(refused, LIMIT, `connections over the limit from one address are closed (${refused} of ${LIMIT})`);
+  assert.ok(kept.every((s) => !s.closed), 'the kept-alive connections stay');
+});

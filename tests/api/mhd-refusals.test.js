@@ -43,11 +43,10 @@ function assertProblem(reply, status, name) {
   assert.ok(problem.detail.length > 10, `${name}: a detail that says what to do`);
 }
 
-test('the heads libmicrohttpd would refuse in HTML get problem+json, and the daemon keeps answering', async (t) => {
-  const d = await startDaemon(['--quiet', '--connection-memory', String(MEMORY)]);
-  t.after(() => d.stop());
-  const host = `Host: 127.0.0.1:${d.port}\r\n`;
-  const cases = [
+/** The requests libmicrohttpd would refuse, each with the status it would give. */
+function badRequests(port) {
+  const host = `Host: 127.0.0.1:${port}\r\n`;
+  return [
     { name: 'request line over --connection-memory', status: 414,
       text: `GET /v1/health?pad=${'a'.repeat(2 * MEMORY)} HTTP/1.1\r\n${host}\r\n` },
     { name: 'header block over --connection-memory', status: 431,
@@ -76,12 +75,102 @@ test('the heads libmicrohttpd would refuse in HTML get problem+json, and the dae
     { name: 'unknown HTTP version', status: 505,
       text: `GET /v1/health HTTP/2.0\r\n${host}\r\n` },
     { name: 'HTTP/0.9', status: 505, text: `GET /v1/health HTTP/0.9\r\n${host}\r\n` },
+    { name: 'folded header line', status: 400,
+      text: `GET /v1/health HTTP/1.1\r\n${host}X-A: 1\r\n folded\r\n\r\n` },
+    { name: 'bad chunk size deep in the body', status: 400,
+      text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Type: application/json\r\n` +
+        `Transfer-Encoding: chunked\r\n\r\n${(16 * MEMORY).toString(16)}\r\n${' '.repeat(16 * MEMORY)}\r\n` +
+        'zz\r\n{}\r\n0\r\n\r\n' },
+    { name: 'chunk not followed by a line end deep in the body', status: 400,
+      text: `POST /v1/sessions HTTP/1.1\r\n${host}Content-Type: application/json\r\n` +
+        `Transfer-Encoding: chunked\r\n\r\n${(16 * MEMORY).toString(16)}\r\n${' '.repeat(16 * MEMORY)}XX` +
+        '0\r\n\r\n' },
   ];
-  for (const c of cases) {
+}
+
+/** Splits what a connection received into its responses (each with a
+ * Content-Length); what follows the last whole one is `rest`. */
+function responses(text) {
+  const out = [];
+  let at = 0;
+  for (;;) {
+    const end = text.indexOf('\r\n\r\n', at);
+    if (end < 0) break;
+    const head = text.slice(at, end);
+    const length = head.match(/^Content-Length: (\d+)$/mi);
+    const size = length ? Number(length[1]) : 0;
+    if (end + 4 + size > text.length) break;
+    out.push(text.slice(at, end + 4 + size));
+    at = end + 4 + size;
+  }
+  return { list: out, rest: text.slice(at) };
+}
+
+/** A good request, then `bad` on the same connection: sent together
+ * (pipelined) or once the first answer is in. Resolves with all read until
+ * the daemon closes. */
+function keptAlive(port, bad, pipelined) {
+  const good = `GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1:${port}\r\n\r\n`;
+  return new Promise((resolve, reject) => {
+    const socket = net.connect(port, '127.0.0.1');
+    let reply = '';
+    let sent = pipelined;
+    const timer = setTimeout(() => { socket.destroy(); reject(new Error(`no close; got ${JSON.stringify(reply)}`)); }, 10000);
+    socket.setEncoding('latin1');
+    socket.on('data', (c) => {
+      reply += c;
+      if (!sent && responses(reply).list.length === 1) {
+        sent = true;
+        socket.write(bad);
+      }
+    });
+    socket.on('error', () => {});
+    socket.on('close', () => { clearTimeout(timer); resolve(reply); });
+    socket.write(pipelined ? good + bad : good);
+  });
+}
+
+test('the heads libmicrohttpd would refuse in HTML get problem+json, and the daemon keeps answering', async (t) => {
+  const d = await startDaemon(['--quiet', '--connection-memory', String(MEMORY)]);
+  t.after(() => d.stop());
+  for (const c of badRequests(d.port)) {
     assertProblem(await raw(d.port, c.text), c.status, c.name);
     const health = await api(d.url, 'GET', '/v1/health');
     assert.equal(health.status, 200, `health after ${c.name}`);
   }
+});
+
+test('a bad request after a good one on a kept-alive connection gets problem+json too', async (t) => {
+  const d = await startDaemon(['--quiet', '--connection-memory', String(MEMORY)]);
+  t.after(() => d.stop());
+  for (const pipelined of [false, true]) {
+    for (const c of badRequests(d.port)) {
+      const name = `${c.name}${pipelined ? ', pipelined' : ''}`;
+      const reply = await keptAlive(d.port, c.text, pipelined);
+      const { list, rest } = responses(reply);
+      assert.equal(list.length, 2, `${name}: two answers in ${JSON.stringify(reply.slice(0, 400))}`);
+      assert.match(list[0], /^HTTP\/1\.1 200 /, name);
+      assert.equal(rest, '', `${name}: nothing after the refusal`);
+      assertProblem(list[1], c.status, name);
+    }
+  }
+  const health = await api(d.url, 'GET', '/v1/health');
+  assert.equal(health.status, 200);
+});
+
+test('pipelined good requests are all answered, in order', async (t) => {
+  const d = await startDaemon(['--quiet']);
+  t.after(() => d.stop());
+  const host = `Host: 127.0.0.1:${d.port}\r\n`;
+  const body = '{"preset":"fig7-bh-0.54","seed":1}';
+  const text = `GET /v1/health HTTP/1.1\r\n${host}\r\n` +
+    `POST /v1/sessions HTTP/1.1\r\n${host}Content-Type: application/json\r\nContent-Length: ${body.length}\r\n\r\n${body}` +
+    `POST /v1/sessions HTTP/1.1\r\n${host}Content-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n` +
+    `${body.length.toString(16)}\r\n${body}\r\n0\r\nX-Trailer: 1\r\n\r\n` +
+    `GET /v1/health HTTP/1.1\r\n${host}Connection: close\r\n\r\n`;
+  const { list, rest } = responses(await raw(d.port, text));
+  assert.deepEqual(list.map((r) => Number(r.slice(9, 12))), [200, 201, 201, 200]);
+  assert.equal(rest, '');
 });
 
 test('heads that libmicrohttpd takes still reach meristemd', async (t) => {

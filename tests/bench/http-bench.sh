@@ -41,6 +41,14 @@ echo "== GET /v1/health (wrk -t2 -c64 -d5s)"
 wrk -t2 -c64 -d5s "$base/v1/health" | grep -E 'Requests/sec|Latency'
 echo "== GET /v1/sessions/{id} (wrk -t2 -c64 -d5s)"
 wrk -t2 -c64 -d5s "$base/v1/sessions/$id" | grep -E 'Requests/sec|Latency'
+echo "== GET /v1/health, a new connection for each (wrk -t1 -c1 -d5s, Connection: close)"
+wrk -t1 -c1 -d5s -H 'Connection: close' "$base/v1/health" | grep -E 'Requests/sec|Latency'
+echo "== GET /v1/health, one kept-alive connection (wrk -t1 -c1 -d5s)"
+wrk -t1 -c1 -d5s "$base/v1/health" | grep -E 'Requests/sec|Latency'
+curl -sS -o /dev/null "$base/v1/sessions/$id/snapshot.glb"
+size=$(curl -sS -o /dev/null -w '%{size_download}' "$base/v1/sessions/$id/snapshot.glb")
+echo "== GET snapshot.glb of that session ($size bytes, cached), one connection (wrk -t1 -c1 -d5s)"
+wrk -t1 -c1 -d5s "$base/v1/sessions/$id/snapshot.glb" | grep -E 'Requests/sec|Latency|Transfer/sec'
 
 # A one-step edit changes the tree, so each sample needs its own copy of the
 # 10,000-internode tree: the same preset, seed and steps give the same tree.

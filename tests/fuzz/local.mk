@@ -2,7 +2,8 @@
 # runs each over its seed corpus for a fixed number of inputs; see README.md
 # (Fuzzing) for a longer run before a release.
 FUZZ_HARNESSES = tests/fuzz/fuzz_edits tests/fuzz/fuzz_journal tests/fuzz/fuzz_gltf \
-	tests/fuzz/fuzz_spec tests/fuzz/fuzz_checkpoint tests/fuzz/fuzz_head
+	tests/fuzz/fuzz_spec tests/fuzz/fuzz_checkpoint tests/fuzz/fuzz_head \
+	tests/fuzz/fuzz_framing
 # The daemon's decoding, applying and journaling code, compiled into the harnesses.
 FUZZ_SERVER = server/refusal.c server/refusal.h server/decode.c server/decode.h \
 	server/codec.c server/codec.h server/edit_ops.c server/edit_ops.h \
@@ -25,6 +26,10 @@ tests_fuzz_fuzz_checkpoint_SOURCES = tests/fuzz/fuzz_checkpoint.c tests/fuzz/fuz
 tests_fuzz_fuzz_head_SOURCES = tests/fuzz/fuzz_head.c server/head.c server/head.h
 tests_fuzz_fuzz_head_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)
 tests_fuzz_fuzz_head_LDFLAGS = $(FUZZ_LDFLAGS)
+tests_fuzz_fuzz_framing_SOURCES = tests/fuzz/fuzz_framing.c server/framing.c server/framing.h \
+	server/head.c server/head.h
+tests_fuzz_fuzz_framing_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)
+tests_fuzz_fuzz_framing_LDFLAGS = $(FUZZ_LDFLAGS)
 # libmeristem has C++ parts: link with the C++ driver.
 nodist_EXTRA_tests_fuzz_fuzz_edits_SOURCES = tests/fuzz/link-as-cxx.cc
 nodist_EXTRA_tests_fuzz_fuzz_journal_SOURCES = tests/fuzz/link-as-cxx.cc

@@ -107,6 +107,12 @@ tests_unit_test_head_SOURCES = tests/unit/test_head.c server/head.c server/head.
 tests_unit_test_head_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_head_LDADD = $(CMOCKA_LIBS)
 
+check_PROGRAMS += tests/unit/test_framing
+tests_unit_test_framing_SOURCES = tests/unit/test_framing.c server/framing.c server/framing.h \
+	server/head.c server/head.h
+tests_unit_test_framing_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_framing_LDADD = $(CMOCKA_LIBS)
+
 # libmicrohttpd's one call the guard makes is the test's own.
 check_PROGRAMS += tests/unit/test_guard
 tests_unit_test_guard_SOURCES = tests/unit/test_guard.c server/guard.c server/guard.h \
