@@ -108,7 +108,7 @@ mer_result merp_gv_dijkstra(merp_gv_search *s, const merp_gv_graph *gr, const me
     if (rc != MER_OK)
         return rc;
     for (uint32_t i = 0; i < gr->n; i++) {
-        s->dist[i] = INFINITY;
+        s->dist[i] = (double)INFINITY;
         s->pred[i] = MER_NO_NODE;
         s->done[i] = 0;
     }
