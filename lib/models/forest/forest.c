@@ -36,6 +36,15 @@ void merp_forest_free(merp_model *f)
     merp_free(f);
 }
 
+/* The forest's plants are sown (its definition), not the parameters' seedlings. */
+static mer_result forest_validate(const mer_params *p, mer_error *err)
+{
+    if (p->seedlings != 0)
+        return mer_error_set(err, MER_ERR_RANGE, "seedlings",
+                             "a forest's plants are sown: seedlings must be 0");
+    return MER_OK;
+}
+
 /* Members keep their presets' parameters: the forest's own are the world's. */
 static void forest_set_params(merp_model *f, const mer_params *p)
 {
@@ -166,6 +175,7 @@ const merp_model_ops merp_forest_ops = {
     .name = "forest",
     .param_rows = 0,
     .state_version = 1,
+    .validate = forest_validate,
     .create = forest_create,
     .set_params = forest_set_params,
     .step = forest_step,

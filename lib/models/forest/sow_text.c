@@ -27,11 +27,16 @@ static mer_result fault(const cursor *c, mer_error *err, const char *a, const ch
     return MER_ERR_INVALID;
 }
 
-/* The next word of the line into w (at most cap - 1 bytes); 0 at the line's end. */
-static size_t word(cursor *c, char *w, size_t cap)
+static void blanks(cursor *c)
 {
     while (c->p < c->end && (*c->p == ' ' || *c->p == '\t' || *c->p == '\r'))
         c->p++;
+}
+
+/* The next word of the line into w (at most cap - 1 bytes); 0 at the line's end. */
+static size_t word(cursor *c, char *w, size_t cap)
+{
+    blanks(c);
     size_t n = 0;
     while (c->p < c->end && !isspace((unsigned char)*c->p) && *c->p != '#') {
         if (n + 1 < cap)
@@ -46,6 +51,7 @@ static size_t word(cursor *c, char *w, size_t cap)
 static mer_result number(cursor *c, double *out, mer_error *err)
 {
     char w[64];
+    blanks(c);
     const char *at = c->p;
     size_t n = word(c, w, sizeof w);
     char *end = NULL;
@@ -102,9 +108,11 @@ static mer_result line(cursor *c, merp_sow *s, unsigned *seen, mer_error *err)
                 return fault(c, err, "presets: at most 16 names of at most 63 bytes", "");
             }
             memcpy(s->presets[s->npresets++], name, n + 1);
+            blanks(c);
         }
     }
     char rest[8];
+    blanks(c);
     at = c->p;
     if (word(c, rest, sizeof rest) > 0) {
         c->p = at;
