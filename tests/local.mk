@@ -33,6 +33,7 @@ TESTS += tests/api/durability.test.js
 TESTS += tests/api/undo.test.js
 TESTS += tests/api/checkpoint.test.js
 TESTS += tests/api/restore.test.js
+TESTS += tests/api/sow.test.js
 TESTS += tests/api/compact.test.js
 TESTS += tests/api/crashloop.test.js
 TESTS += tests/api/security.test.js
