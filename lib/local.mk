@@ -45,6 +45,12 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/runions/runions.h \
 	lib/models/runions/runions.c \
 	lib/models/runions/associate.c \
+	lib/models/forest/forest.h \
+	lib/models/forest/forest.c \
+	lib/models/forest/forest_io.c \
+	lib/models/forest/mirror.c \
+	lib/models/forest/sow.c \
+	lib/models/forest/sow_text.c \
 	lib/models/guiding/guiding.h \
 	lib/models/guiding/guiding.c \
 	lib/models/guiding/graph.c \

@@ -570,17 +570,19 @@ static const char *const functions_fields[] = {"op", "fset", "functions", NULL};
 #define ANY                                                                           \
     (MERD_MODEL_P09 | MERD_MODEL_RUNIONS | MERD_MODEL_LSYSTEM | MERD_MODEL_INVERSE | \
      MERD_MODEL_GUIDING)
+/* A forest's plants keep their presets: it takes the edits of its nodes. */
+#define TREES (ANY | MERD_MODEL_FOREST)
 
 static const merd_edit_op ops[] = {
-    {"step", step_fields, "a step edit", decode_step, apply_step, ANY, MERD_OP_STEPS},
+    {"step", step_fields, "a step edit", decode_step, apply_step, TREES, MERD_OP_STEPS},
     {"add_markers", NULL, NULL, decode_markers, apply_markers, ANY & ~MERD_MODEL_INVERSE, 0},
-    {"prune", node_fields, "a prune edit", decode_node, apply_prune, ANY, 0},
-    {"bend", bend_fields, "a bend edit", decode_bend, apply_bend, ANY, 0},
+    {"prune", node_fields, "a prune edit", decode_node, apply_prune, TREES, 0},
+    {"bend", bend_fields, "a bend edit", decode_bend, apply_bend, TREES, 0},
     {"set_apical_schedule", schedule_fields, "a set_apical_schedule edit", decode_schedule,
      apply_schedule, MERD_MODEL_P09, 0},
     {"set_params", params_fields, "a set_params edit", decode_params, apply_params, ANY, 0},
-    {"release", release_fields, "a release edit", NULL, apply_release, ANY, 0},
-    {"revert", revert_fields, "a revert edit", decode_revert, apply_revert, ANY, 0},
+    {"release", release_fields, "a release edit", NULL, apply_release, TREES, 0},
+    {"revert", revert_fields, "a revert edit", decode_revert, apply_revert, TREES, 0},
     {"set_lsystem", lsystem_fields, "a set_lsystem edit", decode_source, apply_lsystem,
      MERD_MODEL_LSYSTEM, 0},
     {"set_functions", functions_fields, "a set_functions edit", decode_fset, apply_functions,

@@ -14,7 +14,7 @@ server_meristemd_SOURCES = \
 	server/codec.c server/codec.h \
 	server/refusal.c server/refusal.h \
 	server/decode.c server/decode.h \
-	server/spec.c server/spec.h \
+	server/spec.c server/spec_sow.c server/spec.h \
 	server/edit_ops.c server/edit_ops.h \
 	server/functions_json.c server/functions_json.h \
 	server/edits.c server/edits.h \

@@ -224,7 +224,7 @@ static int decode_params(const json_t *spec, mer_params *p, uint64_t *seed, merd
 static int decode_scene(const json_t *spec, const json_t **plants, const json_t **obstacles,
                         const json_t **markers, merd_refusal *why)
 {
-    static const char *const fields[] = {"plants", "markers", "obstacles", NULL};
+    static const char *const fields[] = {"plants", "markers", "obstacles", "sow", NULL};
     const json_t *sc = json_object_get(spec, "scene");
     if (sc != NULL && (!json_is_object(sc) || only(sc, fields, "scene", why)))
         return why->status ? -1
@@ -236,6 +236,33 @@ static int decode_scene(const json_t *spec, const json_t **plants, const json_t 
         return merd_refuse(why, 422, "invalid-field", "scene.plants",
                            "scene.plants must be an array of at most %u [x, y, z] bases",
                            MER_PLANTS_MAX);
+    return 0;
+}
+
+/* A sown forest (scene.sow): its definition into text, and the parameters of
+ * the forest scene (the world's rows; each plant grows by its own preset's). */
+static int decode_sow(const json_t *spec, mer_params *p, uint64_t seed,
+                      const merd_edit_limits *limits, char *text, size_t cap, merd_refusal *why)
+{
+    const json_t *sc = json_object_get(spec, "scene");
+    const json_t *model = json_object_get(spec, "model");
+    static const char *const alone[] = {"plants", "markers", "obstacles"};
+    for (size_t i = 0; i < 3; i++)
+        if (json_object_get(sc, alone[i]) != NULL)
+            return merd_refuse(why, 422, "invalid-field", "scene.sow",
+                               "scene.sow sows the plants and their markers; give it no scene.%s",
+                               alone[i]);
+    if (json_object_get(spec, "lsystem") != NULL || json_object_get(spec, "inverse") != NULL ||
+        (model != NULL && p->model != MER_MODEL_FOREST))
+        return merd_refuse(why, 422, "invalid-field", "scene.sow",
+                           "a sown forest's plants take their models from scene.sow.presets: "
+                           "give no model (or \"forest\"), lsystem or inverse");
+    if (merd_sow_text(json_object_get(sc, "sow"), seed, limits, text, cap, why))
+        return -1;
+    p->model = MER_MODEL_FOREST;
+    p->seedlings = 0;
+    p->environment = MER_ENV_MARKERS; // markers live in the members: no shadow grid here
+    p->marker_count = 0;
     return 0;
 }
 
@@ -381,6 +408,16 @@ mer_scene *merd_scene_from_spec(const json_t *spec, const merd_edit_limits *limi
         return NULL;
     if (plants != NULL)
         p.seedlings = 0;  // the given plants replace the preset's seedlings
+    const json_t *sc = json_object_get(spec, "scene");
+    const json_t *sow = sc != NULL ? json_object_get(sc, "sow") : NULL;
+    char sown[512];
+    if (sow != NULL && decode_sow(spec, &p, seed, limits, sown, sizeof sown, why))
+        return NULL;
+    if (sow == NULL && p.model == MER_MODEL_FOREST) {
+        merd_refuse(why, 422, "missing-field", "scene.sow",
+                    "a forest session needs \"scene\": {\"sow\": {...}}");
+        return NULL;
+    }
     mer_error err = {0};
     mer_result rc = mer_params_validate(&p, &err);
     if (rc != MER_OK) {
@@ -394,6 +431,13 @@ mer_scene *merd_scene_from_spec(const json_t *spec, const merd_edit_limits *limi
     if (rc != MER_OK) {
         merd_refuse_lib(why, rc, &err, "params");
         return NULL;
+    }
+    if (sow != NULL) {
+        if (merd_sow_define(scene, sown, why)) {
+            mer_scene_free(scene);
+            return NULL;
+        }
+        return scene;
     }
     // Obstacles first: plants are checked against them, and they clear the
     // markers filled after them.

@@ -33,6 +33,7 @@ TESTS += tests/api/durability.test.js
 TESTS += tests/api/undo.test.js
 TESTS += tests/api/checkpoint.test.js
 TESTS += tests/api/restore.test.js
+TESTS += tests/api/sow.test.js
 TESTS += tests/api/compact.test.js
 TESTS += tests/api/crashloop.test.js
 TESTS += tests/api/security.test.js
@@ -57,6 +58,7 @@ TESTS += tests/browser/modeller.test.js
 TESTS += tests/conformance/importers.test.js
 TESTS += tests/browser/history.test.js
 TESTS += tests/browser/models.test.js
+TESTS += tests/browser/forest.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
@@ -92,9 +94,11 @@ EXTRA_DIST += \
 	tests/api/skeleton.test.js \
 	tests/api/hygiene.test.js \
 	tests/api/models.test.js \
+	tests/api/sow.test.js \
 	tests/api/smoke.sh \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
+	tests/browser/forest.test.js \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
 	tests/browser/modeller.test.js \

@@ -155,6 +155,11 @@ mer_result merp_env_add_mesh(merp_env *e, const float *xyz, size_t triangles, me
 /* volumes.c: markers drawn from `rng` in a volume (P09 §6). */
 /* A point uniform in the unit ball, by rejection (deterministic: the same draws). */
 void merp_unit_ball(mer_rng *rng, float out[3]);
+/* `count` points drawn from `rng` in volume `kind` (a mer_volume_kind, checked)
+ * of half-extents `size` about `center`, into xyz (3 floats each): what
+ * merp_env_fill_volume adds, for a caller that clips them first. O(count). */
+void merp_volume_points(mer_rng *rng, uint32_t kind, const float center[3], const float size[3],
+                        uint32_t count, float *xyz);
 mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const float center[3],
                                 const float size[3], uint32_t count, mer_error *err);
 mer_result merp_env_fill_mesh(merp_env *e, mer_rng *rng, const float *xyz, size_t triangles,

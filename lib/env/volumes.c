@@ -73,6 +73,18 @@ static void volume_point(mer_rng *rng, uint32_t kind, const float size[3], float
     }
 }
 
+void merp_volume_points(mer_rng *rng, uint32_t kind, const float center[3], const float size[3],
+                        uint32_t count, float *xyz)
+{
+    assert(kind >= MER_VOLUME_BOX && kind <= MER_VOLUME_CONE);
+    for (uint32_t i = 0; i < count; i++) {
+        float u[3], *p = xyz + 3 * (size_t)i;
+        volume_point(rng, kind, size, u);
+        for (int a = 0; a < 3; a++)
+            p[a] = center[a] + u[a];
+    }
+}
+
 mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const float center[3],
                                 const float size[3], uint32_t count, mer_error *err)
 {
@@ -88,12 +100,7 @@ mer_result merp_env_fill_volume(merp_env *e, mer_rng *rng, uint32_t kind, const 
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for markers");
     /* A refused fill draws nothing: the generator goes back to where it was. */
     const mer_rng drawn_from = *rng;
-    for (uint32_t i = 0; i < count; i++) {
-        float u[3], *p = xyz + 3 * (size_t)i;
-        volume_point(rng, kind, size, u);
-        for (int a = 0; a < 3; a++)
-            p[a] = center[a] + u[a];
-    }
+    merp_volume_points(rng, kind, center, size, count, xyz);
     mer_result rc = merp_env_add_markers(e, xyz, count, err);
     merp_free(xyz);
     if (rc != MER_OK)

@@ -54,7 +54,8 @@ typedef enum mer_model_kind {
     MER_MODEL_RUNIONS = 1, /* space colonization, Runions, Lane & Prusinkiewicz 2007 */
     MER_MODEL_LSYSTEM = 2, /* L-systems after ABOP, in cpfg's syntax (a definition text) */
     MER_MODEL_INVERSE = 3, /* Galbraith et al. 2004's inverse model: functions of time (a definition text) */
-    MER_MODEL_GUIDING = 4  /* least-cost paths along guiding vectors, Xu & Mould 2015 */
+    MER_MODEL_GUIDING = 4, /* least-cost paths along guiding vectors, Xu & Mould 2015 */
+    MER_MODEL_FOREST = 5   /* plants of several presets sown over an area (a definition text) */
 } mer_model_kind;
 
 /* What Perlin noise perturbs: the bits of mer_params.noise_targets. */

@@ -119,6 +119,8 @@ extern const merp_model_ops merp_runions_ops;
 extern const merp_model_ops merp_lsystem_ops;
 /* models/guiding/guiding.c */
 extern const merp_model_ops merp_guiding_ops;
+/* models/forest/forest.c */
+extern const merp_model_ops merp_forest_ops;
 /* models/inverse/inverse.c */
 extern const merp_model_ops merp_inverse_ops;
 

@@ -11,6 +11,7 @@ static const merp_model_ops *const models[] = {
     [MER_MODEL_LSYSTEM] = &merp_lsystem_ops,
     [MER_MODEL_INVERSE] = &merp_inverse_ops,
     [MER_MODEL_GUIDING] = &merp_guiding_ops,
+    [MER_MODEL_FOREST] = &merp_forest_ops,
 };
 
 #define NMODELS (sizeof models / sizeof models[0])

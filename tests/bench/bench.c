@@ -1,6 +1,8 @@
 /* meristem benchmark: the Table 1 workloads of Palubicki et al. 2009 (§6), space
  * colonization with a million markers (P09's and Runions et al. 2007's), a
- * forest of 100 trees growing together, and a guiding-vector tree of about
+ * forest of 100 trees growing together, a sown forest of 100 trees of four
+ * presets (scene.sow: P09's BH trees, space colonization in Voronoi cells, an
+ * L-system), and a guiding-vector tree of about
  * 4,000 endpoints (Xu & Mould 2015's Fig. 4, its six iterations in its own
  * crown).
  * Each workload grows until it has its number of internodes (the paper's, for
@@ -37,16 +39,21 @@ typedef struct workload {
     uint32_t markers;     /* > 0: space colonization with this many markers */
     uint32_t trees;       /* > 1: a square lattice of this many plants */
     uint32_t steps;       /* > 0: grow this many steps, in the preset's own bounds */
+    const char *sow;      /* a forest's definition (the preset is then unused) */
 } workload;
 
+#define SOWN "area -45 -45 45 45\ncount 100\nmin_distance 7\nseed 1\n" \
+             "presets default fig7-bh-0.54 fig4-colonization abop-1.24b\n"
+
 static const workload workloads[] = {
-    {"table1-left", "table1-left", 106, 700000, 0, 1, 0},
-    {"table1-center", "table1-center", 90, 642000, 0, 1, 0},
-    {"table1-right", "table1-right", 68, 225000, 0, 1, 0},
-    {"colonization-1M-markers", "fig4-colonization", 0, 500000, 1000000, 1, 0},
-    {"forest-100-trees", "default", 0, 500000, 0, 100, 0},
-    {"runions-1M-markers", "runions-2007", 0, 50000, 1000000, 1, 0},
-    {"guiding-4000-endpoints", "gv-fig4-4000", 0, 8000, 0, 1, 6},
+    {"table1-left", "table1-left", 106, 700000, 0, 1, 0, NULL},
+    {"table1-center", "table1-center", 90, 642000, 0, 1, 0, NULL},
+    {"table1-right", "table1-right", 68, 225000, 0, 1, 0, NULL},
+    {"colonization-1M-markers", "fig4-colonization", 0, 500000, 1000000, 1, 0, NULL},
+    {"forest-100-trees", "default", 0, 500000, 0, 100, 0, NULL},
+    {"runions-1M-markers", "runions-2007", 0, 50000, 1000000, 1, 0, NULL},
+    {"guiding-4000-endpoints", "gv-fig4-4000", 0, 8000, 0, 1, 6, NULL},
+    {"forest-100-sown", "default", 0, 20000, 0, 1, 12, SOWN},
 };
 
 #define NWORK (sizeof workloads / sizeof workloads[0])
@@ -85,6 +92,18 @@ static mer_result make_scene(const workload *w, mer_scene **out, mer_error *err)
     mer_result rc = mer_preset_params(w->preset, &p, err);
     if (rc != MER_OK)
         return rc;
+    if (w->sow != NULL) {
+        p.model = MER_MODEL_FOREST;
+        p.seedlings = 0;
+        p.environment = MER_ENV_MARKERS;
+        p.marker_count = 0;
+        rc = mer_scene_new(&p, 1, out, err);
+        if (rc == MER_OK && (rc = mer_scene_set_definition(*out, w->sow, strlen(w->sow), err)) != MER_OK) {
+            mer_scene_free(*out);
+            *out = NULL;
+        }
+        return rc;
+    }
     if (w->steps == 0)
         paper_grid(&p);
     if (w->markers > 0) {

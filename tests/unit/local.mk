@@ -254,3 +254,8 @@ check_PROGRAMS += tests/unit/test_patch
 tests_unit_test_patch_SOURCES = tests/unit/test_patch.c tests/unit/trimesh_check.h
 tests_unit_test_patch_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_patch_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_forest
+tests_unit_test_forest_SOURCES = tests/unit/test_forest.c tests/unit/scene_helpers.h
+tests_unit_test_forest_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_forest_LDADD = $(UNIT_LDADD)

@@ -28,7 +28,7 @@ for (const p of panels) if (p.edited) session.onEdited((edits) => p.edited(edits
 for (const part of [...panels, ...tools]) if (part.loaded) session.onLoaded((l) => part.loaded(l));
 
 // A preset names its model: the top bar's model choice only filters the presets.
-const topbar = new TopBar({ onNew: ({ preset, seed }) => session.create({ preset, seed }) });
+const topbar = new TopBar({ onNew: (spec) => session.create(spec) });
 session.opener = openSession;
 mountProblemBox();
 

@@ -11,6 +11,8 @@ export const MODELS = [
   { id: 'inverse', label: 'inverse (G04)', firstPreset: 'populus-deltoides' },
   { id: 'runions', label: 'space colonization (R07)', firstPreset: 'runions-2007' },
   { id: 'guiding', label: 'guiding vectors (XM15)', firstPreset: 'gv-fig2-small-5' },
+  // No preset of its own: the top bar asks for the plants, their spacing and presets.
+  { id: 'forest', label: 'sown forest (Poisson/Voronoi)', firstPreset: null, sown: true },
 ];
 
 /**

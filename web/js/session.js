@@ -52,7 +52,7 @@ export class Session {
     if (s.steps_done !== undefined) this.constraint.stalled(s);
     // Keep a growing tree in view.
     if (s.height > state.framedHeight * 1.25 + 2 && !this.gesture()) {
-      this.viewer.frame(s.bounds);
+      this.viewer.frame(s.bounds, { whole: state.summary.model === 'forest' });
       state.framedHeight = s.height;
     }
   }
@@ -139,7 +139,7 @@ export class Session {
     viewer.etag = null;
     this.constraint.restore();
     this.applySummary(summary);
-    viewer.frame(summary.bounds);
+    viewer.frame(summary.bounds, { whole: summary.model === 'forest' });
     state.framedHeight = summary.height;
     await this.refresh();
     this.constraint.show();
@@ -176,7 +176,7 @@ export class Session {
     const { state, viewer } = this;
     if (!state.summary) return;
     viewer.framed = false;
-    viewer.frame(state.summary.bounds);
+    viewer.frame(state.summary.bounds, { whole: state.summary.model === 'forest' });
     state.framedHeight = state.summary.height;
   }
 

@@ -9,13 +9,36 @@ export class TopBar {
   constructor({ onNew }) {
     this.presets = [];
     for (const m of MODELS) $('#model').add(new Option(m.label, m.id));
-    $('#model').addEventListener('change', () => this.listPresets());
+    $('#model').addEventListener('change', () => { this.listPresets(); this.showSow(); });
     $('#preset').addEventListener('change', () => this.describePreset());
     $('#session-form').addEventListener('submit', (e) => {
       e.preventDefault();
-      onNew({ model: $('#model').value, preset: $('#preset').value,
-        seed: Math.max(0, Math.round(Number($('#seed').value) || 0)) });
+      const seed = Math.max(0, Math.round(Number($('#seed').value) || 0));
+      if ($('#model').value === 'forest') onNew({ seed, scene: { sow: this.sow(seed) } });
+      else onNew({ preset: $('#preset').value, seed });   // a preset names its model
     });
+  }
+
+  /** scene.sow from the top bar's fields: a square area centred on the origin. */
+  sow(seed) {
+    const half = Math.max(0.5, Number($('#sow-size').value) || 50) / 2;
+    return {
+      area: [[-half, -half], [half, half]],
+      count: Math.max(1, Math.round(Number($('#sow-count').value) || 1)),
+      min_distance: Number($('#sow-distance').value) || 8,
+      presets: $('#sow-presets').value.split(/[\s,]+/).filter(Boolean),
+      seed,
+    };
+  }
+
+  /** A forest has no preset of its own: its fields replace the preset list. */
+  showSow() {
+    const sown = $('#model').value === 'forest';
+    $('#sow-fields').hidden = !sown;
+    $('#preset-label').hidden = sown;
+    $('#preset-description').textContent = sown
+      ? 'plants placed by Poisson-disk sampling, no two closer than "apart", each in its Voronoi cell; presets dealt round-robin'
+      : $('#preset-description').textContent;
   }
 
   /** Keeps the presets (GET /v1/presets: presets [{name, description, model}]) and lists
@@ -23,7 +46,9 @@ export class TopBar {
   setPresets(presets) {
     this.presets = presets;
     // A model no preset grows is not offered.
-    for (const o of [...$('#model').options]) o.hidden = !presets.some((x) => (x.model || 'p09') === o.value);
+    for (const o of [...$('#model').options]) {
+      o.hidden = !MODELS.find((m) => m.id === o.value)?.sown && !presets.some((x) => (x.model || 'p09') === o.value);
+    }
     this.listPresets();
   }
 
@@ -58,6 +83,7 @@ export class TopBar {
     }
     $('#seed').value = String(summary.seed);
     this.describePreset();
+    this.showSow();
     document.body.classList.add('has-session');
   }
 }

@@ -218,15 +218,18 @@ export class Viewer {
     this.requestRender();
   }
 
-  /** Points the camera at the box {min, max} (summary bounds). */
-  frame(bounds) {
+  /**
+   * Points the camera at the box {min, max} (summary bounds). `whole`: a wide scene
+   * (a forest) seen from higher up, far enough that the box's every corner is in view.
+   */
+  frame(bounds, { whole = false } = {}) {
     const min = new THREE.Vector3(...bounds.min), max = new THREE.Vector3(...bounds.max);
     const size = max.clone().sub(min);
-    const r = Math.max(size.x, size.y, size.z, 8);
+    const r = whole ? Math.max(Math.hypot(size.x, size.z), size.y, 8) : Math.max(size.x, size.y, size.z, 8);
     const c = min.clone().add(max).multiplyScalar(0.5);
-    c.y = Math.max(c.y, r * 0.35);
+    if (!whole) c.y = Math.max(c.y, r * 0.35);
     const dir = this.camera.position.clone().sub(this.controls.target).normalize();
-    if (!this.framed || dir.lengthSq() < 0.5) dir.set(0.45, 0.28, 0.85).normalize();
+    if (!this.framed || dir.lengthSq() < 0.5) dir.set(0.45, whole ? 0.6 : 0.28, 0.85).normalize();
     const dist = r / (2 * Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.35;
     this.controls.target.copy(c);
     this.camera.position.copy(c).addScaledVector(dir, dist);
