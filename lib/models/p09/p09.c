@@ -182,7 +182,7 @@ static mer_result basipetal(merp_model *m, const merp_world *w, mer_error *err)
     return MER_OK;
 }
 
-/* The buds listed by the environment pass grow their shoots. */
+/* The buds left listed by merp_p09_directions grow their shoots. */
 static mer_result grow_buds(merp_model *m, const merp_world *w, mer_error *err)
 {
     const merp_skeleton *sk = w->sk;

@@ -74,7 +74,8 @@ struct merp_model {
  * shadow. */
 mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsis,
                                 int defer_v, mer_error *err);
-/* V of the listed buds whose resource (m->vb) makes a shoot, if it was deferred. */
+/* Keeps listed only the buds whose resource (m->vb) makes a shoot, in order, and
+ * computes their V if it was deferred. */
 void merp_p09_directions(merp_model *m, const merp_world *w);
 /* borchert_honda.c */
 void merp_p09_allocate_bh(merp_model *m, const merp_world *w);
