@@ -162,17 +162,24 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
 void merp_p09_directions(merp_model *m, const merp_world *w)
 {
     assert(m != NULL && w != NULL);
-    if (!m->v_deferred)
-        return;
+    /* Only the buds whose resource makes a shoot stay listed, in order (their V
+     * moved along): the growth pass then reads no bud that cannot grow. */
+    size_t g = 0;
     for (size_t b = 0; b < m->bn; b++) {
         uint32_t key = m->bkey[b];
-        float l;
-        if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, &l) == 0)
+        if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, NULL) == 0)
             continue;
-        float pos[3];
-        merp_skel_node_end(w->sk, key / 3, pos);
-        merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * b);
-        merp_env_direction(w->env, pos, m->bdir + 3 * b, m->bv + 3 * b);
+        m->bkey[g] = key;
+        if (m->v_deferred) {
+            float pos[3];
+            merp_skel_node_end(w->sk, key / 3, pos);
+            merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * g);
+            merp_env_direction(w->env, pos, m->bdir + 3 * g, m->bv + 3 * g);
+        } else if (g != b) {
+            memcpy(m->bv + 3 * g, m->bv + 3 * b, 3 * sizeof *m->bv);
+        }
+        g++;
     }
+    m->bn = g;
     m->v_deferred = 0;
 }

@@ -31,7 +31,7 @@ static void p09_free(merp_model *m)
         return;
     void *arrays[] = {m->nbuds, m->nint, m->vin,    m->qb,    m->vb,   m->quiet, m->mark,
                       m->cell,  m->bkey, m->bpos,   m->bdir,  m->bq,   m->bv,    m->bquiet,
-                      m->bcell, m->pq,   m->pv,     m->pbuds, m->prank, m->pscr, m->ptarget};
+                      m->bcell, m->pq,   m->pv,     m->pbuds, m->prank, m->pscr, m->ptarget, m->ax};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
         merp_free(arrays[i]);
     merp_free(m);
@@ -126,33 +126,63 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *er
 
 /* Basipetal pass: light Q of the buds that may grow, the number of living
  * (dormant) buds, and the internode count, per subtree. The priority model sorts
- * branches by Q per living bud (P09 Fig. 8b: 2.1/3), so shaded buds count. */
-static void basipetal(merp_model *m, const merp_world *w)
+ * branches by Q per living bud (P09 Fig. 8b: 2.1/3), so shaded buds count. Under
+ * the priority model it also leaves each node's axis record (m->ax), read while
+ * its children's values are at hand. */
+static mer_result basipetal(merp_model *m, const merp_world *w, mer_error *err)
 {
     merp_skeleton *sk = w->sk;
+    uint32_t bpn = w->p->buds_per_node;
+    merp_p09_axnode *ax = NULL;
+    if (w->p->fate == MER_FATE_PRIORITY) {
+        if (m->ax_cap < sk->n) {
+            if (!MERP_RESIZE(m->ax, sk->cap))
+                return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the axes");
+            m->ax_cap = sk->cap;
+        }
+        ax = m->ax;
+    }
     for (uint32_t i = sk->n; i-- > 0;) {
         if (!sk->alive[i])
             continue;
-        float q = 0.0f;
-        uint32_t nb = 0, ni = 1;
+        float q = 0.0f, qk[3];
+        uint32_t nb = 0, ni = 1, nbk[3];
+        const uint32_t *child = sk->child + 3 * i;
         for (uint32_t k = 0; k < 3; k++) {
-            uint32_t c = sk->child[3 * i + k];
+            uint32_t c = child[k];
+            qk[k] = 0.0f;
+            nbk[k] = 0;
             if (c != MER_NO_NODE) {
-                q += sk->q[c];
-                nb += m->nbuds[c];
+                qk[k] = sk->q[c];
+                nbk[k] = m->nbuds[c];
+                q += qk[k];
+                nb += nbk[k];
                 ni += m->nint[c];
-            } else if (merp_skel_bud_exists(sk, i, k, w->p->buds_per_node)) {
-                q += m->qb[3 * i + k];
+            } else if (merp_skel_bud_exists(sk, i, k, bpn)) {
+                qk[k] = m->qb[3 * i + k];
+                nbk[k] = 1;
+                q += qk[k];
                 nb++;
             }
         }
         sk->q[i] = q;
         m->nbuds[i] = nb;
         m->nint[i] = ni;
+        if (ax != NULL) {
+            merp_p09_axnode *a = ax + i;
+            a->next = child[0] != MER_NO_NODE ? child[0] : nbk[0] ? MERP_AX_TIP_BUD : MERP_AX_TIP;
+            a->q_tip = qk[0];
+            for (int k = 0; k < 2; k++) {
+                a->child[k] = child[k + 1];
+                a->buds[k] = nbk[k + 1];
+                a->q[k] = qk[k + 1];
+            }
+        }
     }
+    return MER_OK;
 }
 
-/* The buds listed by the environment pass grow their shoots. */
+/* The buds left listed by merp_p09_directions grow their shoots. */
 static mer_result grow_buds(merp_model *m, const merp_world *w, mer_error *err)
 {
     const merp_skeleton *sk = w->sk;
@@ -186,15 +216,17 @@ static mer_result round_(merp_model *m, const merp_world *w, int syllepsis, mer_
         rc = merp_p09_environment(m, w, syllepsis, !shed, err);
     if (rc != MER_OK)
         return rc;
-    basipetal(m, w);
-    if (shed) {
+    rc = basipetal(m, w, err);
+    if (rc == MER_OK && shed) {
         uint32_t shed_count;
         rc = merp_p09_shed(m, w, &shed_count, err);
         if (rc != MER_OK)
             return rc;
         if (shed_count > 0)
-            basipetal(m, w);
+            rc = basipetal(m, w, err);
     }
+    if (rc != MER_OK)
+        return rc;
     if (w->p->fate == MER_FATE_PRIORITY)
         rc = merp_p09_allocate_priority(m, w, err);
     else

@@ -20,6 +20,22 @@
 
 #define MERP_BRANCH_FLAG UINT32_C(0x80000000)
 
+/* The `next` of an axis node at the tip of its axis: with a terminal bud, without. */
+#define MERP_AX_TIP_BUD UINT32_C(0xFFFFFFFF)
+#define MERP_AX_TIP UINT32_C(0xFFFFFFFE)
+
+/* One node's part of its axis's list for the priority model (P09 Fig. 8b), as
+ * the basipetal pass leaves it: what list_axis needs of the node in one record,
+ * so walking an axis reads one record a node rather than the skeleton's and the
+ * model's arrays at the node and at each lateral branch. */
+typedef struct merp_p09_axnode {
+    uint32_t next;      /* the main child, or MERP_AX_TIP_BUD / MERP_AX_TIP */
+    uint32_t child[2];  /* lateral slots 1, 2: the branch, or MER_NO_NODE */
+    uint32_t buds[2];   /* the branch's living buds; else 1 for a bud, 0 for none */
+    float q[2];         /* the branch's light Q, or the bud's */
+    float q_tip;        /* the terminal bud's Q (at a tip with one) */
+} merp_p09_axnode;
+
 struct merp_model {
     /* Per node, for the nodes [0, n) seen so far (p09_sync gives new ones their
      * starting values); the subtree light Q lives in the skeleton (sk->q). */
@@ -42,6 +58,9 @@ struct merp_model {
     uint32_t *bcell;   /* under shadow propagation, while V waits: the bud's voxel */
     size_t bn, bcap;
     int v_deferred;    /* bv is not computed yet (merp_p09_directions) */
+    /* per-round scratch under the priority model: each node's axis record, [0, n) */
+    merp_p09_axnode *ax;
+    uint32_t ax_cap;
     /* priority scratch */
     float *pq, *pv;
     uint32_t *pbuds, *prank, *pscr, *ptarget;
@@ -55,7 +74,8 @@ struct merp_model {
  * shadow. */
 mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsis,
                                 int defer_v, mer_error *err);
-/* V of the listed buds whose resource (m->vb) makes a shoot, if it was deferred. */
+/* Keeps listed only the buds whose resource (m->vb) makes a shoot, in order, and
+ * computes their V if it was deferred. */
 void merp_p09_directions(merp_model *m, const merp_world *w);
 /* borchert_honda.c */
 void merp_p09_allocate_bh(merp_model *m, const merp_world *w);

@@ -24,78 +24,100 @@ static mer_result reserve_items(merp_model *m, size_t want, mer_error *err)
 }
 
 /* Lists the branches and buds along the axis based at b (lateral ones node by node,
- * the terminal bud last) into pq, pbuds, ptarget. */
-static mer_result list_axis(merp_model *m, const merp_world *w, uint32_t b, size_t *count,
-                            uint32_t *terminal, mer_error *err)
+ * the terminal bud last) into pq, pbuds, ptarget, from the axis records. */
+static mer_result list_axis(merp_model *m, uint32_t b, size_t *count, uint32_t *terminal,
+                            mer_error *err)
 {
-    const merp_skeleton *sk = w->sk;
-    uint32_t bpn = w->p->buds_per_node;
+    const merp_p09_axnode *ax = m->ax;
     size_t n = 0;
     *terminal = UINT32_MAX;
     for (uint32_t j = b;;) {
         mer_result rc = reserve_items(m, n + 3, err);
         if (rc != MER_OK)
             return rc;
-        for (uint32_t k = 1; k < 3; k++) {
-            uint32_t c = sk->child[3 * j + k];
+        const merp_p09_axnode *a = ax + j;
+        for (uint32_t k = 0; k < 2; k++) {
+            uint32_t c = a->child[k];
             if (c != MER_NO_NODE) {
-                m->pq[n] = sk->q[c];
-                m->pbuds[n] = m->nbuds[c];
+                m->pq[n] = a->q[k];
+                m->pbuds[n] = a->buds[k];
                 m->ptarget[n++] = c | MERP_BRANCH_FLAG;
-            } else if (merp_skel_bud_exists(sk, j, k, bpn)) {
-                m->pq[n] = m->qb[3 * j + k];
+            } else if (a->buds[k] != 0) {
+                m->pq[n] = a->q[k];
                 m->pbuds[n] = 1;
-                m->ptarget[n++] = 3 * j + k;
+                m->ptarget[n++] = 3 * j + k + 1;
             }
         }
-        uint32_t next = sk->child[3 * j];
-        if (next == MER_NO_NODE) {
-            if (merp_skel_bud_exists(sk, j, 0, bpn)) {
+        if (a->next >= MERP_AX_TIP) {
+            if (a->next == MERP_AX_TIP_BUD) {
                 *terminal = (uint32_t)n;
-                m->pq[n] = m->qb[3 * j];
+                m->pq[n] = a->q_tip;
                 m->pbuds[n] = 1;
                 m->ptarget[n++] = 3 * j;
             }
             break;
         }
-        j = next;
+        j = a->next;
     }
     *count = n;
     return MER_OK;
 }
 
-/* Nothing to share along the axis based at b (a crown's deep shade): every
- * item's share is 0 (v · qw / Σ with finite light), so its branches get 0 and its
- * buds keep the 0 the environment gave them, without listing and sorting. */
-static void zero_axis(merp_model *m, const merp_skeleton *sk, uint32_t b)
+/* Nothing to share along the axis based at b: every item's share is 0 (v · qw / Σ
+ * with finite light), so its branches get 0 and its buds keep the 0 the
+ * environment gave them, without listing and sorting. */
+static void zero_axis(merp_model *m, uint32_t b)
 {
-    for (uint32_t j = b;; j = sk->child[3 * j]) {
-        for (uint32_t k = 1; k < 3; k++)
-            if (sk->child[3 * j + k] != MER_NO_NODE)
-                m->vin[sk->child[3 * j + k]] = 0.0f;
-        if (sk->child[3 * j] == MER_NO_NODE)
+    const merp_p09_axnode *ax = m->ax;
+    for (uint32_t j = b;; j = ax[j].next) {
+        for (uint32_t k = 0; k < 2; k++)
+            if (ax[j].child[k] != MER_NO_NODE)
+                m->vin[ax[j].child[k]] = 0.0f;
+        if (ax[j].next >= MERP_AX_TIP)
             break;
     }
 }
 
+/* How many nodes ahead of the allocation the axis records are fetched. */
+#define AHEAD 32
+
+/* Whether node b is alive and the base of an axis. */
+static int is_axis_base(const merp_skeleton *sk, uint32_t b)
+{
+    return sk->alive[b] && (sk->parent[b] == MER_NO_NODE || sk->slot[b] != 0);
+}
+
 /* Axes are visited by the id of their base node, so an axis is always allocated
- * before the branches it supports. */
+ * before the branches it supports. The axis records (m->ax) are the basipetal
+ * pass's of this round. A lateral branch without light (a crown's deep shade)
+ * gets 0 whatever its axis is given, and so does every branch it bears: its v is
+ * set and its axis left unlisted. */
 mer_result merp_p09_allocate_priority(merp_model *m, const merp_world *w, mer_error *err)
 {
     assert(m != NULL && w != NULL && m->n == w->sk->n);
     const merp_skeleton *sk = w->sk;
     const mer_params *p = w->p;
     for (uint32_t b = 0; b < sk->n; b++) {
-        if (!sk->alive[b] || (sk->parent[b] != MER_NO_NODE && sk->slot[b] == 0))
+        /* An axis's second node lies far from its base (grown in a later step):
+         * fetch it while earlier axes are allocated. */
+        uint32_t ahead = b + AHEAD;
+        if (ahead < sk->n && is_axis_base(sk, ahead) && m->ax[ahead].next < MERP_AX_TIP)
+            __builtin_prefetch(m->ax + m->ax[ahead].next);
+        if (!is_axis_base(sk, b))
             continue;
-        float v = sk->parent[b] == MER_NO_NODE ? p->alpha * sk->q[b] : m->vin[b];
+        int root = sk->parent[b] == MER_NO_NODE;
+        if (!root && sk->q[b] == 0.0f) {
+            m->vin[b] = 0.0f;
+            continue;
+        }
+        float v = root ? p->alpha * sk->q[b] : m->vin[b];
         if (v == 0.0f) {
-            zero_axis(m, sk, b);
+            zero_axis(m, b);
             continue;
         }
         size_t n;
         uint32_t terminal;
-        mer_result rc = list_axis(m, w, b, &n, &terminal, err);
+        mer_result rc = list_axis(m, b, &n, &terminal, err);
         if (rc != MER_OK)
             return rc;
         if (n == 0)
