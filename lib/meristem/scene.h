@@ -298,7 +298,9 @@ typedef enum mer_stall {
                                    and nothing at or above it grew */
     MER_STALL_ALL_BUDS_DEAD = 2, /* no dormant bud is left on any plant */
     MER_STALL_NO_MARKERS = 3,   /* space colonization: no bud had a free marker in reach */
-    MER_STALL_NO_LIGHT = 4      /* shadow propagation: no bud got light enough for an internode */
+    MER_STALL_NO_LIGHT = 4,     /* shadow propagation: no bud got light enough for an internode */
+    MER_STALL_DONE = 5          /* the model has grown all it will: its iterations (guiding)
+                                   or derivation length (L-system) are used up */
 } mer_stall;
 
 /* What the scene's last step did. */
@@ -314,7 +316,7 @@ typedef struct mer_step_report {
  * scene's state: not hashed, not in a checkpoint (a loaded scene has none). O(1). */
 void mer_scene_step_report(const mer_scene *s, mer_step_report *out);
 
-/* "constrained", "all-buds-dead", "no-markers", "no-light"; NULL for
+/* "constrained", "all-buds-dead", "no-markers", "no-light", "done"; NULL for
  * MER_STALL_NONE or an unknown value. */
 const char *mer_stall_name(uint32_t stall);
 

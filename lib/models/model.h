@@ -95,6 +95,10 @@ typedef struct merp_model_ops {
                           const float axis[3], float angle, uint32_t spread, mer_error *err);
     /* Up to `cap` named numbers about its state (mer_scene_model_stats). */
     size_t (*stats)(const merp_model *m, mer_model_stat *out, size_t cap);
+    /* 1 when no further step will grow with the parameters `p` (its iterations
+     * or derivation length are used up): a step that grew nothing then reports
+     * MER_STALL_DONE. May be NULL: the model never stops by itself. */
+    int (*finished)(const merp_model *m, const mer_params *p);
 } merp_model_ops;
 
 /* The row groups of the parameter table: a row read by every model, or only by

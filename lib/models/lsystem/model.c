@@ -144,15 +144,22 @@ static const char *ls_definition(const merp_model *m, size_t *len)
     return m->text;
 }
 
+/* 1 once derived as far as the text's `derivation length:` asks. */
+static int ls_finished(const merp_model *m, const mer_params *p)
+{
+    (void)p;
+    int dlen = m->ls != NULL ? merp_lsys_derivation_length(m->ls) : 0;
+    return dlen > 0 && m->dstep >= (uint32_t)dlen;
+}
+
 static mer_result ls_step(merp_model *m, const merp_world *w, mer_error *err)
 {
     assert(m != NULL && w != NULL);
     if (m->ls == NULL)
         return mer_error_set(err, MER_ERR_INVALID, "definition",
                              "an L-system scene grows once it has its source");
-    int dlen = merp_lsys_derivation_length(m->ls);
-    if (dlen > 0 && m->dstep >= (uint32_t)dlen)
-        return MER_OK; /* derived as far as the text asks */
+    if (ls_finished(m, w->p))
+        return MER_OK;
     merp_lstr folded, next;
     merp_lstr_init(&folded);
     merp_lstr_init(&next);
@@ -397,4 +404,5 @@ const merp_model_ops merp_lsystem_ops = {
     .definition = ls_definition,
     .diameters = ls_diameters,
     .stats = ls_stats,
+    .finished = ls_finished,
 };
