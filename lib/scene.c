@@ -117,7 +117,8 @@ mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_erro
     if (merp_env_commit(&s->env, &p, &change))
         merp_scene_rebuild_shadow(s);
     merp_env_drop_covered(&s->env, &change);
-    s->ops->set_params(s->model, &s->p);
+    if (s->ops->set_params != NULL)
+        s->ops->set_params(s->model, &s->p);
     return MER_OK;
 }
 
@@ -130,7 +131,8 @@ mer_result mer_scene_set_schedule(mer_scene *s, const mer_schedule *schedule, me
     if (rc != MER_OK)
         return rc;
     s->p.schedule = *schedule; /* no grid depends on the schedule */
-    s->ops->set_params(s->model, &s->p);
+    if (s->ops->set_params != NULL)
+        s->ops->set_params(s->model, &s->p);
     return MER_OK;
 }
 

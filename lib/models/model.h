@@ -3,6 +3,8 @@
  * the shared skeleton in the shared environment, one step (a season) at a time.
  * The scene owns the world and calls the model through its ops table; after the
  * model's step the scene updates the pipe model's diameters and counts the step.
+ * An op a model has no use for is left NULL where its comment says it may be,
+ * and its callers (scene.c, edit.c, ...) skip it; the others are required.
  *
  * Adding a model: a folder under lib/models/ with an ops table, a row in the
  * registry (models/registry.c), an entry in mer_model_kind (params.h), and its
@@ -53,12 +55,15 @@ typedef struct merp_model_ops {
     mer_result (*validate)(const mer_params *p, mer_error *err);
     /* Its state for a new scene; the skeleton is still empty. */
     mer_result (*create)(const mer_params *p, merp_model **out, mer_error *err);
-    /* New parameters, already valid; cannot fail once validated. */
+    /* New parameters, already valid; cannot fail once validated. May be NULL:
+     * the model keeps nothing derived from them (it reads w->p in each call). */
     void (*set_params)(merp_model *m, const mer_params *p);
     /* One step (a season), whole: the model adds nodes and sets buds through the
      * skeleton, and asks the environment what the buds perceive. */
     mer_result (*step)(merp_model *m, const merp_world *w, mer_error *err);
-    /* Nodes were removed or moved outside the model's step (prune, bend). */
+    /* Nodes were removed or moved outside the model's step (prune, bend). May
+     * be NULL: the model keeps nothing about the skeleton's nodes between steps
+     * (or reads the edits from the skeleton at its next step). */
     void (*nodes_changed)(merp_model *m, const merp_world *w);
     /* Folds the model's own state into the scene hash `h`. */
     uint64_t (*hash)(const merp_model *m, uint64_t h);

@@ -210,12 +210,6 @@ static mer_result gv_step(merp_model *m, const merp_world *w, mer_error *err)
     return rc;
 }
 
-static void gv_set_params(merp_model *m, const mer_params *p)
-{
-    (void)m;
-    (void)p;
-}
-
 /* A pruned node leaves the tree; a bent one stays (its children follow its end). */
 static void gv_nodes_changed(merp_model *m, const merp_world *w)
 {
@@ -339,7 +333,7 @@ const merp_model_ops merp_guiding_ops = {
     .state_version = 1,
     .validate = gv_validate,
     .create = gv_create,
-    .set_params = gv_set_params,
+    /* No set_params: each step reads w->p (the graph, once built, stays). */
     .step = gv_step,
     .nodes_changed = gv_nodes_changed,
     .hash = gv_hash,

@@ -183,20 +183,6 @@ static mer_result ls_step(merp_model *m, const merp_world *w, mer_error *err)
     return rc;
 }
 
-/* The turtle reads the parameters at each drawing; edits are folded at the next
- * step: nothing to do at once. */
-static void ls_set_params(merp_model *m, const mer_params *p)
-{
-    (void)m;
-    (void)p;
-}
-
-static void ls_nodes_changed(merp_model *m, const merp_world *w)
-{
-    (void)m;
-    (void)w;
-}
-
 static void ls_diameters(const merp_model *m, const merp_world *w)
 {
     merp_lsm_diameters(m, w);
@@ -392,9 +378,9 @@ const merp_model_ops merp_lsystem_ops = {
     .state_version = 1,
     .validate = NULL,
     .create = ls_create,
-    .set_params = ls_set_params,
+    /* No set_params, no nodes_changed: the turtle reads the parameters at each
+     * drawing, and edits are folded into the string at the next step. */
     .step = ls_step,
-    .nodes_changed = ls_nodes_changed,
     .hash = ls_hash,
     .clone = ls_clone,
     .save = ls_save,
