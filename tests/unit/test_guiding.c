@@ -187,15 +187,13 @@ static mer_params preset(const char *name)
     return p;
 }
 
+/* The model's count `name` (mer_scene_model_stats); fails the test when it has none. */
 static uint32_t stat_of(const mer_scene *s, const char *name)
 {
-    mer_model_stat st[8];
-    size_t n = mer_scene_model_stats(s, st, 8);
-    for (size_t i = 0; i < n && i < 8; i++)
-        if (strcmp(st[i].name, name) == 0)
-            return (uint32_t)st[i].value;
-    fail_msg("no stat %s", name);
-    return 0;
+    double v = model_stat(s, name);
+    if (v < 0.0)
+        fail_msg("no stat %s", name);
+    return (uint32_t)v;
 }
 
 /* One step is one iteration; the first (one early endpoint) is a single path,
