@@ -182,6 +182,12 @@ const char *mer_scene_definition(const mer_scene *s, size_t *len)
     return s->ops->definition != NULL ? s->ops->definition(s->model, len) : NULL;
 }
 
+size_t mer_scene_definition_warnings(const mer_scene *s, mer_warning *out, size_t cap)
+{
+    assert(s != NULL && (out != NULL || cap == 0));
+    return s->ops->warnings != NULL ? s->ops->warnings(s->model, out, cap) : 0;
+}
+
 size_t mer_scene_model_stats(const mer_scene *s, mer_model_stat *out, size_t cap)
 {
     assert(s != NULL && (out != NULL || cap == 0));

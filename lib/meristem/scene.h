@@ -156,6 +156,19 @@ mer_result mer_scene_set_definition(mer_scene *s, const char *text, size_t len,
  * when there is none. O(1). */
 const char *mer_scene_definition(const mer_scene *s, size_t *len);
 
+/* Something a definition gets away with: where (1-based line and column of the
+ * text) and what. */
+typedef struct mer_warning {
+    unsigned line, column;
+    char message[MER_ERROR_MESSAGE_MAX]; /* one sentence, no trailing newline */
+} mer_warning;
+
+/* The warnings about the definition the scene's model holds (an L-system's
+ * unbalanced brackets, which cpfg tolerates and so does meristem): up to `cap`
+ * into `out` (may be NULL when cap is 0); returns how many there are (0 when
+ * none, or for a model without a definition). O(warnings). */
+size_t mer_scene_definition_warnings(const mer_scene *s, mer_warning *out, size_t cap);
+
 /* A named number about the model's own state. */
 typedef struct mer_model_stat {
     char name[24];  /* "derivation_step", "string_length", "modules.F", ... */

@@ -81,12 +81,15 @@ typedef struct merp_model_ops {
      * The first definition sets the model up (and may grow the skeleton's first
      * nodes); a later one replaces the rules and keeps what has grown. A text
      * that does not parse is MER_ERR_INVALID with err->line and err->column set,
-     * and changes nothing. All four below may be NULL: a model without a
-     * definition. */
+     * and changes nothing. It and the three ops below may be NULL: a model
+     * without a definition (or without widths of its own). */
     mer_result (*set_definition)(merp_model *m, const merp_world *w, const char *text,
                                  size_t len, mer_error *err);
     /* The definition text it holds (NUL-terminated, owned by m), NULL when none. */
     const char *(*definition)(const merp_model *m, size_t *len);
+    /* Up to `cap` warnings about that text into `out`; returns how many there
+     * are (mer_scene_definition_warnings). May be NULL: never any. */
+    size_t (*warnings)(const merp_model *m, mer_warning *out, size_t cap);
     /* After the pipe model's diameters (merp_pipe_update): sets the d^n of the
      * nodes whose width the model gives explicitly. */
     void (*diameters)(const merp_model *m, const merp_world *w);

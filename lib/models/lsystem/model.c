@@ -183,6 +183,20 @@ static mer_result ls_step(merp_model *m, const merp_world *w, mer_error *err)
     return rc;
 }
 
+static size_t ls_warnings(const merp_model *m, mer_warning *out, size_t cap)
+{
+    if (m->ls == NULL)
+        return 0;
+    const merp_ls_error *w;
+    size_t n = (size_t)merp_lsys_warnings(m->ls, &w);
+    for (size_t i = 0; i < n && i < cap && i < MERP_LS_WARN_MAX; i++) {
+        out[i].line = (unsigned)w[i].line;
+        out[i].column = (unsigned)w[i].col;
+        snprintf(out[i].message, sizeof out[i].message, "%s", w[i].msg);
+    }
+    return n;
+}
+
 static void ls_diameters(const merp_model *m, const merp_world *w)
 {
     merp_lsm_diameters(m, w);
@@ -388,6 +402,7 @@ const merp_model_ops merp_lsystem_ops = {
     .free = ls_free,
     .set_definition = ls_set_definition,
     .definition = ls_definition,
+    .warnings = ls_warnings,
     .diameters = ls_diameters,
     .stats = ls_stats,
     .finished = ls_finished,
