@@ -25,6 +25,8 @@ static mer_result live_node(const mer_scene *s, uint32_t node, mer_error *err)
 
 static void nodes_changed(mer_scene *s)
 {
+    if (s->ops->nodes_changed == NULL)
+        return;
     merp_world w = merp_scene_world(s);
     s->ops->nodes_changed(s->model, &w);
 }

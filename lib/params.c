@@ -99,6 +99,7 @@ static const field fields[] = {
     FF(G, "gv_rotation_falloff", "", gv_rotation_falloff, 1.0, 0.0, 2.0, 0),
     FU(G, "gv_early_endpoints", "", gv_early_endpoints, 1, 1, 100000),
     FU(G, "gv_endpoints", "", gv_endpoints, 200, 1, 100000),
+    FU(G, "gv_endpoints_total", "", gv_endpoints_total, 0, 0, 1000000),
     FU(G, "gv_k_hops", "k", gv_k_hops, 3, 1, 1000),
     FF(G, "gv_t", "t", gv_t, 0.5, 0.0, 1.0, 1),
     FU(G, "gv_bound", "", gv_bound, 0, 0, 1),

@@ -335,27 +335,28 @@ static void gv_fig3_cone(mer_params *p)
     p->marker_size[0] = 7.0f;
     p->marker_size[1] = 10.0f;
 }
-/* Fig. 4: about 1,000, 2,000 and 4,000 endpoints: one early (the trunk), then
- * five iterations of 230, 480 and 1,600 asked for, each among all the nodes 4
- * hops out (t = 1) inside a box crown from 8 to 22 high (so the trunk stays
- * bare), in a graph of 3 nodes per unit volume. The surface holds fewer than
- * asked as the crown fills: seed 0 gives 1,034, 1,924 and 3,846 endpoints. */
-static void gv_fig4(mer_params *p, uint32_t per_iteration)
+/* Fig. 4: 1,000, 2,000 and 4,000 endpoints: one early (the trunk), then five
+ * iterations sharing the rest (gv_endpoints_total), each among all the nodes 4
+ * hops out (t = 1) inside an ellipsoid crown from 7 to 23 high (so the trunk
+ * stays bare), in a graph of 4 nodes per unit volume. A surface that holds fewer
+ * than its share passes the rest on; the crown holds enough for 4,000, so every
+ * seed gets exactly the count named (a sparser graph or a smaller crown would
+ * not: at 3 nodes per unit volume the last surfaces run short near 3,000). */
+static void gv_fig4(mer_params *p, uint32_t total)
 {
     gv(p, 4.0f, 6);
-    p->gv_density = 3.0f;
-    p->gv_endpoints = per_iteration;
+    p->gv_density = 4.0f;
+    p->gv_endpoints_total = total;
     p->gv_k_hops = 4;
     p->gv_t = 1.0f;
     p->gv_bound = 1;
-    p->marker_volume = MER_VOLUME_BOX;
     p->marker_center[1] = 15.0f;
-    p->marker_size[0] = p->marker_size[2] = 11.0f;
-    p->marker_size[1] = 7.0f;
+    p->marker_size[0] = p->marker_size[2] = 13.0f;
+    p->marker_size[1] = 8.0f;
 }
-static void gv_fig4_1000(mer_params *p) { gv_fig4(p, 230); }
-static void gv_fig4_2000(mer_params *p) { gv_fig4(p, 480); }
-static void gv_fig4_4000(mer_params *p) { gv_fig4(p, 1600); }
+static void gv_fig4_1000(mer_params *p) { gv_fig4(p, 1000); }
+static void gv_fig4_2000(mer_params *p) { gv_fig4(p, 2000); }
+static void gv_fig4_4000(mer_params *p) { gv_fig4(p, 4000); }
 /* Several early endpoints: a shrub (the survey's "early endpoint placement"). */
 static void gv_shrub(mer_params *p)
 {
@@ -397,9 +398,9 @@ static const preset presets[] = {
     {"gv-fig2-large-5", "Xu & Mould 2015 Fig. 2: guiding vectors turning 9° a hop, after 5 iterations", gv_fig2_large_5},
     {"gv-fig3-sphere", "Xu & Mould 2015 Fig. 3: a trunk, later endpoints bounded by a sphere", gv_fig3_sphere},
     {"gv-fig3-cone", "Xu & Mould 2015 Fig. 3: a trunk, later endpoints bounded by a cone", gv_fig3_cone},
-    {"gv-fig4-1000", "Xu & Mould 2015 Fig. 4: about 1,000 endpoints in a box crown over a trunk; grow 6 steps", gv_fig4_1000},
-    {"gv-fig4-2000", "Xu & Mould 2015 Fig. 4: about 2,000 endpoints in a box crown over a trunk; grow 6 steps", gv_fig4_2000},
-    {"gv-fig4-4000", "Xu & Mould 2015 Fig. 4: about 4,000 endpoints in a box crown over a trunk; grow 6 steps", gv_fig4_4000},
+    {"gv-fig4-1000", "Xu & Mould 2015 Fig. 4: 1,000 endpoints in an ellipsoid crown over a trunk; grow 6 steps", gv_fig4_1000},
+    {"gv-fig4-2000", "Xu & Mould 2015 Fig. 4: 2,000 endpoints in an ellipsoid crown over a trunk; grow 6 steps", gv_fig4_2000},
+    {"gv-fig4-4000", "Xu & Mould 2015 Fig. 4: 4,000 endpoints in an ellipsoid crown over a trunk; grow 6 steps", gv_fig4_4000},
     {"gv-shrub", "Xu & Mould 2015: six early endpoints give a shrub", gv_shrub},
 };
 

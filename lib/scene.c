@@ -117,7 +117,8 @@ mer_result mer_scene_set_params(mer_scene *s, const mer_params *params, mer_erro
     if (merp_env_commit(&s->env, &p, &change))
         merp_scene_rebuild_shadow(s);
     merp_env_drop_covered(&s->env, &change);
-    s->ops->set_params(s->model, &s->p);
+    if (s->ops->set_params != NULL)
+        s->ops->set_params(s->model, &s->p);
     return MER_OK;
 }
 
@@ -130,7 +131,8 @@ mer_result mer_scene_set_schedule(mer_scene *s, const mer_schedule *schedule, me
     if (rc != MER_OK)
         return rc;
     s->p.schedule = *schedule; /* no grid depends on the schedule */
-    s->ops->set_params(s->model, &s->p);
+    if (s->ops->set_params != NULL)
+        s->ops->set_params(s->model, &s->p);
     return MER_OK;
 }
 
@@ -178,6 +180,12 @@ const char *mer_scene_definition(const mer_scene *s, size_t *len)
     if (len != NULL)
         *len = 0;
     return s->ops->definition != NULL ? s->ops->definition(s->model, len) : NULL;
+}
+
+size_t mer_scene_definition_warnings(const mer_scene *s, mer_warning *out, size_t cap)
+{
+    assert(s != NULL && (out != NULL || cap == 0));
+    return s->ops->warnings != NULL ? s->ops->warnings(s->model, out, cap) : 0;
 }
 
 size_t mer_scene_model_stats(const mer_scene *s, mer_model_stat *out, size_t cap)

@@ -1,6 +1,7 @@
 /* meristem — why a step grew nothing: the report the daemon turns into a
  * summary's "stalled", so that a tree never stops growing without saying why
- * (a brush constraint left on, the markers used up, deep shade, no buds). */
+ * (a model that has finished, a brush constraint left on, the markers used up,
+ * deep shade, no buds). */
 #include "config.h"
 
 #include <assert.h>
@@ -18,11 +19,14 @@ static int has_dormant_bud(const merp_skeleton *sk)
     return 0;
 }
 
-/* The reason, in the order of mer_stall: the constraint first, because only
- * the buds at or above it could grow; then whether any bud is left; then what
- * the environment gave the buds there are (P09 §4.1: markers or light). */
+/* The reason: a model that has finished first, since nothing else would make it
+ * grow; then the constraint, because only the buds at or above it could grow;
+ * then whether any bud is left; then what the environment gave the buds there
+ * are (P09 §4.1: markers or light). */
 static mer_stall stall_reason(const mer_scene *s)
 {
+    if (s->ops->finished != NULL && s->ops->finished(s->model, &s->p))
+        return MER_STALL_DONE;
     if (s->sk.con_node != MER_NO_NODE)
         return MER_STALL_CONSTRAINED;
     if (!has_dormant_bud(&s->sk))
@@ -55,6 +59,6 @@ void mer_scene_step_report(const mer_scene *s, mer_step_report *out)
 const char *mer_stall_name(uint32_t stall)
 {
     static const char *const names[] = {NULL, "constrained", "all-buds-dead", "no-markers",
-                                        "no-light"};
+                                        "no-light", "done"};
     return stall < sizeof names / sizeof names[0] ? names[stall] : NULL;
 }

@@ -512,13 +512,30 @@ static int apply_release(const merd_edit *e, merd_apply_ctx *c, merd_refusal *wh
     return 0;
 }
 
+/* The warnings about the definition just given, named after the member `name`
+ * it came in, into the batch's outcome. */
+static void definition_warnings(merd_apply_ctx *c, const char *name)
+{
+    merd_batch_outcome *o = c->outcome;
+    mer_warning w[MERD_WARNINGS_MAX];
+    size_t n = mer_scene_definition_warnings(c->scene, w, MERD_WARNINGS_MAX);
+    for (size_t i = 0; i < n && i < MERD_WARNINGS_MAX && o->nwarnings < MERD_WARNINGS_MAX; i++) {
+        merd_edit_warning *out = &o->warnings[o->nwarnings++];
+        merd_path(out->field, sizeof out->field, c->where, name);
+        out->w = w[i];
+    }
+}
+
 /* A new definition text, its errors named after the member `name` it came in. */
 static int define(const merd_edit *e, merd_apply_ctx *c, const char *name, merd_refusal *why)
 {
     mer_error err = {0};
     mer_result rc = mer_scene_set_definition(c->scene, e->source, e->source_len, &err);
-    if (rc == MER_OK)
+    if (rc == MER_OK) {
+        if (c->outcome != NULL)
+            definition_warnings(c, e->owned != NULL ? "functions" : name);
         return 0;
+    }
     if (strcmp(err.field, "definition") == 0)
         snprintf(err.field, sizeof err.field, "%s", e->owned != NULL ? "functions" : name);
     return lib(c, rc, &err, why);

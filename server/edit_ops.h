@@ -60,6 +60,7 @@ typedef struct merd_apply_ctx {
     volatile int cancel;        /* set when `stop` said to stop */
     const char *stopped;        /* what `stop` said */
     uint32_t done;              /* steps the last step edit did */
+    merd_batch_outcome *outcome; /* where an edit's warnings go */
 } merd_apply_ctx;
 
 /* Which growth models accept an op: bit k is mer_model_kind k (a session runs

@@ -99,7 +99,8 @@ int merd_batch_apply(const merd_batch *b, mer_scene **scene, const merd_past *pa
     outcome->last_step.node = MER_NO_NODE;
     bool batch = b->count > 1 || json_object_get(b->body, "edits") != NULL;
     // One context for the batch: a stop once asked for holds for later steps too.
-    merd_apply_ctx c = {.scene = *scene, .past = past, .stop = stop, .stop_ctx = ctx};
+    merd_apply_ctx c = {
+        .scene = *scene, .past = past, .stop = stop, .stop_ctx = ctx, .outcome = outcome};
     for (size_t i = 0; i < b->count; i++) {
         const merd_edit *e = &b->edits[i];
         char w[32] = "";

@@ -58,6 +58,15 @@ int merd_batch_decode(const json_t *body, const merd_edit_limits *limits, merd_b
 
 void merd_batch_free(merd_batch *b);
 
+/* A warning about an edit that was applied (a definition with unbalanced
+ * brackets): the member it is about ("source", "edits[2].source"), and where in
+ * that text. */
+#define MERD_WARNINGS_MAX 8
+typedef struct merd_edit_warning {
+    char field[MERD_FIELD_MAX];
+    mer_warning w;
+} merd_edit_warning;
+
 /* How a batch went: steps done of those asked, and whether it stopped early. */
 typedef struct merd_batch_outcome {
     uint32_t steps_done;
@@ -69,6 +78,9 @@ typedef struct merd_batch_outcome {
      * `stall` says why that step grew nothing; MER_STALL_NONE when it grew or
      * the batch ran no step. */
     mer_step_report last_step;
+    /* The applied edits' warnings, the first MERD_WARNINGS_MAX of them. */
+    merd_edit_warning warnings[MERD_WARNINGS_MAX];
+    uint32_t nwarnings;
 } merd_batch_outcome;
 
 /* Called between steps: NULL to go on, or why to stop at this whole step (a

@@ -193,6 +193,8 @@ typedef struct mer_params {
     float gv_rotation_falloff; /* δ(h) = δ·falloff^(h − 1); 1; [0, 2] */
     uint32_t gv_early_endpoints; /* endpoints of the first iteration (1: a trunk); 1; 1..100000 */
     uint32_t gv_endpoints;    /* endpoints of each later iteration; 200; 1..100000 */
+    uint32_t gv_endpoints_total; /* endpoints over all iterations, each later one asking
+                                    for its share of what is left (0: gv_endpoints each); 0; 0..1000000 */
     uint32_t gv_k_hops;       /* k, hops from the tree of the later endpoints' surface; 3; 1..1000 */
     float gv_t;               /* t, outermost fraction of those nodes; 0.5; (0, 1] */
     uint32_t gv_bound;        /* 1: later endpoints inside the crown volume only; 0 */

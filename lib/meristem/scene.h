@@ -156,6 +156,19 @@ mer_result mer_scene_set_definition(mer_scene *s, const char *text, size_t len,
  * when there is none. O(1). */
 const char *mer_scene_definition(const mer_scene *s, size_t *len);
 
+/* Something a definition gets away with: where (1-based line and column of the
+ * text) and what. */
+typedef struct mer_warning {
+    unsigned line, column;
+    char message[MER_ERROR_MESSAGE_MAX]; /* one sentence, no trailing newline */
+} mer_warning;
+
+/* The warnings about the definition the scene's model holds (an L-system's
+ * unbalanced brackets, which cpfg tolerates and so does meristem): up to `cap`
+ * into `out` (may be NULL when cap is 0); returns how many there are (0 when
+ * none, or for a model without a definition). O(warnings). */
+size_t mer_scene_definition_warnings(const mer_scene *s, mer_warning *out, size_t cap);
+
 /* A named number about the model's own state. */
 typedef struct mer_model_stat {
     char name[24];  /* "derivation_step", "string_length", "modules.F", ... */
@@ -298,7 +311,9 @@ typedef enum mer_stall {
                                    and nothing at or above it grew */
     MER_STALL_ALL_BUDS_DEAD = 2, /* no dormant bud is left on any plant */
     MER_STALL_NO_MARKERS = 3,   /* space colonization: no bud had a free marker in reach */
-    MER_STALL_NO_LIGHT = 4      /* shadow propagation: no bud got light enough for an internode */
+    MER_STALL_NO_LIGHT = 4,     /* shadow propagation: no bud got light enough for an internode */
+    MER_STALL_DONE = 5          /* the model has grown all it will: its iterations (guiding)
+                                   or derivation length (L-system) are used up */
 } mer_stall;
 
 /* What the scene's last step did. */
@@ -314,7 +329,7 @@ typedef struct mer_step_report {
  * scene's state: not hashed, not in a checkpoint (a loaded scene has none). O(1). */
 void mer_scene_step_report(const mer_scene *s, mer_step_report *out);
 
-/* "constrained", "all-buds-dead", "no-markers", "no-light"; NULL for
+/* "constrained", "all-buds-dead", "no-markers", "no-light", "done"; NULL for
  * MER_STALL_NONE or an unknown value. */
 const char *mer_stall_name(uint32_t stall);
 

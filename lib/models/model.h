@@ -3,6 +3,8 @@
  * the shared skeleton in the shared environment, one step (a season) at a time.
  * The scene owns the world and calls the model through its ops table; after the
  * model's step the scene updates the pipe model's diameters and counts the step.
+ * An op a model has no use for is left NULL where its comment says it may be,
+ * and its callers (scene.c, edit.c, ...) skip it; the others are required.
  *
  * Adding a model: a folder under lib/models/ with an ops table, a row in the
  * registry (models/registry.c), an entry in mer_model_kind (params.h), and its
@@ -53,12 +55,15 @@ typedef struct merp_model_ops {
     mer_result (*validate)(const mer_params *p, mer_error *err);
     /* Its state for a new scene; the skeleton is still empty. */
     mer_result (*create)(const mer_params *p, merp_model **out, mer_error *err);
-    /* New parameters, already valid; cannot fail once validated. */
+    /* New parameters, already valid; cannot fail once validated. May be NULL:
+     * the model keeps nothing derived from them (it reads w->p in each call). */
     void (*set_params)(merp_model *m, const mer_params *p);
     /* One step (a season), whole: the model adds nodes and sets buds through the
      * skeleton, and asks the environment what the buds perceive. */
     mer_result (*step)(merp_model *m, const merp_world *w, mer_error *err);
-    /* Nodes were removed or moved outside the model's step (prune, bend). */
+    /* Nodes were removed or moved outside the model's step (prune, bend). May
+     * be NULL: the model keeps nothing about the skeleton's nodes between steps
+     * (or reads the edits from the skeleton at its next step). */
     void (*nodes_changed)(merp_model *m, const merp_world *w);
     /* Folds the model's own state into the scene hash `h`. */
     uint64_t (*hash)(const merp_model *m, uint64_t h);
@@ -76,12 +81,15 @@ typedef struct merp_model_ops {
      * The first definition sets the model up (and may grow the skeleton's first
      * nodes); a later one replaces the rules and keeps what has grown. A text
      * that does not parse is MER_ERR_INVALID with err->line and err->column set,
-     * and changes nothing. All four below may be NULL: a model without a
-     * definition. */
+     * and changes nothing. It and the three ops below may be NULL: a model
+     * without a definition (or without widths of its own). */
     mer_result (*set_definition)(merp_model *m, const merp_world *w, const char *text,
                                  size_t len, mer_error *err);
     /* The definition text it holds (NUL-terminated, owned by m), NULL when none. */
     const char *(*definition)(const merp_model *m, size_t *len);
+    /* Up to `cap` warnings about that text into `out`; returns how many there
+     * are (mer_scene_definition_warnings). May be NULL: never any. */
+    size_t (*warnings)(const merp_model *m, mer_warning *out, size_t cap);
     /* After the pipe model's diameters (merp_pipe_update): sets the d^n of the
      * nodes whose width the model gives explicitly. */
     void (*diameters)(const merp_model *m, const merp_world *w);
@@ -95,6 +103,10 @@ typedef struct merp_model_ops {
                           const float axis[3], float angle, uint32_t spread, mer_error *err);
     /* Up to `cap` named numbers about its state (mer_scene_model_stats). */
     size_t (*stats)(const merp_model *m, mer_model_stat *out, size_t cap);
+    /* 1 when no further step will grow with the parameters `p` (its iterations
+     * or derivation length are used up): a step that grew nothing then reports
+     * MER_STALL_DONE. May be NULL: the model never stops by itself. */
+    int (*finished)(const merp_model *m, const mer_params *p);
 } merp_model_ops;
 
 /* The row groups of the parameter table: a row read by every model, or only by

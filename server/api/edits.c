@@ -20,6 +20,18 @@ static struct MHD_Response *summary_response(merd_api_job *j, const merd_batch_o
                             json_pack("{s:s, s:o}", "reason", mer_stall_name(last->stall), "node",
                                       last->node == MER_NO_NODE ? json_null()
                                                                 : json_integer(last->node)));
+    // Only an edit that got away with something says so (a definition's brackets).
+    if (outcome->nwarnings > 0) {
+        json_t *list = json_array();
+        for (uint32_t i = 0; i < outcome->nwarnings; i++) {
+            const merd_edit_warning *w = &outcome->warnings[i];
+            json_array_append_new(list, json_pack("{s:s, s:i, s:i, s:s}", "field", w->field,
+                                                  "line", (json_int_t)w->w.line, "column",
+                                                  (json_int_t)w->w.column, "message",
+                                                  w->w.message));
+        }
+        json_object_set_new(body, "warnings", list);
+    }
     struct MHD_Response *r = merd_json_response(body, size);
     json_decref(body);
     return r;

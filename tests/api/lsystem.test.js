@@ -206,6 +206,26 @@ test('L-system presets: listed with their model and source, and grown from their
   assert.notEqual(hashes[0], hashes[2]);
 });
 
+test('unbalanced brackets are accepted, as cpfg does, with a warning saying where', async (t) => {
+  const d = await startDaemon();
+  t.after(() => d.stop());
+  const c = await api(d.url, 'POST', '/v1/sessions', { model: 'lsystem', seed: 1, lsystem: { source: 'axiom: F\nF -> FF\n' } });
+  assert.equal(c.status, 201, JSON.stringify(c.body));
+  let r = await edit(d.url, c.body.id, { op: 'set_lsystem', source: 'axiom: F\nF -> F[+F\n' });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.equal(r.body.warnings.length, 1);
+  assert.deepEqual({ ...r.body.warnings[0], message: undefined }, { field: 'source', line: 2, column: 7, message: undefined });
+  assert.match(r.body.warnings[0].message, /never closed/);
+  r = await edit(d.url, c.body.id, { edits: [{ op: 'step' }, { op: 'set_lsystem', source: 'axiom: F\nF -> F]F\n' }] });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  assert.deepEqual(r.body.warnings.map((w) => [w.field, w.line, w.column]), [['edits[1].source', 2, 7]]);
+  r = await edit(d.url, c.body.id, { op: 'set_lsystem', source: 'axiom: F\nF -> F[+F]\n' });
+  assert.equal(r.status, 200);
+  assert.equal(r.body.warnings, undefined, 'no warnings key when there is nothing to say');
+  r = await edit(d.url, c.body.id, { op: 'step' });
+  assert.equal(r.body.warnings, undefined, 'a later edit does not repeat them');
+});
+
 test('refusals: a source that does not parse, a missing source, set_lsystem on P09', async (t) => {
   const d = await startDaemon();
   t.after(() => d.stop());

@@ -48,6 +48,15 @@ test('a step that grows nothing says why, and one that grows says nothing', asyn
   const r = await edit(bare, { op: 'release' });
   assert.equal(r.stalled, undefined, 'an edit that is not a step reports no stall');
   assert.equal(r.constraint, null);
+
+  // A model that has grown all it will says it is done, not that it lacks light.
+  const guided = await session({ preset: 'gv-fig3-sphere', seed: 1, params: { gv_iterations: 1 } });
+  const g = await edit(guided, { op: 'step', count: 2 });
+  assert.equal(g.steps_done, 2);
+  assert.deepEqual(g.stalled, { reason: 'done', node: null });
+  const ls = await session({ model: 'lsystem', lsystem: { source: 'derivation length: 1\naxiom: F\nF -> FF\n' } });
+  const l = await edit(ls, { op: 'step', count: 2 });
+  assert.deepEqual(l.stalled, { reason: 'done', node: null });
 });
 
 test('a bend spreads over the default internodes, and the journal says so', async () => {

@@ -52,7 +52,7 @@ static const workload workloads[] = {
     {"colonization-1M-markers", "fig4-colonization", 0, 500000, 1000000, 1, 0, NULL},
     {"forest-100-trees", "default", 0, 500000, 0, 100, 0, NULL},
     {"runions-1M-markers", "runions-2007", 0, 50000, 1000000, 1, 0, NULL},
-    {"guiding-4000-endpoints", "gv-fig4-4000", 0, 8000, 0, 1, 6, NULL},
+    {"guiding-4000-endpoints", "gv-fig4-4000", 0, 10000, 0, 1, 6, NULL},
     {"forest-100-sown", "default", 0, 20000, 0, 1, 12, SOWN},
 };
 

@@ -2,7 +2,7 @@
 # judged (these machines are noisy). Built only on demand.
 #  - bench: the Table 1 workloads (P09 §6), space colonization with a million
 #    markers (P09's, and Runions 2007's to 50,000 internodes) and a forest of 100 trees, each grown to its internode count,
-#    and Xu & Mould 2015's guiding-vector tree of about 4,000 endpoints (gv-fig4-4000's six iterations):
+#    and Xu & Mould 2015's guiding-vector tree of 4,000 endpoints (gv-fig4-4000's six iterations):
 #    internodes, steps (and the paper's), seconds (min and median of
 #    BENCH_RUNS runs), internodes per second, peak memory (each run in a
 #    process of its own), the scene's hash.

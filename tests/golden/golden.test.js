@@ -29,6 +29,10 @@ const UPDATE = process.env.MER_GOLDEN_UPDATE === '1';
 const CLI = process.env.MERISTEMD ? path.join(path.dirname(process.env.MERISTEMD), 'meristem') : null;
 
 const SEEDS = [0, 7, 123456789];
+// The Fig. 4 guiding presets build a graph of ~165,000 nodes each run and differ from
+// one another only in their endpoint total; the guiding model's edits and seeds are
+// covered on the other gv-* presets, so these run on one seed (the scripts all run).
+const ONE_SEED = new Set(['gv-fig4-1000', 'gv-fig4-2000', 'gv-fig4-4000']);
 const SNAPSHOTS = {
   default: '',
   compact: '?quantize=1&texcoords=0&compress=meshopt&twig_lines=1',
@@ -164,7 +168,7 @@ test('every preset keeps its bytes (3 seeds x the edit scripts)', async (t) => {
   for (const preset of presets) {
     await t.test(preset, async () => {
       const jobs = [];
-      for (const seed of SEEDS) {
+      for (const seed of ONE_SEED.has(preset) ? SEEDS.slice(0, 1) : SEEDS) {
         for (const [script, edits] of Object.entries(SCRIPTS)) {
           jobs.push(async () => [`preset/${preset}/${seed}/${script}`, await run({ preset, seed }, edits)]);
         }

@@ -183,7 +183,7 @@ tests_unit_test_lsystem_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_lsystem_tier2
-tests_unit_test_lsystem_tier2_SOURCES = tests/unit/test_lsystem_tier2.c
+tests_unit_test_lsystem_tier2_SOURCES = tests/unit/test_lsystem_tier2.c tests/unit/scene_helpers.h
 tests_unit_test_lsystem_tier2_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_tier2_LDADD = $(UNIT_LDADD)
 
@@ -207,7 +207,7 @@ tests_unit_test_sow_SOURCES = tests/unit/test_sow.c
 tests_unit_test_sow_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_sow_LDADD = $(UNIT_LDADD)
 check_PROGRAMS += tests/unit/test_lsystem_model
-tests_unit_test_lsystem_model_SOURCES = tests/unit/test_lsystem_model.c
+tests_unit_test_lsystem_model_SOURCES = tests/unit/test_lsystem_model.c tests/unit/scene_helpers.h
 nodist_EXTRA_tests_unit_test_lsystem_model_SOURCES = lib/link-as-cxx.cc
 tests_unit_test_lsystem_model_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_lsystem_model_LDADD = $(UNIT_LDADD)
@@ -222,14 +222,16 @@ tests_unit_test_inverse_eqs_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_inverse_eqs_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_inverse
-tests_unit_test_inverse_SOURCES = tests/unit/test_inverse.c
+tests_unit_test_inverse_SOURCES = tests/unit/test_inverse.c tests/unit/inverse_helpers.h \
+	tests/unit/scene_helpers.h
 # It writes GLB: link with the C++ driver (tinygltf needs libstdc++).
 nodist_EXTRA_tests_unit_test_inverse_SOURCES = tests/unit/link-as-cxx.cc
 tests_unit_test_inverse_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_inverse_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_inverse_edits
-tests_unit_test_inverse_edits_SOURCES = tests/unit/test_inverse_edits.c
+tests_unit_test_inverse_edits_SOURCES = tests/unit/test_inverse_edits.c tests/unit/inverse_helpers.h \
+	tests/unit/scene_helpers.h
 # It meshes: link with the C++ driver (tinygltf needs libstdc++).
 nodist_EXTRA_tests_unit_test_inverse_edits_SOURCES = tests/unit/link-as-cxx.cc
 tests_unit_test_inverse_edits_CPPFLAGS = $(UNIT_CPPFLAGS)

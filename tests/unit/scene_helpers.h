@@ -1,9 +1,11 @@
-/* Helpers shared by the scene unit tests (test_scene.c, test_obstacles.c): a new
- * scene and whole steps, failing the test on any error. Include after <cmocka.h>. */
+/* Helpers shared by the scene unit tests (test_scene.c, test_obstacles.c, the
+ * models' tests): a new scene, one with a definition, whole steps, a model's
+ * statistic, failing the test on any error. Include after <cmocka.h>. */
 #ifndef MERISTEM_TEST_SCENE_HELPERS_H
 #define MERISTEM_TEST_SCENE_HELPERS_H
 
 #include <math.h>
+#include <string.h>
 
 #include <meristem/scene.h>
 
@@ -17,6 +19,18 @@ static inline mer_scene *new_scene(const mer_params *p, uint64_t seed)
     return s;
 }
 
+/* A scene from `p` and `seed` given the definition `text` (an L-system's cpfg
+ * text, mer_scene_set_definition); fails the test, naming the text's line and
+ * column, if it is refused. */
+static inline mer_scene *new_defined_scene(const mer_params *p, uint64_t seed, const char *text)
+{
+    mer_scene *s = new_scene(p, seed);
+    mer_error err;
+    if (mer_scene_set_definition(s, text, strlen(text), &err) != MER_OK)
+        fail_msg("definition: %u:%u %s", err.line, err.column, err.message);
+    return s;
+}
+
 /* Runs `n` whole steps; fails the test on an error or a short run. */
 static inline void step(mer_scene *s, uint32_t n)
 {
@@ -25,6 +39,17 @@ static inline void step(mer_scene *s, uint32_t n)
     if (mer_scene_step(s, n, NULL, NULL, NULL, &done, &err) != MER_OK)
         fail_msg("step: %s", err.message);
     assert_int_equal(done, n);
+}
+
+/* The model's number `name` (mer_scene_model_stats), -1 when it has none. */
+static inline double model_stat(const mer_scene *s, const char *name)
+{
+    mer_model_stat st[64];
+    size_t n = mer_scene_model_stats(s, st, 64);
+    for (size_t i = 0; i < n && i < 64; i++)
+        if (strcmp(st[i].name, name) == 0)
+            return st[i].value;
+    return -1.0;
 }
 
 /* Float comparisons with a tolerance. */

@@ -335,6 +335,7 @@ static void test_step_report_says_why_nothing_grew(void **state)
     assert_null(mer_stall_name(MER_STALL_NONE));
     assert_string_equal(mer_stall_name(MER_STALL_NO_LIGHT), "no-light");
     assert_string_equal(mer_stall_name(MER_STALL_ALL_BUDS_DEAD), "all-buds-dead");
+    assert_string_equal(mer_stall_name(MER_STALL_DONE), "done");
     mer_scene_free(s);
 }
 

@@ -187,15 +187,13 @@ static mer_params preset(const char *name)
     return p;
 }
 
+/* The model's count `name` (mer_scene_model_stats); fails the test when it has none. */
 static uint32_t stat_of(const mer_scene *s, const char *name)
 {
-    mer_model_stat st[8];
-    size_t n = mer_scene_model_stats(s, st, 8);
-    for (size_t i = 0; i < n && i < 8; i++)
-        if (strcmp(st[i].name, name) == 0)
-            return (uint32_t)st[i].value;
-    fail_msg("no stat %s", name);
-    return 0;
+    double v = model_stat(s, name);
+    if (v < 0.0)
+        fail_msg("no stat %s", name);
+    return (uint32_t)v;
 }
 
 /* One step is one iteration; the first (one early endpoint) is a single path,
@@ -224,6 +222,42 @@ static void test_iterations_and_orders(void **state)
     step(s, 1); /* gv_iterations is 2 */
     assert_int_equal(mer_scene_node_bound(s), n2);
     assert_int_equal(stat_of(s, "iteration"), 2);
+    mer_step_report r;
+    mer_scene_step_report(s, &r);
+    assert_int_equal(r.grown, 0);
+    assert_int_equal(r.stall, MER_STALL_DONE);
+    assert_string_equal(mer_stall_name(r.stall), "done");
+    mer_scene_free(s);
+}
+
+/* With gv_endpoints_total the iterations share the total: the first takes its
+ * one early endpoint, each later one its share of what is left, and the tree
+ * gets exactly the total; more iterations then grow nothing, and say so. */
+static void test_endpoint_total(void **state)
+{
+    (void)state;
+    mer_params p = preset("gv-fig2-small-5");
+    p.gv_endpoints_total = 157;
+    mer_scene *s = new_scene(&p, 5);
+    step(s, 1);
+    assert_int_equal(stat_of(s, "endpoints"), 1);
+    step(s, 1);
+    assert_int_equal(stat_of(s, "endpoints"), 1 + 39); /* ⌈156 / 4⌉ */
+    step(s, 3);
+    assert_int_equal(stat_of(s, "endpoints"), 157);
+    uint32_t n = mer_scene_node_bound(s);
+    p.gv_iterations = 8; /* more iterations, but the total is reached */
+    mer_error err;
+    assert_int_equal(mer_scene_set_params(s, &p, &err), MER_OK);
+    step(s, 1);
+    assert_int_equal(mer_scene_node_bound(s), n);
+    mer_step_report r;
+    mer_scene_step_report(s, &r);
+    assert_int_equal(r.stall, MER_STALL_DONE);
+    p.gv_endpoints_total = 200; /* a larger total: the rest over the 3 iterations left */
+    assert_int_equal(mer_scene_set_params(s, &p, &err), MER_OK);
+    step(s, 3);
+    assert_int_equal(stat_of(s, "endpoints"), 200);
     mer_scene_free(s);
 }
 
@@ -303,6 +337,7 @@ int main(void)
         cmocka_unit_test(test_yao_graph_cones),
         cmocka_unit_test(test_volume_inside),
         cmocka_unit_test(test_iterations_and_orders),
+        cmocka_unit_test(test_endpoint_total),
         cmocka_unit_test(test_determinism_clone_checkpoint),
         cmocka_unit_test(test_prune_then_grow),
         cmocka_unit_test(test_validation),

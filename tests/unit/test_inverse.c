@@ -25,23 +25,8 @@
 #include "models/inverse/inverse.h"
 #include "scene_private.h"
 
-static mer_scene *inverse_scene(uint64_t seed)
-{
-    mer_scene *s = NULL;
-    mer_error err;
-    if (merp_scene_new_with(&merp_inverse_ops, NULL, seed, &s, &err) != MER_OK)
-        fail_msg("merp_scene_new_with: %s", err.message);
-    return s;
-}
-
-static void step(mer_scene *s, uint32_t n)
-{
-    mer_error err;
-    uint32_t done = 0;
-    if (mer_scene_step(s, n, NULL, NULL, NULL, &done, &err) != MER_OK)
-        fail_msg("step: %s", err.message);
-    assert_int_equal(done, n);
-}
+#include "inverse_helpers.h"
+#include "scene_helpers.h"
 
 /* What the tree measures: trunk length, height, the crown's extent, branches. */
 typedef struct measure {
@@ -277,15 +262,6 @@ static uint32_t subtree_size(const merp_skeleton *sk, uint32_t id)
             n += subtree_size(sk, c);
     }
     return n;
-}
-
-/* The alive node of key `key`, or MER_NO_NODE. */
-static uint32_t node_of_key(const mer_scene *s, uint64_t key)
-{
-    for (uint32_t i = 0; i < s->sk.n; i++)
-        if (s->sk.alive[i] && merp_inverse_node_key(s, i) == key)
-            return i;
-    return MER_NO_NODE;
 }
 
 /* A prune outlives the yearly rebuilds: the branch stays cut in later years

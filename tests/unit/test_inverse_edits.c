@@ -24,15 +24,14 @@
 #include "models/inverse/inverse.h"
 #include "scene_private.h"
 
-static mer_scene *inverse_scene(uint64_t seed, uint32_t years)
+#include "inverse_helpers.h"
+#include "scene_helpers.h"
+
+/* An inverse-model scene from `seed` grown `years` years. */
+static mer_scene *grown(uint64_t seed, uint32_t years)
 {
-    mer_scene *s = NULL;
-    mer_error err;
-    if (merp_scene_new_with(&merp_inverse_ops, NULL, seed, &s, &err) != MER_OK)
-        fail_msg("merp_scene_new_with: %s", err.message);
-    uint32_t done = 0;
-    if (mer_scene_step(s, years, NULL, NULL, NULL, &done, &err) != MER_OK)
-        fail_msg("step: %s", err.message);
+    mer_scene *s = inverse_scene(seed);
+    step(s, years);
     return s;
 }
 
@@ -49,25 +48,6 @@ static void set_line(mer_scene *s, merp_inv_fn fn, float y0, float y1)
     if (merp_inverse_set_def(s, d, &err) != MER_OK)
         fail_msg("set_def: %s", err.message);
     free(d);
-}
-
-static uint32_t node_of_key(const mer_scene *s, uint64_t key)
-{
-    for (uint32_t i = 0; i < s->sk.n; i++)
-        if (s->sk.alive[i] && merp_inverse_node_key(s, i) == key)
-            return i;
-    return MER_NO_NODE;
-}
-
-static double stat_of(const mer_scene *s, const char *name)
-{
-    mer_model_stat st[32];
-    size_t n = mer_scene_model_stats(s, st, 32);
-    for (size_t i = 0; i < n && i < 32; i++)
-        if (strcmp(st[i].name, name) == 0)
-            return st[i].value;
-    fail_msg("no stat %s", name);
-    return 0.0;
 }
 
 /* The first node of the order-1 branch with the most nodes. */
@@ -94,7 +74,7 @@ static uint32_t big_branch(const merp_skeleton *sk)
 static void test_ids_stable_across_regrowth(void **state)
 {
     (void)state;
-    mer_scene *s = inverse_scene(2, 10);
+    mer_scene *s = grown(2, 10);
     uint32_t n = s->sk.n, same = 0;
     uint64_t *key = calloc(n, sizeof *key);
     for (uint32_t i = 0; i < n; i++)
@@ -121,7 +101,7 @@ static void test_ids_stable_across_regrowth(void **state)
 static void test_bend_survives_set_functions(void **state)
 {
     (void)state;
-    mer_scene *s = inverse_scene(3, 10), *twin = inverse_scene(3, 10);
+    mer_scene *s = grown(3, 10), *twin = grown(3, 10);
     uint32_t b = big_branch(&s->sk);
     uint64_t key = merp_inverse_node_key(s, b);
     const float up[3] = {0.0f, 1.0f, 0.0f};
@@ -136,8 +116,8 @@ static void test_bend_survives_set_functions(void **state)
     assert_int_not_equal(tw, MER_NO_NODE);
     float c = v3_dot(s->sk.dir + 3 * at, twin->sk.dir + 3 * tw);
     assert_float_equal(acosf(c > 1.0f ? 1.0f : c) / MER_DEG2RAD, 25.0f, 0.5f);
-    assert_int_equal(stat_of(s, "edits.bends"), 1);
-    assert_int_equal(stat_of(s, "edits.dropped"), 0);
+    assert_int_equal(model_stat(s, "edits.bends"), 1);
+    assert_int_equal(model_stat(s, "edits.dropped"), 0);
     /* And again after a step, in a clone and in a checkpoint's copy. */
     mer_scene *copy = NULL;
     assert_int_equal(mer_scene_clone(s, &copy, &err), MER_OK);
@@ -156,7 +136,7 @@ static void test_bend_survives_set_functions(void **state)
 static void test_prune_dropped_when_node_gone(void **state)
 {
     (void)state;
-    mer_scene *s = inverse_scene(4, 8);
+    mer_scene *s = grown(4, 8);
     const merp_skeleton *sk = &s->sk;
     uint32_t cut = MER_NO_NODE;
     for (uint32_t i = 0; i < sk->n && cut == MER_NO_NODE; i++) {
@@ -168,13 +148,13 @@ static void test_prune_dropped_when_node_gone(void **state)
     assert_int_not_equal(cut, MER_NO_NODE);
     mer_error err;
     assert_int_equal(mer_scene_prune(s, cut, &err), MER_OK);
-    assert_int_equal(stat_of(s, "edits.prunes"), 1);
+    assert_int_equal(model_stat(s, "edits.prunes"), 1);
     set_line(s, MERP_G_M, 0.0f, 0.0f);
-    assert_int_equal(stat_of(s, "edits.prunes"), 0);
-    assert_int_equal(stat_of(s, "edits.dropped"), 1);
+    assert_int_equal(model_stat(s, "edits.prunes"), 0);
+    assert_int_equal(model_stat(s, "edits.dropped"), 1);
     uint32_t done = 0;
     assert_int_equal(mer_scene_step(s, 1, NULL, NULL, NULL, &done, &err), MER_OK);
-    assert_int_equal(stat_of(s, "edits.dropped"), 0);
+    assert_int_equal(model_stat(s, "edits.dropped"), 0);
     mer_scene_free(s);
 }
 
@@ -183,7 +163,7 @@ static void test_prune_dropped_when_node_gone(void **state)
 static void test_ids_bounded(void **state)
 {
     (void)state;
-    mer_scene *s = inverse_scene(5, 12);
+    mer_scene *s = grown(5, 12);
     for (int k = 0; k < 24; k++) {
         set_line(s, MERP_G_M, 0.0f, k % 2 ? 0.6f : 0.9f);
         uint32_t live = 0;
@@ -257,7 +237,7 @@ static void check_leaves(mer_scene *s, double t)
 static void test_leaves_follow_G_l(void **state)
 {
     (void)state;
-    mer_scene *s = inverse_scene(6, 0);
+    mer_scene *s = grown(6, 0);
     check_leaves(s, 9.0);
     check_leaves(s, 8.4);
     check_leaves(s, 8.75);

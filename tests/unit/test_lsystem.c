@@ -296,6 +296,34 @@ static void test_parse_errors(void **state)
     expect_error("axiom: A\nA(1x) -> B\n", 2, 3);
 }
 
+/* Unbalanced brackets are accepted, as cpfg accepts them, each with a warning
+ * at its bracket: a '[' never closed, a ']' that closes nothing. A balanced
+ * text has none. */
+static void test_bracket_warnings(void **state)
+{
+    (void)state;
+    const merp_ls_error *w;
+    merp_lsys *ls = parse_ok("axiom: F\nF -> F[+F[-F]\n");
+    assert_int_equal(merp_lsys_warnings(ls, &w), 1);
+    assert_int_equal(w[0].line, 2);
+    assert_int_equal(w[0].col, 7); /* the outer '[', never closed */
+    assert_non_null(strstr(w[0].msg, "never closed"));
+    merp_lsys_free(ls);
+
+    ls = parse_ok("axiom: F]F\nF -> F[+F]]\n");
+    assert_int_equal(merp_lsys_warnings(ls, &w), 2);
+    assert_int_equal(w[0].line, 1);
+    assert_int_equal(w[0].col, 9);
+    assert_int_equal(w[1].line, 2);
+    assert_int_equal(w[1].col, 11);
+    assert_non_null(strstr(w[1].msg, "closes no"));
+    merp_lsys_free(ls);
+
+    ls = parse_ok("axiom: F\nF -> F[+F][-F(2)]F\n");
+    assert_int_equal(merp_lsys_warnings(ls, &w), 0);
+    merp_lsys_free(ls);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -310,6 +338,7 @@ int main(void)
         cmocka_unit_test(test_stochastic_determinism),
         cmocka_unit_test(test_stochastic_weights),
         cmocka_unit_test(test_parse_errors),
+        cmocka_unit_test(test_bracket_warnings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,6 +20,8 @@
 #include <meristem/params.h>
 #include <meristem/scene.h>
 
+#include "scene_helpers.h"
+
 static const char ALGAE[] = "axiom: a\na -> ab\nb -> a\n";
 static const char FIG_1_24A[] = "derivation length: 5\naxiom: F\nF -> F[+F]F[-F]F\n";
 static const char FIG_1_24D[] =
@@ -45,42 +47,7 @@ static mer_scene *ls_scene(const char *text, float delta, uint64_t seed)
     mer_params p = mer_params_default();
     p.model = MER_MODEL_LSYSTEM;
     p.ls_delta = delta;
-    mer_scene *s = NULL;
-    mer_error err;
-    if (mer_scene_new(&p, seed, &s, &err) != MER_OK)
-        fail_msg("new: %s", err.message);
-    if (mer_scene_set_definition(s, text, strlen(text), &err) != MER_OK)
-        fail_msg("definition: %u:%u %s", err.line, err.column, err.message);
-    return s;
-}
-
-static void step(mer_scene *s, uint32_t n)
-{
-    mer_error err;
-    uint32_t done = 0;
-    if (mer_scene_step(s, n, NULL, NULL, NULL, &done, &err) != MER_OK)
-        fail_msg("step: %s", err.message);
-    assert_int_equal(done, n);
-}
-
-/* The model's number `name`, -1 when it has none. */
-static double stat(const mer_scene *s, const char *name)
-{
-    mer_model_stat st[64];
-    size_t n = mer_scene_model_stats(s, st, 64);
-    for (size_t i = 0; i < n && i < 64; i++)
-        if (strcmp(st[i].name, name) == 0)
-            return st[i].value;
-    return -1.0;
-}
-
-static mer_node node(const mer_scene *s, uint32_t id)
-{
-    mer_node nd;
-    mer_error err;
-    if (mer_scene_node(s, id, &nd, &err) != MER_OK)
-        fail_msg("node %u: %s", id, err.message);
-    return nd;
+    return new_defined_scene(&p, seed, text);
 }
 
 /* Live nodes that are drawn segments (joints have length 0). */
@@ -101,13 +68,13 @@ static void test_algae(void **state)
     mer_scene *s = ls_scene(ALGAE, 90.0f, 1);
     static const double want[] = {1, 2, 3, 5, 8, 13};
     for (int n = 0; n < 6; n++) {
-        assert_true(stat(s, "string_length") == want[n]);
-        assert_true(stat(s, "derivation_step") == n);
+        assert_true(model_stat(s, "string_length") == want[n]);
+        assert_true(model_stat(s, "derivation_step") == n);
         if (n < 5)
             step(s, 1);
     }
-    assert_true(stat(s, "modules.a") == 8); /* abaababaabaab */
-    assert_true(stat(s, "modules.b") == 5);
+    assert_true(model_stat(s, "modules.a") == 8); /* abaababaabaab */
+    assert_true(model_stat(s, "modules.b") == 5);
     assert_int_equal(mer_scene_node_bound(s), 0);
     mer_scene_free(s);
 }
@@ -118,8 +85,8 @@ static void test_fig_1_24a(void **state)
     (void)state;
     mer_scene *s = ls_scene(FIG_1_24A, 25.7f, 1);
     step(s, 7); /* the text stops at 5 */
-    assert_true(stat(s, "derivation_step") == 5);
-    assert_true(stat(s, "segments") == 3125);
+    assert_true(model_stat(s, "derivation_step") == 5);
+    assert_true(model_stat(s, "segments") == 3125);
     mer_summary sum;
     mer_scene_summary(s, &sum);
     assert_int_equal(sum.internodes, 3125);
@@ -134,7 +101,7 @@ static void test_fig_1_24d(void **state)
     (void)state;
     mer_scene *s = ls_scene(FIG_1_24D, 20.0f, 1);
     step(s, 7);
-    assert_true(stat(s, "segments") == 4118);
+    assert_true(model_stat(s, "segments") == 4118);
     assert_int_equal(live_segments(s), 4118);
     mer_scene_free(s);
 }
@@ -146,7 +113,7 @@ static void test_honda(void **state)
     (void)state;
     mer_scene *s = ls_scene(HONDA, 90.0f, 1);
     step(s, 10);
-    assert_true(stat(s, "segments") == 1023);
+    assert_true(model_stat(s, "segments") == 1023);
     float top = 0.0f;
     for (uint32_t i = 0; i < mer_scene_node_bound(s); i++) {
         mer_node nd = node(s, i);
@@ -167,7 +134,7 @@ static void test_ternary(void **state)
     (void)state;
     mer_scene *s = ls_scene(TERNARY, 90.0f, 1);
     step(s, 6);
-    assert_true(stat(s, "segments") == 1457);
+    assert_true(model_stat(s, "segments") == 1457);
     assert_int_equal(live_segments(s), 1457);
     assert_true(fabs((double)node(s, 0).length - 200.0 * pow(1.109, 6)) < 1e-2);
     mer_scene_free(s);
@@ -199,7 +166,7 @@ static void test_joints(void **state)
     mer_mesh_free(m);
     assert_int_equal(mer_scene_prune(s, amp.id, &err), MER_OK);
     step(s, 2);
-    assert_true(stat(s, "segments") == 5);
+    assert_true(model_stat(s, "segments") == 5);
     for (uint32_t i = 0; i < mer_scene_node_bound(s); i++)
         assert_false(node(s, i).dir[2] < -0.4f);
     mer_scene_free(s);
@@ -217,7 +184,7 @@ static void test_prune_lasts(void **state)
     assert_int_equal(mer_scene_prune(s, 1, &err), MER_OK);
     step(s, 2);
     /* 2^5 - 1 segments less the B subtree grown from step 1: 2^4 - 1. */
-    assert_true(stat(s, "segments") == 31 - 15);
+    assert_true(model_stat(s, "segments") == 31 - 15);
     mer_scene_free(s);
 }
 
@@ -263,7 +230,7 @@ static void test_blocking(void **state)
         static const char text[] = "axiom: [&(150)F]A\nA -> FA\n";
         assert_int_equal(mer_scene_set_definition(s, text, strlen(text), &err), MER_OK);
         step(s, 5);
-        assert_true(stat(s, "segments") == (on ? 2 : 6));
+        assert_true(model_stat(s, "segments") == (on ? 2 : 6));
         mer_scene_free(s);
     }
 }
@@ -280,7 +247,7 @@ static void test_stochastic_seeds(void **state)
     step(c, 5);
     assert_true(mer_scene_hash(a) == mer_scene_hash(b));
     assert_true(mer_scene_hash(a) != mer_scene_hash(c));
-    assert_true(stat(a, "segments") == stat(b, "segments"));
+    assert_true(model_stat(a, "segments") == model_stat(b, "segments"));
     mer_scene_free(a);
     mer_scene_free(b);
     mer_scene_free(c);
@@ -321,9 +288,9 @@ static void test_new_rules_keep_string(void **state)
     static const char next[] = "A -> F[+F]A\n";
     mer_error err;
     assert_int_equal(mer_scene_set_definition(s, next, strlen(next), &err), MER_OK);
-    assert_true(stat(s, "segments") == 2);
+    assert_true(model_stat(s, "segments") == 2);
     step(s, 1);
-    assert_true(stat(s, "segments") == 4);
+    assert_true(model_stat(s, "segments") == 4);
     mer_scene_free(s);
 }
 

@@ -20,6 +20,7 @@
 
 #include "core/alloc.h"
 #include "models/lsystem/lsystem.h"
+#include "scene_helpers.h"
 
 static merp_lsys *parse_ok(const char *text)
 {
@@ -177,31 +178,7 @@ static mer_scene *ls_scene(const char *text, int blocking)
     mer_params p = mer_params_default();
     p.model = MER_MODEL_LSYSTEM;
     p.ls_blocking = (uint32_t)blocking;
-    mer_scene *s = NULL;
-    mer_error err;
-    if (mer_scene_new(&p, 1, &s, &err) != MER_OK)
-        fail_msg("new: %s", err.message);
-    if (mer_scene_set_definition(s, text, strlen(text), &err) != MER_OK)
-        fail_msg("definition: %u:%u %s", err.line, err.column, err.message);
-    return s;
-}
-
-static void step(mer_scene *s, uint32_t n)
-{
-    mer_error err;
-    uint32_t done = 0;
-    if (mer_scene_step(s, n, NULL, NULL, NULL, &done, &err) != MER_OK)
-        fail_msg("step: %s", err.message);
-}
-
-static double stat(const mer_scene *s, const char *name)
-{
-    mer_model_stat st[64];
-    size_t n = mer_scene_model_stats(s, st, 64);
-    for (size_t i = 0; i < n && i < 64; i++)
-        if (strcmp(st[i].name, name) == 0)
-            return st[i].value;
-    return -1.0;
+    return new_defined_scene(&p, 1, text);
 }
 
 /* The homomorphism draws F[+F]F for every I; the string holds no F. After 5
@@ -211,10 +188,10 @@ static void test_scene_homomorphism(void **state)
     (void)state;
     mer_scene *s = ls_scene("axiom: A\nA -> IA\nhomomorphism\nI -> F[+F]F\n", 0);
     step(s, 5);
-    assert_true(stat(s, "modules.I") == 5);
-    assert_true(stat(s, "modules.F") == -1);
-    assert_true(stat(s, "string_length") == 6);
-    assert_true(stat(s, "segments") == 15);
+    assert_true(model_stat(s, "modules.I") == 5);
+    assert_true(model_stat(s, "modules.F") == -1);
+    assert_true(model_stat(s, "string_length") == 6);
+    assert_true(model_stat(s, "segments") == 15);
     mer_summary sum;
     mer_scene_summary(s, &sum);
     assert_int_equal(sum.internodes, 15);
@@ -228,7 +205,7 @@ static void test_scene_position_bound(void **state)
     (void)state;
     mer_scene *s = ls_scene("axiom: A?P(0,0,0)\nA > ?P(x,y,z) : y < 3.5 -> F(1)A\n", 0);
     step(s, 10);
-    assert_true(stat(s, "segments") == 4);
+    assert_true(model_stat(s, "segments") == 4);
     mer_scene_free(s);
 }
 
@@ -247,7 +224,7 @@ static void test_scene_environment(void **state)
         if (mer_scene_add_box(s, k ? lo2 : lo, k ? hi2 : hi, &err) != MER_OK)
             fail_msg("box: %s", err.message);
         step(s, 10);
-        assert_true(stat(s, "segments") == (k ? 10 : 4));
+        assert_true(model_stat(s, "segments") == (k ? 10 : 4));
         mer_scene_free(s);
     }
 }

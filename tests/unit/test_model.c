@@ -277,7 +277,7 @@ static void test_rows_per_model(void **state)
     }
     assert_true(p09 > 0 && world > 0 && ls > 0);
     assert_int_equal(runions, 3);
-    assert_int_equal(gv, 12);
+    assert_int_equal(gv, 13);
     assert_int_equal(p09 + world + runions + ls + gv, mer_params_field_count());
     assert_null(mer_params_field_model(mer_params_field_count()));
 }

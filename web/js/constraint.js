@@ -15,6 +15,7 @@ const STALL_TEXT = {
   'all-buds-dead': 'no living bud is left on the tree',
   'no-markers': 'no bud has a free marker within reach (brush some more)',
   'no-light': 'no bud gets light enough to grow',
+  done: 'the model has grown all it will (its iterations or derivation length are used up)',
 };
 
 export class GrowthConstraint {

@@ -125,8 +125,8 @@ static mer_result outermost(const merp_gv_graph *gr, const float root[3], float 
 
 mer_result merp_gv_endpoints(const mer_params *p, uint32_t it, const merp_gv_graph *gr,
                              const merp_gv_search *s, const uint32_t *in_tree,
-                             const float root[3], mer_rng *rng, uint32_t **out, uint32_t *n,
-                             uint32_t *cap, mer_error *err)
+                             const float root[3], uint32_t want, mer_rng *rng, uint32_t **out,
+                             uint32_t *n, uint32_t *cap, mer_error *err)
 {
     assert(p != NULL && gr != NULL && s != NULL && in_tree != NULL && out != NULL && n != NULL);
     *n = 0;
@@ -150,6 +150,6 @@ mer_result merp_gv_endpoints(const mer_params *p, uint32_t it, const merp_gv_gra
         if (rc != MER_OK)
             return rc;
     }
-    *n = draw(*out, *n, it == 0 ? p->gv_early_endpoints : p->gv_endpoints, rng);
+    *n = draw(*out, *n, want, rng);
     return MER_OK;
 }

@@ -163,10 +163,31 @@ static mer_result gather_sources(merp_model *m, uint32_t *ns, mer_error *err)
     return MER_OK;
 }
 
+/* 1 when no step will grow more: the iterations, or the endpoint total, are done. */
+static int gv_finished(const merp_model *m, const mer_params *p)
+{
+    return m->iteration >= p->gv_iterations ||
+           (p->gv_endpoints_total > 0 && m->endpoints >= p->gv_endpoints_total);
+}
+
+/* The endpoints the next iteration asks for (guiding.h): with a total, the first
+ * iteration's capped by it and a later one's share of what is left. */
+static uint32_t wanted(const merp_model *m, const mer_params *p)
+{
+    uint32_t total = p->gv_endpoints_total;
+    if (total == 0)
+        return m->iteration == 0 ? p->gv_early_endpoints : p->gv_endpoints;
+    uint32_t left = total - m->endpoints; /* > 0: not finished */
+    if (m->iteration == 0)
+        return left < p->gv_early_endpoints ? left : p->gv_early_endpoints;
+    uint32_t its = p->gv_iterations - m->iteration; /* >= 1: not finished */
+    return left / its + (left % its != 0);
+}
+
 static mer_result gv_step(merp_model *m, const merp_world *w, mer_error *err)
 {
     assert(m != NULL && w != NULL);
-    if (m->iteration >= w->p->gv_iterations)
+    if (gv_finished(m, w->p))
         return MER_OK;
     mer_result rc = m->built ? MER_OK : build(m, w, err);
     uint32_t ns = 0, nends = 0, grown;
@@ -178,8 +199,8 @@ static mer_result gv_step(merp_model *m, const merp_world *w, mer_error *err)
     rc = merp_gv_dijkstra(&m->search, &m->graph, &gd, m->src, m->src_g, m->src_hop, ns, err);
     if (rc == MER_OK)
         rc = merp_gv_endpoints(w->p, m->iteration, &m->graph, &m->search, m->skid,
-                               m->graph.pos + 3 * (size_t)m->src[0], w->rng, &m->ends, &nends,
-                               &m->ends_cap, err);
+                               m->graph.pos + 3 * (size_t)m->src[0], wanted(m, w->p), w->rng,
+                               &m->ends, &nends, &m->ends_cap, err);
     if (rc == MER_OK)
         rc = merp_gv_grow_paths(m, w, m->ends, nends, &grown, err);
     if (rc == MER_OK) {
@@ -187,12 +208,6 @@ static mer_result gv_step(merp_model *m, const merp_world *w, mer_error *err)
         m->endpoints += nends;
     }
     return rc;
-}
-
-static void gv_set_params(merp_model *m, const mer_params *p)
-{
-    (void)m;
-    (void)p;
 }
 
 /* A pruned node leaves the tree; a bent one stays (its children follow its end). */
@@ -318,7 +333,7 @@ const merp_model_ops merp_guiding_ops = {
     .state_version = 1,
     .validate = gv_validate,
     .create = gv_create,
-    .set_params = gv_set_params,
+    /* No set_params: each step reads w->p (the graph, once built, stays). */
     .step = gv_step,
     .nodes_changed = gv_nodes_changed,
     .hash = gv_hash,
@@ -327,4 +342,5 @@ const merp_model_ops merp_guiding_ops = {
     .load = gv_load,
     .free = gv_free,
     .stats = gv_stats,
+    .finished = gv_finished,
 };

@@ -21,11 +21,17 @@
  *     the tree: the nodes exactly gv_k_hops hops from the tree, ordered by
  *     distance from the root, the outermost fraction gv_t of them, and with
  *     gv_bound only those inside the crown volume; gv_endpoints are drawn
- *     among them (all of them when there are fewer).
+ *     among them (all of them when there are fewer). With gv_endpoints_total
+ *     T > 0, the iterations share T instead: the first asks for
+ *     min(gv_early_endpoints, T), each later one for its share of what is
+ *     left, ⌈(T − chosen) / iterations left⌉, so a surface that holds fewer
+ *     passes its shortfall on and the tree gets exactly T endpoints unless the
+ *     last iteration's surface is short too (the `endpoints` statistic says).
  *  4. tree.c: the union of the least-cost paths to the endpoints joins the
  *     tree, which is the next iteration's source.
  *
- * One step is one iteration; steps after gv_iterations grow nothing.
+ * One step is one iteration; steps after gv_iterations (or after T endpoints)
+ * grow nothing, and the step report says the model is done.
  *
  * The crown volume is the scene's marker volume (marker_volume, marker_center,
  * marker_size); no markers are needed (any environment will do). The graph
@@ -130,13 +136,13 @@ int merp_gv_inside(uint32_t kind, const float center[3], const float size[3], co
 /* The axis-aligned box around that volume. */
 void merp_gv_volume_box(uint32_t kind, const float center[3], const float size[3], float lo[3],
                         float hi[3]);
-/* The endpoints of iteration `it` (0: the early ones) into *out (n of them,
- * *cap allocated), from the search `s` over `gr` in which `in_tree` marks the
- * tree's nodes; `root` is where "outward" is measured from. MER_ERR_NOMEM. */
+/* Up to `want` endpoints of iteration `it` (0: the early ones) into *out (n of
+ * them, *cap allocated), from the search `s` over `gr` in which `in_tree` marks
+ * the tree's nodes; `root` is where "outward" is measured from. MER_ERR_NOMEM. */
 mer_result merp_gv_endpoints(const mer_params *p, uint32_t it, const merp_gv_graph *gr,
                              const merp_gv_search *s, const uint32_t *in_tree,
-                             const float root[3], mer_rng *rng, uint32_t **out, uint32_t *n,
-                             uint32_t *cap, mer_error *err);
+                             const float root[3], uint32_t want, mer_rng *rng, uint32_t **out,
+                             uint32_t *n, uint32_t *cap, mer_error *err);
 
 /* The model's state (guiding.c). */
 struct merp_model {

@@ -48,14 +48,6 @@ static mer_result inverse_create(const mer_params *p, merp_model **out, mer_erro
     return MER_OK;
 }
 
-/* The world's parameters (leaf diameter, pipe exponent) are read by the scene;
- * the tree's own are its definition's. */
-static void inverse_set_params(merp_model *m, const mer_params *p)
-{
-    (void)m;
-    (void)p;
-}
-
 static mer_result inverse_step(merp_model *m, const merp_world *w, mer_error *err)
 {
     uint32_t year = w->step + 1;
@@ -363,7 +355,8 @@ const merp_model_ops merp_inverse_ops = {
     .state_version = 2,
     .validate = NULL,
     .create = inverse_create,
-    .set_params = inverse_set_params,
+    /* No set_params: the world's parameters (leaf diameter, pipe exponent) are
+     * read by the scene; the tree's own are its definition's. */
     .step = inverse_step,
     .nodes_changed = inverse_nodes_changed,
     .hash = inverse_hash,

@@ -135,6 +135,14 @@ enum { MERP_LS_PRODUCTIONS, MERP_LS_DECOMPOSITION, MERP_LS_HOMOMORPHISM, MERP_LS
 merp_lsys *merp_lsys_parse(const char *text, merp_ls_error *err);
 void merp_lsys_free(merp_lsys *ls);
 
+/* What a text that parsed gets away with, as cpfg does: a successor or axiom
+ * whose brackets do not balance (a ']' with no '[' before it, a '[' never
+ * closed: the turtle pops nothing at the one, and the branch runs to the end
+ * of the string at the other). Sets *out to the first MERP_LS_WARN_MAX warnings
+ * (line and column of the bracket) and returns how many there are. O(1). */
+#define MERP_LS_WARN_MAX 8
+int merp_lsys_warnings(const merp_lsys *ls, const merp_ls_error **out);
+
 /* The derivation length the text asked for (0 when not given). */
 int merp_lsys_derivation_length(const merp_lsys *ls);
 /* The axiom, as a string (owned by ls). */

@@ -57,6 +57,10 @@ struct merp_lsys {
     uint8_t skip[MERP_LS_NSYM]; /* ignored by context matching (ABOP §1.8) */
     merp_ls_name *defs;
     int ndefs, dcap;
+    /* What the text gets away with (merp_lsys_warnings): the first
+     * MERP_LS_WARN_MAX kept, nwarn counts them all. */
+    merp_ls_error warn[MERP_LS_WARN_MAX];
+    int nwarn;
 };
 
 #endif

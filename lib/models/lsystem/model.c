@@ -144,15 +144,22 @@ static const char *ls_definition(const merp_model *m, size_t *len)
     return m->text;
 }
 
+/* 1 once derived as far as the text's `derivation length:` asks. */
+static int ls_finished(const merp_model *m, const mer_params *p)
+{
+    (void)p;
+    int dlen = m->ls != NULL ? merp_lsys_derivation_length(m->ls) : 0;
+    return dlen > 0 && m->dstep >= (uint32_t)dlen;
+}
+
 static mer_result ls_step(merp_model *m, const merp_world *w, mer_error *err)
 {
     assert(m != NULL && w != NULL);
     if (m->ls == NULL)
         return mer_error_set(err, MER_ERR_INVALID, "definition",
                              "an L-system scene grows once it has its source");
-    int dlen = merp_lsys_derivation_length(m->ls);
-    if (dlen > 0 && m->dstep >= (uint32_t)dlen)
-        return MER_OK; /* derived as far as the text asks */
+    if (ls_finished(m, w->p))
+        return MER_OK;
     merp_lstr folded, next;
     merp_lstr_init(&folded);
     merp_lstr_init(&next);
@@ -176,18 +183,18 @@ static mer_result ls_step(merp_model *m, const merp_world *w, mer_error *err)
     return rc;
 }
 
-/* The turtle reads the parameters at each drawing; edits are folded at the next
- * step: nothing to do at once. */
-static void ls_set_params(merp_model *m, const mer_params *p)
+static size_t ls_warnings(const merp_model *m, mer_warning *out, size_t cap)
 {
-    (void)m;
-    (void)p;
-}
-
-static void ls_nodes_changed(merp_model *m, const merp_world *w)
-{
-    (void)m;
-    (void)w;
+    if (m->ls == NULL)
+        return 0;
+    const merp_ls_error *w;
+    size_t n = (size_t)merp_lsys_warnings(m->ls, &w);
+    for (size_t i = 0; i < n && i < cap && i < MERP_LS_WARN_MAX; i++) {
+        out[i].line = (unsigned)w[i].line;
+        out[i].column = (unsigned)w[i].col;
+        snprintf(out[i].message, sizeof out[i].message, "%s", w[i].msg);
+    }
+    return n;
 }
 
 static void ls_diameters(const merp_model *m, const merp_world *w)
@@ -385,9 +392,9 @@ const merp_model_ops merp_lsystem_ops = {
     .state_version = 1,
     .validate = NULL,
     .create = ls_create,
-    .set_params = ls_set_params,
+    /* No set_params, no nodes_changed: the turtle reads the parameters at each
+     * drawing, and edits are folded into the string at the next step. */
     .step = ls_step,
-    .nodes_changed = ls_nodes_changed,
     .hash = ls_hash,
     .clone = ls_clone,
     .save = ls_save,
@@ -395,6 +402,8 @@ const merp_model_ops merp_lsystem_ops = {
     .free = ls_free,
     .set_definition = ls_set_definition,
     .definition = ls_definition,
+    .warnings = ls_warnings,
     .diameters = ls_diameters,
     .stats = ls_stats,
+    .finished = ls_finished,
 };

@@ -52,6 +52,19 @@ static int error_at(pctx *c, int line, int col, const char *msg)
     return -1;
 }
 
+/* A warning at line, col (merp_lsys_warnings): kept while there is room. */
+static void warn_at(pctx *c, int line, int col, const char *msg)
+{
+    merp_lsys *ls = c->ls;
+    if (ls->nwarn < MERP_LS_WARN_MAX) {
+        merp_ls_error *w = &ls->warn[ls->nwarn];
+        w->line = line;
+        w->col = col;
+        snprintf(w->msg, sizeof w->msg, "%s", msg);
+    }
+    ls->nwarn++;
+}
+
 static span sub(span s, const char *b, const char *e)
 {
     return (span){b, e, s.line, s.col + (int)(b - s.b)};
@@ -200,15 +213,24 @@ static int patterns(pctx *c, span s, merp_ls_pat **out, int *n, int *slot)
     return 0;
 }
 
-/* A successor (or the axiom, with `nnames` = the defines only). */
+/* A successor (or the axiom, with `nnames` = the defines only). Unbalanced
+ * brackets are accepted, as cpfg does, with a warning. */
 static int successor(pctx *c, span s, merp_ls_prod *pr, int nnames)
 {
-    int cap = 0, acap = 0;
+    int cap = 0, acap = 0, depth = 0, open_col = 0;
     const char *p = s.b;
     span args[MERP_LS_MAXARGS];
     if (is_star(s))
         return 0;
     for (merp_sym y; (y = symbol(s, &p)) != 0;) {
+        int col = s.col + (int)(p - 1 - s.b);
+        if (y == '[' && depth++ == 0)
+            open_col = col;
+        if (y == ']' && depth-- == 0) {
+            depth = 0;
+            warn_at(c, s.line, col, "this ']' closes no '[' (accepted, as cpfg does: "
+                                    "the turtle has nothing to pop)");
+        }
         int na = arglist(c, s, &p, args);
         if (na < 0)
             return -1;
@@ -225,6 +247,9 @@ static int successor(pctx *c, span s, merp_ls_prod *pr, int nnames)
             pr->args[pr->nargs++] = e;
         }
     }
+    if (depth > 0)
+        warn_at(c, s.line, open_col, "this '[' is never closed (accepted, as cpfg does: "
+                                     "the branch runs to the end of the string)");
     return 0;
 }
 
@@ -565,6 +590,13 @@ void merp_lsys_free(merp_lsys *ls)
     merp_free(ls->defs);
     merp_lstr_free(&ls->axiom);
     merp_free(ls);
+}
+
+int merp_lsys_warnings(const merp_lsys *ls, const merp_ls_error **out)
+{
+    assert(ls != NULL && out != NULL);
+    *out = ls->warn;
+    return ls->nwarn;
 }
 
 int merp_lsys_derivation_length(const merp_lsys *ls)

@@ -159,19 +159,6 @@ static mer_result runions_step(merp_model *m, const merp_world *w, mer_error *er
     return grow(m, w, n, err);
 }
 
-/* R07 reads its parameters at each step and keeps nothing between steps. */
-static void runions_set_params(merp_model *m, const mer_params *p)
-{
-    (void)m;
-    (void)p;
-}
-
-static void runions_nodes_changed(merp_model *m, const merp_world *w)
-{
-    (void)m;
-    (void)w;
-}
-
 static uint64_t runions_hash(const merp_model *m, uint64_t h)
 {
     (void)m;
@@ -204,9 +191,9 @@ const merp_model_ops merp_runions_ops = {
     .state_version = 1,
     .validate = runions_validate,
     .create = runions_create,
-    .set_params = runions_set_params,
+    /* No set_params, no nodes_changed: R07 reads its parameters at each step and
+     * keeps nothing between steps. */
     .step = runions_step,
-    .nodes_changed = runions_nodes_changed,
     .hash = runions_hash,
     .free = runions_free,
     .clone = runions_clone,

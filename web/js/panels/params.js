@@ -63,6 +63,8 @@ export const KEY_PARAMS = [
     explain: 'Endpoints of the first iteration: one gives a trunk, several a shrub.' },
   { name: 'gv_endpoints', label: 'endpoints', models: ['guiding'],
     explain: 'Endpoints per later iteration, on the surface extrapolated from the tree.' },
+  { name: 'gv_endpoints_total', label: 'endpoints in all', models: ['guiding'],
+    explain: 'When above 0: the endpoints of all iterations together, each later iteration taking its share of what is left (instead of endpoints per iteration).' },
   { name: 'gv_k_hops', symbol: 'k', label: 'hops out', models: ['guiding'],
     explain: 'Later endpoints are this many hops out from the current tree.' },
   { name: 'gv_t', symbol: 't', label: 'outer fraction', models: ['guiding'],
