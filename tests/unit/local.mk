@@ -254,3 +254,9 @@ check_PROGRAMS += tests/unit/test_patch
 tests_unit_test_patch_SOURCES = tests/unit/test_patch.c tests/unit/trimesh_check.h
 tests_unit_test_patch_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_patch_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_junctions
+tests_unit_test_junctions_SOURCES = tests/unit/test_junctions.c tests/unit/trimesh_check.h
+nodist_EXTRA_tests_unit_test_junctions_SOURCES = tests/unit/link-as-cxx.cc
+tests_unit_test_junctions_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_junctions_LDADD = $(UNIT_LDADD)
