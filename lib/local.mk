@@ -110,6 +110,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/tube.c \
 	lib/mesh/leaves.c \
 	lib/mesh/color.c \
+	lib/mesh/joints.c \
 	lib/mesh/implicit/implicit.h \
 	lib/mesh/implicit/segment.c \
 	lib/mesh/implicit/blend.c \

@@ -58,6 +58,8 @@ static void usage(FILE *out)
             "                     three.js reads it, Blender does not)\n"
             "  --twig-lines       twigs in primitives of their own, each with a LINES\n"
             "                     primitive of their lines (a viewer's level of detail)\n"
+            "  --junctions=MODE   tubes (default) or implicit: forks of thick branches as\n"
+            "                     implicit surfaces with a branch bark ridge (G04 §3)\n"
             "  --help, --version\n",
             MER_MESH_DETAIL_DEFAULT);
 }
@@ -193,7 +195,7 @@ static int list_presets(void)
 /* grow's long options. */
 enum { O_MODEL = 999, O_PRESET = 1000, O_STEPS, O_SEED, O_SET, O_DETAIL, O_LEAVES, O_MARKERS, O_COLOR, O_UNQUANTIZED,
        O_QUANTIZE,
-       O_NO_TEXCOORDS, O_COMPRESS, O_TWIG_LINES };
+       O_NO_TEXCOORDS, O_COMPRESS, O_TWIG_LINES, O_JUNCTIONS };
 static const struct option longopts[] = {
     {"model", required_argument, NULL, O_MODEL},
     {"preset", required_argument, NULL, O_PRESET}, {"steps", required_argument, NULL, O_STEPS},
@@ -205,6 +207,7 @@ static const struct option longopts[] = {
     {"no-texcoords", no_argument, NULL, O_NO_TEXCOORDS},
     {"twig-lines", no_argument, NULL, O_TWIG_LINES},
     {"compress", required_argument, NULL, O_COMPRESS},
+    {"junctions", required_argument, NULL, O_JUNCTIONS},
     {0, 0, 0, 0}};
 
 /* Reads grow's options into *a: 0, or the exit status for a mistake (2). */
@@ -259,6 +262,15 @@ static int parse_grow(int argc, char **argv, grow_args *a)
                 return 2;
             }
             a->compression = (uint32_t)mode;
+            break;
+        }
+        case O_JUNCTIONS: {
+            int mode = merd_junctions_parse(optarg);
+            if (mode < 0) {
+                fprintf(stderr, "meristem: --junctions wants tubes or implicit, got '%s'\n", optarg);
+                return 2;
+            }
+            a->mesh.junctions = (uint32_t)mode;
             break;
         }
         case O_COLOR: {

@@ -99,6 +99,13 @@ int merd_color_mode_parse(const char *name)
     return -1;
 }
 
+int merd_junctions_parse(const char *name)
+{
+    if (strcmp(name, "tubes") == 0)
+        return MER_JUNCTIONS_TUBES;
+    return strcmp(name, "implicit") == 0 ? MER_JUNCTIONS_IMPLICIT : -1;
+}
+
 int merd_compression_parse(const char *name)
 {
     if (strcmp(name, "none") == 0)

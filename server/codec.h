@@ -53,6 +53,8 @@ int merd_base64_decode(const char *in, uint8_t **out, size_t *size);
 
 /* Parses a colour mode name ("none", "order", "light", "age"). -1 if unknown. */
 int merd_color_mode_parse(const char *name);
+/* "tubes" or "implicit" → mer_junction_mode; -1 for anything else. */
+int merd_junctions_parse(const char *name);
 
 /* Parses a snapshot compression name ("none", "meshopt") into a
  * mer_gltf_compression. -1 if unknown. */

@@ -12,14 +12,15 @@
 
 static void options_key(const merd_snapshot_options *o, char *out, size_t n)
 {
-    // Twig lines add "w1", so the keys of snapshots without them stay as they were.
+    // Twig lines add "w1" and implicit junctions "j1", so the keys of snapshots
+    // without them stay as they were.
     char at[32] = "";
     if (o->at_t)
         snprintf(at, sizeof at, "y%" PRIu64, o->t_micro);
-    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s%s",
+    snprintf(out, n, "d%ul%um%uc%uq%ut%uz%u%s%s%s",
              o->mesh.detail ? o->mesh.detail : MER_MESH_DETAIL_DEFAULT, o->mesh.leaves,
              o->mesh.markers, o->mesh.color, o->unquantized ? 0 : 1, o->mesh.no_uvs ? 0 : 1,
-             o->compression, o->mesh.twig_lines ? "w1" : "", at);
+             o->compression, o->mesh.twig_lines ? "w1" : "", o->mesh.junctions ? "j1" : "", at);
 }
 
 void merd_session_etag_at(uint64_t revision, const merd_snapshot_options *options, char *etag)

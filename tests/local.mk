@@ -29,6 +29,7 @@ TESTS += tests/api/health.test.js
 TESTS += tests/api/static.test.js
 TESTS += tests/api/cli.test.js
 TESTS += tests/api/sessions.test.js
+TESTS += tests/api/junctions.test.js
 TESTS += tests/api/durability.test.js
 TESTS += tests/api/undo.test.js
 TESTS += tests/api/checkpoint.test.js
@@ -76,6 +77,7 @@ EXTRA_DIST += \
 	tests/api/static.test.js \
 	tests/api/cli.test.js \
 	tests/api/sessions.test.js \
+	tests/api/junctions.test.js \
 	tests/api/durability.test.js \
 	tests/api/undo.test.js \
 	tests/api/checkpoint.test.js \

@@ -27,7 +27,7 @@ int add_material(tinygltf::Model &model, const char *name, const double rgba[4],
 
 // A part's vertex attribute bufferViews, shared by its chunks; -1: absent.
 struct PartViews {
-    int pos, nrm, uv, col, ids;
+    int pos, nrm, uv, col, ids, ridge;
 };
 
 PartViews part_views(Writer &w, const mer_mesh_part &p)
@@ -42,6 +42,7 @@ PartViews part_views(Writer &w, const mer_mesh_part &p)
     v.col = p.colors != nullptr ? w.vertex_view(p.colors, n, 4, q ? Fill::QuantizeColor : Fill::Copy)
                                 : -1;
     v.ids = p.node_ids != nullptr ? w.vertex_view(p.node_ids, n, 1, Fill::U32ToF32) : -1;
+    v.ridge = p.ridge != nullptr ? w.vertex_view(p.ridge, n, 1) : -1;
     return v;
 }
 
@@ -80,6 +81,8 @@ tinygltf::Primitive chunk_triangles(Writer &w, const mer_mesh_part &p, const Par
         {"TEXCOORD_0", v.uv, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT},
         {"COLOR_0", v.col, TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE},
         {"_NODE_ID", v.ids, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT},
+        // b = F_b of an implicit junction (mesh.h, Junctions): 0 on tubes, 1 on the ridge.
+        {"_RIDGE", v.ridge, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT},
     };
     for (const auto &a : attributes)
         if (a.view >= 0)

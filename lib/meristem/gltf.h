@@ -74,7 +74,9 @@ typedef struct mer_gltf_options {
  * (material "bark") and, when present, the leaves (material "leaf",
  * double-sided); node "markers" with a POINTS primitive when the mesh has
  * markers. Attributes: POSITION (with min/max), NORMAL, TEXCOORD_0, COLOR_0
- * (when the mesh has colours) and `_NODE_ID`; indices UNSIGNED_SHORT when a
+ * (when the mesh has colours), `_NODE_ID` and, with implicit junctions, `_RIDGE`
+ * (FLOAT, b = F_b: 0 on tubes, up to 1 on a branch bark ridge, for a renderer
+ * to darken and roughen the bark there; mesh.h, Junctions); indices UNSIGNED_SHORT when a
  * chunk has at most 65535 vertices (every chunk is one primitive), else
  * UNSIGNED_INT. A twig chunk (mesh.h, Twig lines) has extras {"twig": true}
  * and is followed by a LINES primitive of its line segments (material "twig",

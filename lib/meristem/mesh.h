@@ -62,6 +62,25 @@
  * decides from its own projection instead. Without the option, axes are meshed
  * in id order and nothing is flagged.
  *
+ * Junctions (G04 §3, issue 18). With `junctions` = MER_JUNCTIONS_IMPLICIT, a
+ * fork whose parent internode is at least `junction_diameter` thick (0: a fifth
+ * of the tree's thickest) and that has a lateral at least a quarter as thick is
+ * an implicit surface instead of tubes that pierce each other: the junction's
+ * field (summation blend, PCM and generalized bounded blending: the branch bark
+ * ridge) is polygonized in a small grid sized to its radii, each shaft's tube
+ * ends at an extra ring just outside the other primitives' supports, and the
+ * patch is stitched to those rings, so bark is one closed surface there. A fork
+ * whose cuts do not fit in its internodes (short, thick internodes; laterals
+ * nearly along their parent) stays tubes. In this mode every lateral that is
+ * not in a patch gets a base disk, so the whole bark is closed (a 2-manifold
+ * once vertices of equal position are welded; the UV seams and disks keep
+ * their own vertices). Each bark vertex then carries b = F_b(p), the bounding
+ * field's value (0 on tubes, up to 1 on the ridge), in `ridge` (glTF
+ * `_RIDGE`); with a colour mode the colour is darkened by it. Patch UVs
+ * continue the bark's of the nearest shaft (u by angle in that shaft's ring
+ * frame, v by arc length), with seam vertices of their own. The ridge grows in
+ * with the lateral's age: full after four steps.
+ *
  * Colours. Optionally a COLOR_0 per vertex: by branch order (a fixed palette),
  * by light Q (the subtree's light at the last step, dark blue → yellow, scaled
  * by the largest Q), or by age (young green → old brown, scaled by the step).
@@ -87,6 +106,11 @@ typedef enum mer_color_mode {
 } mer_color_mode;
 
 /* All-zero means defaults. */
+typedef enum mer_junction_mode {
+    MER_JUNCTIONS_TUBES = 0,   /* forks as tubes that pierce each other (default) */
+    MER_JUNCTIONS_IMPLICIT = 1 /* forks of thick parents as implicit patches (Junctions) */
+} mer_junction_mode;
+
 typedef struct mer_mesh_options {
     uint32_t detail;   /* 1..5; 0: MER_MESH_DETAIL_DEFAULT */
     uint32_t leaves;   /* 1: leaf cards; 0: none */
@@ -98,6 +122,9 @@ typedef struct mer_mesh_options {
                           no texture, and rings without the seam vertex (a 3-sided
                           twig's ring is 3 vertices, not 4); 0: UVs as above */
     uint32_t twig_lines; /* 1: twig lines and twig chunks (see Twig lines) */
+    uint32_t junctions;  /* mer_junction_mode; 0: tubes */
+    float junction_diameter; /* implicit junctions where the parent is at least this
+                                thick; 0: a fifth of the thickest internode */
 } mer_mesh_options;
 
 #define MER_MESH_DETAIL_MAX 5
@@ -131,6 +158,7 @@ typedef struct mer_mesh_part {
                                seen from outside */
     uint32_t line_index_count; /* twig line segments × 2 (see Twig lines); 0 without */
     uint32_t *line_indices;    /* relative to their chunk's first vertex, like indices */
+    float *ridge;              /* 1 per vertex with implicit junctions: b = F_b (Junctions) */
 } mer_mesh_part;
 
 typedef struct mer_mesh {
@@ -141,6 +169,7 @@ typedef struct mer_mesh {
     float *points;          /* 3 per marker */
     uint32_t axes;          /* generalized cylinders in `bark` */
     uint32_t internodes;    /* living internodes meshed */
+    uint32_t junctions;     /* forks meshed as implicit patches */
 } mer_mesh;
 
 /* Meshes the living part of `scene` as the header describes. `options` may be

@@ -54,6 +54,7 @@ mer_result merp_mesh_collect_axes(merp_builder *b, mer_error *err)
         a->first = id;
         a->count = 1;
         a->base_cap = trunk;
+        a->joints = 0;
         uint32_t last = id;
         while (alive(b, b->nodes[last].main_child)) {
             last = b->nodes[last].main_child;

@@ -37,6 +37,13 @@ static mer_result resolve_options(const mer_mesh_options *in, const mer_params *
     if (!(out->leaf_size >= 0.0f && out->leaf_size <= 1000.0f))
         return mer_error_set(err, MER_ERR_RANGE, "leaf_size",
                              "leaf size must be from 0 to 1000, got %g", (double)out->leaf_size);
+    if (out->junctions > MER_JUNCTIONS_IMPLICIT)
+        return mer_error_set(err, MER_ERR_RANGE, "junctions",
+                             "junctions must be tubes or implicit (0 or 1), got %u", out->junctions);
+    if (!(out->junction_diameter >= 0.0f && out->junction_diameter <= 1000.0f))
+        return mer_error_set(err, MER_ERR_RANGE, "junction_diameter",
+                             "junction diameter must be from 0 to 1000, got %g",
+                             (double)out->junction_diameter);
     if (out->leaf_size == 0.0f)
         out->leaf_size = 0.8f * p->internode_length;
     if (out->leaf_age == 0)
@@ -103,7 +110,7 @@ static mer_result load_nodes(merp_builder *b, mer_error *err)
 /* The mesh's exact size, known once the axes are: meshing writes exactly this
  * many vertices and indices (asserted at the end of mer_mesh_build). */
 typedef struct mesh_size {
-    uint64_t bark_vertices, bark_indices, line_indices, leaves, internodes;
+    uint64_t bark_vertices, bark_indices, line_indices, leaves, internodes, junctions;
     float twig_diameter_max;
 } mesh_size;
 
@@ -122,6 +129,14 @@ static void mesh_bound(const merp_builder *b, mesh_size *out)
         }
     }
     out->leaves = merp_mesh_leaf_count(b);
+    if (b->joints != NULL) {
+        uint64_t v, i;
+        merp_mesh_joints_size(b, &v, &i);
+        out->bark_vertices += v;
+        out->bark_indices += i;
+        for (uint32_t k = 0; k < b->joint_count; k++)
+            out->junctions += b->joints[k].ok;
+    }
 }
 
 static mer_result allocate_part(mer_mesh_part *part, uint64_t vertices, uint64_t indices,
@@ -160,6 +175,12 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
         rc = allocate_part(&m->leaves, 4 * size.leaves, 6 * size.leaves, colors, uvs, err);
     if (rc != MER_OK)
         return rc;
+    if (b->opt.junctions == MER_JUNCTIONS_IMPLICIT && m->bark.vertex_count > 0) {
+        m->bark.ridge = merp_calloc(m->bark.vertex_count, sizeof(float));
+        if (m->bark.ridge == NULL)
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for ridge values");
+    }
+    m->junctions = (uint32_t)size.junctions;
     if (size.line_indices > 0) {
         m->bark.line_indices = merp_malloc(size.line_indices * sizeof(uint32_t));
         if (m->bark.line_indices == NULL)
@@ -199,6 +220,7 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
     if (b.mesh == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a mesh");
     if ((rc = load_nodes(&b, err)) == MER_OK && (rc = merp_mesh_collect_axes(&b, err)) == MER_OK &&
+        (b.opt.junctions != MER_JUNCTIONS_IMPLICIT || (rc = merp_mesh_joints(&b, err)) == MER_OK) &&
         (rc = allocate_mesh(&b, err)) == MER_OK && (rc = merp_mesh_bark(&b, err)) == MER_OK &&
         (!b.opt.leaves || (rc = merp_mesh_leaves(&b, err)) == MER_OK) &&
         (!b.opt.markers || (rc = add_markers(&b, err)) == MER_OK)) {
@@ -214,6 +236,7 @@ mer_result mer_mesh_build(const mer_scene *scene, const mer_mesh_options *option
     merp_free(b.axes);
     merp_free(b.chain);
     merp_free(b.radii);
+    merp_mesh_joints_free(&b);
     mer_mesh_free(b.mesh);
     return rc;
 }
@@ -228,6 +251,7 @@ static void free_part(mer_mesh_part *part)
     merp_free(part->node_ids);
     merp_free(part->indices);
     merp_free(part->line_indices);
+    merp_free(part->ridge);
 }
 
 void mer_mesh_free(mer_mesh *mesh)

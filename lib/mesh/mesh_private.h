@@ -14,6 +14,7 @@
 #include <meristem/scene.h>
 
 #include "core/vec.h"
+#include "mesh/implicit/implicit.h"
 
 #define MERP_MAX_SIDES 16 /* the sides of the thickest axis at MER_MESH_DETAIL_MAX */
 
@@ -25,8 +26,30 @@ typedef struct merp_axis {
     uint32_t count;   /* internodes along it, >= 1 */
     uint32_t sides;   /* 3 .. MERP_MAX_SIDES */
     uint8_t end;      /* enum merp_axis_end */
-    uint8_t base_cap; /* 1 for a plant's trunk */
+    uint8_t base_cap; /* 1 for a plant's trunk (and, with implicit junctions, a
+                         lateral that starts in no patch) */
+    uint32_t joints;  /* implicit junctions along it: one more ring each */
 } merp_axis;
+
+/* The cuts of an implicit junction (mesh.h, Junctions): the parent's shaft
+ * below J, its continuation above, and each lateral in the patch. */
+enum { MERP_CUT_IN, MERP_CUT_OUT, MERP_CUT_LATERAL };
+
+/* One fork meshed as an implicit patch (joints.c). */
+typedef struct merp_joint {
+    uint32_t node[MERP_PATCH_CUTS]; /* the internode each cut lies in: P, C, L_k */
+    uint32_t cuts;                  /* 2 + laterals in the patch */
+    float d[MERP_PATCH_CUTS];       /* each cut's distance from J along its shaft */
+    float ring[MERP_PATCH_CUTS][3 * MERP_MAX_SIDES]; /* the tube's ring at each cut */
+    float frame[MERP_PATCH_CUTS][2][3]; /* that ring's frame normal and binormal */
+    float v[MERP_PATCH_CUTS];       /* that ring's UV v */
+    uint32_t sides[MERP_PATCH_CUTS];
+    bool ok;                        /* planned, and its patch built */
+    merp_junction field;
+    merp_trimesh mesh;              /* the patch, ring copies last */
+    float *uvs, *ridge;             /* 2 and 1 per patch vertex */
+    uint8_t *shaft;                 /* the cut whose shaft is nearest each vertex */
+} merp_joint;
 
 /* Where the next vertex and index of a part go, and the chunk being filled. */
 typedef struct merp_cursor {
@@ -54,6 +77,13 @@ typedef struct merp_builder {
     float *radii;           /* scratch: its ring radii */
     uint32_t chain_cap;
     merp_cursor bark, leaves; /* write positions */
+    /* Implicit junctions (joints.c); all NULL/0 without them. */
+    merp_joint *joints;
+    uint32_t joint_count;
+    uint32_t *joint_at;     /* by node id: the joint at its tip, or UINT32_MAX */
+    uint32_t *lateral_in;   /* by node id: joint · MERP_PATCH_CUTS + cut of a lateral
+                               whose shaft starts in a patch, or UINT32_MAX */
+    bool dry;               /* tube.c only records the cut rings, writes nothing */
 } merp_builder;
 
 static inline float merp_clampf(float x, float lo, float hi)
@@ -87,7 +117,7 @@ static inline uint64_t merp_axis_vertices(const merp_axis *a, bool seam)
 {
     const uint64_t ring = seam ? a->sides + 1 : a->sides, cap = a->sides + 1;  // cap: centre + rim
     const uint64_t v = a->end == MERP_END_TIP ? a->count * ring + 1 : (a->count + 1) * ring + cap;
-    return a->base_cap ? v + cap : v;
+    return (a->base_cap ? v + cap : v) + a->joints * ring;
 }
 
 /* Exactly the indices tube.c writes for `a`: two triangles per side between
@@ -104,6 +134,31 @@ static inline uint64_t merp_axis_indices(const merp_axis *a)
 /* Meshes every axis into the bark part, allocated to merp_axis_vertices and
  * merp_axis_indices (see build.c): with twig lines the thicker axes first. */
 mer_result merp_mesh_bark(merp_builder *b, mer_error *err);
+
+/* Walks axis a's rings as merp_mesh_bark does, writing nothing, and records
+ * each cut ring's positions, frame and UV v in its joint (for joints.c). */
+mer_result merp_mesh_record_rings(merp_builder *b, const merp_axis *a, mer_error *err);
+
+/* -------------------------------------------------------------- joints.c */
+
+/* The joint (a patched fork) at node id's tip, or NULL. */
+static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id)
+{
+    if (b->joint_at == NULL || b->joint_at[id] == UINT32_MAX)
+        return NULL;
+    return &b->joints[b->joint_at[id]];
+}
+
+/* With implicit junctions: plans the forks to patch (cut distances that fit
+ * their internodes), records their rings (a dry run of tube.c), builds each
+ * patch (a fork whose patch fails stays tubes), and sets every axis's
+ * `joints` and lateral base caps. Errors: MER_ERR_NOMEM. */
+mer_result merp_mesh_joints(merp_builder *b, mer_error *err);
+/* The patch vertices and indices to add to the bark. */
+void merp_mesh_joints_size(const merp_builder *b, uint64_t *vertices, uint64_t *indices);
+/* Writes every patch into the bark (a group each, after the thicker axes). */
+mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err);
+void merp_mesh_joints_free(merp_builder *b);
 
 /* -------------------------------------------------------------- leaves.c */
 

@@ -15,6 +15,7 @@ typedef struct tube {
     uint32_t sides, stride;     /* stride: vertices per ring, with the seam vertex if any */
     uint32_t rings;             /* rings written: a tip ends in a cone, a cut in a ring */
     uint32_t ring0;             /* the first ring's first vertex */
+    uint32_t prev_ring;         /* the last ring's first vertex */
     float t_prev[3], normal[3]; /* the last ring's tangent and frame normal */
     float v;                    /* arc length / circumference so far (UV v) */
 } tube;
@@ -76,51 +77,117 @@ static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center
     tb->v += circumference > 0.0f ? below->length / circumference : 0.0f;
 }
 
-/* Ring i, and the quads joining it to ring i - 1. */
-static void ring(merp_builder *b, tube *tb, uint32_t i)
+/* A ring about `center` in the plane ⊥ t (the frame carried to t), normals
+ * tilted by `slope` (the local taper, so a cone shades as a cone), UV v `v`,
+ * joined by quads to the last ring when `join`. A cut ring of joint `jt`
+ * (mesh.h, Junctions) is recorded there on a dry run and copied from there
+ * otherwise, so the patch's copies of it match bit for bit. */
+static void emit_ring(merp_builder *b, tube *tb, const float center[3], const float t[3],
+                      float radius, float slope, float v, const mer_node *owner, bool join,
+                      merp_joint *jt, uint32_t cut)
 {
     merp_cursor *c = &b->bark;
-    const uint32_t count = tb->a->count, sides = tb->sides, stride = tb->stride;
-    const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
-    const float *r = b->radii;
-    float center[3], t[3];
-    ring_place(b, tb, i, center, t);
+    const uint32_t sides = tb->sides, stride = tb->stride;
     transport(tb->normal, tb->t_prev, t);
     memcpy(tb->t_prev, t, sizeof tb->t_prev);
     float bin[3];
     v3_cross(t, tb->normal, bin);
-
-    // Tilt normals by the local taper (central difference of the radii), so a
-    // cone shades as a cone.
-    uint32_t lo = i > 0 ? i - 1 : 0, hi = i < count ? i + 1 : count;
-    float span = 0.0f;
-    for (uint32_t k = lo; k < hi; k++)
-        span += b->nodes[b->chain[k < count ? k : count - 1]].length;
-    float slope = span > 0.0f ? (r[lo] - r[hi]) / span : 0.0f;
     // radial ⊥ t and both are unit, so |radial + slope·t| is the same all round.
     const float inv = 1.0f / sqrtf(1.0f + slope * slope);
-
+    if (b->dry) {
+        if (jt == NULL)
+            return;
+        for (uint32_t j = 0; j < sides; j++)
+            for (int k = 0; k < 3; k++)
+                jt->ring[cut][3 * j + k] =
+                    center[k] + radius * (tb->cos_t[j] * tb->normal[k] + tb->sin_t[j] * bin[k]);
+        memcpy(jt->frame[cut][0], tb->normal, sizeof tb->normal);
+        memcpy(jt->frame[cut][1], bin, sizeof bin);
+        jt->v[cut] = v;
+        jt->sides[cut] = sides;
+        return;
+    }
     const uint32_t first = merp_take_vertices(c, stride);
-    const float v = tb->v;
     mer_mesh_part *part = c->part;
     for (uint32_t j = 0; j < stride; j++) {
         uint32_t jj = j == sides ? 0 : j;
         float radial[3], p[3], nrm[3];
         for (int k = 0; k < 3; k++) {
             radial[k] = tb->cos_t[jj] * tb->normal[k] + tb->sin_t[jj] * bin[k];
-            p[k] = center[k] + r[i] * radial[k];
+            p[k] = center[k] + radius * radial[k];
             nrm[k] = (radial[k] + slope * t[k]) * inv;
         }
+        if (jt != NULL)
+            memcpy(p, jt->ring[cut] + 3 * jj, sizeof p);
         merp_set_vertex(part, first + j, p, nrm, (float)j / (float)sides, v, owner->id);
     }
     merp_mesh_color(b, part, first, stride, owner);
-    if (i > 0) {
-        uint32_t below_ring = tb->ring0 + (i - 1) * stride, this_ring = tb->ring0 + i * stride;
+    if (join) {
+        uint32_t below_ring = tb->prev_ring, this_ring = first;
         for (uint32_t j = 0; j < sides; j++) {
             uint32_t k = next_on_ring(j, stride);
             merp_put_triangle(c, below_ring + j, below_ring + k, this_ring + k);
             merp_put_triangle(c, below_ring + j, this_ring + k, this_ring + j);
         }
+    }
+    tb->prev_ring = first;
+}
+
+/* Ring i, and the quads joining it to ring i - 1. */
+static void ring(merp_builder *b, tube *tb, uint32_t i)
+{
+    const uint32_t count = tb->a->count;
+    const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
+    const float *r = b->radii;
+    float center[3], t[3];
+    ring_place(b, tb, i, center, t);
+    uint32_t lo = i > 0 ? i - 1 : 0, hi = i < count ? i + 1 : count;
+    float span = 0.0f;
+    for (uint32_t k = lo; k < hi; k++)
+        span += b->nodes[b->chain[k < count ? k : count - 1]].length;
+    float slope = span > 0.0f ? (r[lo] - r[hi]) / span : 0.0f;
+    emit_ring(b, tb, center, t, r[i], slope, tb->v, owner, i > 0, NULL, 0);
+}
+
+/* Joint jt's cut ring `cut`, at distance s along the axis's internode k. */
+static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, uint32_t k, float s,
+                     bool join)
+{
+    const mer_node *n = &b->nodes[b->chain[k]];
+    const float *r = b->radii;
+    float f = n->length > 0.0f ? s / n->length : 0.0f, center[3];
+    for (int a = 0; a < 3; a++)
+        center[a] = n->base[a] + s * n->dir[a];
+    float slope = n->length > 0.0f ? (r[k] - r[k + 1]) / n->length : 0.0f;
+    float circumference = MERP_TWO_PI * 0.5f * (r[k] + r[k + 1]);
+    float v = tb->v + (circumference > 0.0f ? s / circumference : 0.0f);
+    emit_ring(b, tb, center, n->dir, r[k] + (r[k + 1] - r[k]) * f, slope, v, n, join, jt, cut);
+}
+
+/* The rings of an axis with implicit junctions: a lateral that starts in a
+ * patch starts at its cut; at a patched fork the ring at J is replaced by the
+ * cut rings below and above it, which the patch joins. */
+static void rings_with_joints(merp_builder *b, tube *tb)
+{
+    const uint32_t count = tb->a->count;
+    uint32_t li = b->lateral_in[b->chain[0]];
+    for (uint32_t i = 0; i < tb->rings; i++) {
+        if (i == 0 && li != UINT32_MAX) {
+            merp_joint *jt = &b->joints[li / MERP_PATCH_CUTS];
+            cut_ring(b, tb, jt, li % MERP_PATCH_CUTS, 0, jt->d[li % MERP_PATCH_CUTS], false);
+            continue;
+        }
+        uint32_t at = i > 0 && i < count ? b->joint_at[b->chain[i - 1]] : UINT32_MAX;
+        if (at == UINT32_MAX) {
+            ring(b, tb, i);
+            continue;
+        }
+        merp_joint *jt = &b->joints[at];
+        const mer_node *P = &b->nodes[b->chain[i - 1]];
+        cut_ring(b, tb, jt, MERP_CUT_IN, i - 1, P->length - jt->d[MERP_CUT_IN], true);
+        float center[3], t[3];
+        ring_place(b, tb, i, center, t); /* only to carry v to ring i */
+        cut_ring(b, tb, jt, MERP_CUT_OUT, i, jt->d[MERP_CUT_OUT], false);
     }
 }
 
@@ -156,7 +223,7 @@ static void tip(merp_builder *b, tube *tb)
     merp_cursor *c = &b->bark;
     const merp_axis *a = tb->a;
     const mer_node *last = &b->nodes[b->chain[a->count - 1]];
-    const uint32_t top_ring = tb->ring0 + (tb->rings - 1) * tb->stride;
+    const uint32_t top_ring = tb->prev_ring;
     float end[3];
     merp_tip_of(last, end);
     if (a->end != MERP_END_TIP) {
@@ -173,6 +240,23 @@ static void tip(merp_builder *b, tube *tb)
         merp_put_line(c, top_ring, apex);
 }
 
+/* The tube of axis a before its first ring: the chain, the ring layout and
+ * a deterministic start frame (horizontal where it can be). */
+static void tube_start(merp_builder *b, const merp_axis *a, const float *cos_t, const float *sin_t,
+                       tube *tb)
+{
+    const bool seam = !b->opt.no_uvs; // a ring repeats its first vertex at u = 1 for the UV seam
+    *tb = (tube){.a = a, .cos_t = cos_t, .sin_t = sin_t, .sides = a->sides,
+                 .stride = seam ? a->sides + 1 : a->sides,
+                 .rings = a->end == MERP_END_TIP ? a->count : a->count + 1, .ring0 = b->bark.v};
+    const mer_node *first = &b->nodes[b->chain[0]];
+    memcpy(tb->t_prev, first->dir, sizeof tb->t_prev);
+    const float up[3] = {0.0f, 1.0f, 0.0f};
+    v3_cross(up, tb->t_prev, tb->normal);
+    if (!v3_normalize(tb->normal))
+        v3_any_perp(tb->t_prev, tb->normal);
+}
+
 static mer_result mesh_axis(merp_builder *b, const merp_axis *a, const float *cos_t,
                             const float *sin_t, mer_error *err)
 {
@@ -183,23 +267,16 @@ static mer_result mesh_axis(merp_builder *b, const merp_axis *a, const float *co
     if (rc != MER_OK)
         return rc;
     merp_cursor *c = &b->bark;
-    // A ring repeats its first vertex at u = 1 for the UV seam; without UVs it need not.
-    const bool seam = !b->opt.no_uvs;
-    tube tb = {.a = a, .cos_t = cos_t, .sin_t = sin_t, .sides = a->sides,
-               .stride = seam ? a->sides + 1 : a->sides,
-               .rings = a->end == MERP_END_TIP ? a->count : a->count + 1, .ring0 = c->v};
+    tube tb;
+    tube_start(b, a, cos_t, sin_t, &tb);
     const mer_node *first = &b->nodes[b->chain[0]];
-    memcpy(tb.t_prev, first->dir, sizeof tb.t_prev);
-    // A deterministic start frame: horizontal where it can be.
-    const float up[3] = {0.0f, 1.0f, 0.0f};
-    v3_cross(up, tb.t_prev, tb.normal);
-    if (!v3_normalize(tb.normal))
-        v3_any_perp(tb.t_prev, tb.normal);
-
-    for (uint32_t i = 0; i < tb.rings; i++)
-        ring(b, &tb, i);
+    if (b->joints != NULL)
+        rings_with_joints(b, &tb);
+    else
+        for (uint32_t i = 0; i < tb.rings; i++)
+            ring(b, &tb, i);
     // A twig's line runs along its prism's first edge: at under a pixel wide, the
-    // edge and the centre line are the same pixels.
+    // edge and the centre line are the same pixels (a twig is in no patch).
     if (c->twig)
         for (uint32_t i = 0; i + 1 < tb.rings; i++)
             merp_put_line(c, tb.ring0 + i * tb.stride, tb.ring0 + (i + 1) * tb.stride);
@@ -209,6 +286,30 @@ static mer_result mesh_axis(merp_builder *b, const merp_axis *a, const float *co
         const float down[3] = {-first->dir[0], -first->dir[1], -first->dir[2]};
         disk(b, &tb, tb.ring0, first->base, down, -1.0f, true, first);
     }
+    return MER_OK;
+}
+
+static void angle_table(uint32_t sides, float *cos_t, float *sin_t)
+{
+    for (uint32_t j = 0; j < sides; j++) {
+        float angle = MERP_TWO_PI * (float)j / (float)sides;
+        cos_t[j] = cosf(angle);
+        sin_t[j] = sinf(angle);
+    }
+}
+
+mer_result merp_mesh_record_rings(merp_builder *b, const merp_axis *a, mer_error *err)
+{
+    float cos_t[MERP_MAX_SIDES], sin_t[MERP_MAX_SIDES];
+    mer_result rc = merp_mesh_chain(b, a, err);
+    if (rc != MER_OK)
+        return rc;
+    angle_table(a->sides, cos_t, sin_t);
+    tube tb;
+    b->dry = true;
+    tube_start(b, a, cos_t, sin_t, &tb);
+    rings_with_joints(b, &tb);
+    b->dry = false;
     return MER_OK;
 }
 
@@ -225,17 +326,17 @@ mer_result merp_mesh_bark(merp_builder *b, mer_error *err)
             if (passes == 2 && merp_mesh_is_twig(b, a) != (pass == 1))
                 continue;
             if (a->sides != table_sides) {
-                for (uint32_t j = 0; j < a->sides; j++) {
-                    float angle = MERP_TWO_PI * (float)j / (float)a->sides;
-                    cos_t[j] = cosf(angle);
-                    sin_t[j] = sinf(angle);
-                }
+                angle_table(a->sides, cos_t, sin_t);
                 table_sides = a->sides;
             }
             mer_result rc = mesh_axis(b, a, cos_t, sin_t, err);
             if (rc != MER_OK)
                 return rc;
         }
+        // The junctions' patches after the thicker axes, never in twig chunks.
+        mer_result rc = pass == 0 && b->joints != NULL ? merp_mesh_joints_write(b, err) : MER_OK;
+        if (rc != MER_OK)
+            return rc;
     }
     return MER_OK;
 }

@@ -11,7 +11,7 @@
 #include "server/codec.h"
 
 #define GLB_OPTIONS "detail", "leaves", "markers", "quantize", "texcoords", "twig_lines", \
-    "compress", "color"
+    "compress", "color", "junctions"
 const char *const merd_api_glb_option_keys[] = {GLB_OPTIONS, NULL};
 const char *const merd_api_snapshot_keys[] = {GLB_OPTIONS, "revision", "t", NULL};
 
@@ -76,6 +76,14 @@ int merd_api_snapshot_options(merd_request *req, merd_snapshot_options *o, merd_
             return merd_refuse(why, 422, "out-of-range", "color",
                                "color must be none, order, light or age, got '%.40s'", color);
         o->mesh.color = (uint32_t)mode;
+    }
+    const char *junctions = query(req, "junctions");
+    if (junctions != NULL) {
+        int mode = merd_junctions_parse(junctions);
+        if (mode < 0)
+            return merd_refuse(why, 422, "out-of-range", "junctions",
+                               "junctions must be tubes or implicit, got '%.40s'", junctions);
+        o->mesh.junctions = (uint32_t)mode;
     }
     return 0;
 }

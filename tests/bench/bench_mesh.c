@@ -3,9 +3,10 @@
  * several times and prints the best time, triangles per second and bytes per
  * internode. Not a test: nothing here passes or fails on time.
  *
- *   tests/bench/bench_mesh [INTERNODES] [DETAIL] [compact]   (default 10000 3)
+ *   tests/bench/bench_mesh [INTERNODES] [DETAIL] [compact|implicit]   (default 10000 3)
  *
  * "compact" encodes the brush client's snapshot: no UVs, twig lines, EXT_meshopt_compression.
+ * "implicit" meshes forks of thick branches as implicit junctions (mesh.h, Junctions).
  */
 #include "config.h"
 
@@ -40,6 +41,7 @@ int main(int argc, char **argv)
     uint32_t target = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 10000;
     uint32_t detail = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : MER_MESH_DETAIL_DEFAULT;
     const int compact = argc > 3 && strcmp(argv[3], "compact") == 0;
+    const int implicit = argc > 3 && strcmp(argv[3], "implicit") == 0;
     // As meristemd does: keep freed memory for the next snapshot instead of
     // handing it back to the kernel and faulting it in again.
     mallopt(M_MMAP_THRESHOLD, 256 << 20);
@@ -65,12 +67,13 @@ int main(int argc, char **argv)
     mer_summary sum;
     mer_scene_summary(scene, &sum);
 
-    mer_mesh_options opt = {.detail = detail, .no_uvs = (uint32_t)compact, .twig_lines = (uint32_t)compact};
+    mer_mesh_options opt = {.detail = detail, .no_uvs = (uint32_t)compact, .twig_lines = (uint32_t)compact,
+                            .junctions = implicit ? MER_JUNCTIONS_IMPLICIT : MER_JUNCTIONS_TUBES};
     mer_gltf_options gopt = {.compression = compact ? MER_GLTF_MESHOPT : MER_GLTF_UNCOMPRESSED};
     double best_mesh = 1e9, best_glb = 1e9, cold = 0;
     size_t bytes = 0;
-    uint32_t triangles = 0, vertices = 0;
-    const int reps = sum.internodes > 100000 ? 3 : 20;
+    uint32_t triangles = 0, vertices = 0, junctions = 0;
+    const int reps = sum.internodes > 100000 || implicit ? 3 : 20;
     for (int r = 0; r < reps; r++) {
         double t0 = now();
         mer_mesh *mesh = NULL;
@@ -87,6 +90,7 @@ int main(int argc, char **argv)
         double t2 = now();
         triangles = mesh->bark.index_count / 3;
         vertices = mesh->bark.vertex_count;
+        junctions = mesh->junctions;
         mer_gltf_free(glb);
         mer_mesh_free(mesh);
         if (r == 0)
@@ -97,6 +101,8 @@ int main(int argc, char **argv)
             best_glb = t2 - t1;
     }
     double total = best_mesh + best_glb;
+    if (implicit)
+        printf("implicit junctions %u  ", junctions);
     printf("%s  internodes %u  steps %u  detail %u  vertices %u  triangles %u  "
            "mesh %.1f ms  glb %.1f ms  total %.1f ms (first run %.1f ms)  %.1f Mtriangles/s  %zu bytes  "
            "%.1f bytes/internode\n",

@@ -51,6 +51,7 @@ bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/be
 	@./tests/bench/bench_mesh$(EXEEXT) 10000
 	@./tests/bench/bench_mesh$(EXEEXT) 10000 2 compact
 	@./tests/bench/bench_mesh$(EXEEXT) 700000
+	@./tests/bench/bench_mesh$(EXEEXT) 10000 3 implicit
 	@./tests/bench/bench_lsystem$(EXEEXT) --header
 	@./tests/bench/bench_lsystem$(EXEEXT) string $(BENCH_RUNS)
 	@./tests/bench/bench_lsystem$(EXEEXT) step $(BENCH_RUNS)

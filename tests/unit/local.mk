@@ -261,3 +261,9 @@ check_PROGRAMS += tests/unit/test_forest
 tests_unit_test_forest_SOURCES = tests/unit/test_forest.c tests/unit/scene_helpers.h
 tests_unit_test_forest_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_forest_LDADD = $(UNIT_LDADD)
+
+check_PROGRAMS += tests/unit/test_junctions
+tests_unit_test_junctions_SOURCES = tests/unit/test_junctions.c tests/unit/trimesh_check.h
+nodist_EXTRA_tests_unit_test_junctions_SOURCES = tests/unit/link-as-cxx.cc
+tests_unit_test_junctions_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_junctions_LDADD = $(UNIT_LDADD)

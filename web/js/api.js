@@ -72,9 +72,10 @@ export function skeleton(id) {
  * assimp and every other glTF importer read.
  */
 export function snapshotUrl(id, { detail = 3, leaves = false, markers = false, color = 'none',
-  compact = false, revision = null, t = null } = {}) {
+  compact = false, revision = null, t = null, junctions = false } = {}) {
   const q = new URLSearchParams({ detail: String(detail), leaves: leaves ? '1' : '0',
     markers: markers ? '1' : '0', color });
+  if (junctions) q.set('junctions', 'implicit');  // forks as implicit surfaces (slow on big trees)
   if (compact) {
     q.set('quantize', '1');
     q.set('texcoords', '0');

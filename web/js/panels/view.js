@@ -6,7 +6,20 @@ import { $ } from '../util.js';
 /** The snapshot options the panel selects (api.snapshotUrl's). */
 export function viewOptions() {
   return { detail: Number($('#detail').value), leaves: $('#show-leaves').checked,
-    markers: $('#show-markers').checked, color: $('#color').value };
+    markers: $('#show-markers').checked, color: $('#color').value, junctions: $('#junctions').checked };
+}
+
+/** The thickest fork with a lateral at least a quarter as thick as its parent (the
+ * forks implicit junctions mesh first): its point and its parent's diameter, or null. */
+export function thickestFork(nodes) {
+  const byId = new Map(nodes.map((n) => [n.id, n]));
+  let best = null;
+  for (const n of nodes) {
+    const p = n.parent === null ? null : byId.get(n.parent);
+    if (!p || !n.alive || n.order <= p.order || n.diameter < 0.25 * p.diameter) continue;
+    if (!best || p.diameter > best.diameter) best = { at: p.tip, diameter: p.diameter };
+  }
+  return best;
 }
 
 /** Sets the panel from a gallery page's query (?view=gallery&markers=1&leaves=0&detail=3&color=order). */
@@ -15,6 +28,7 @@ export function viewFromQuery(params) {
   $('#show-leaves').checked = params.get('leaves') !== '0';
   $('#detail').value = params.get('detail') || '3';
   if (params.get('color')) $('#color').value = params.get('color');
+  $('#junctions').checked = params.get('junctions') === 'implicit';
 }
 
 export class ViewPanel {
@@ -29,6 +43,14 @@ export class ViewPanel {
     $('#show-grid').addEventListener('change', (e) => viewer.setGridVisible(e.target.checked));
     $('#color').addEventListener('change', refresh);
     $('#detail').addEventListener('change', refresh);
+    $('#junctions').addEventListener('change', refresh);
+    // A close-up of the thickest fork, where implicit junctions show their ridge.
+    $('#fork-close-up').addEventListener('click', () => {
+      session.skeleton().then((skel) => {
+        const fork = skel && thickestFork([...skel.byId.values()]);
+        if (fork) viewer.closeUp(fork.at, 3 * fork.diameter);
+      });
+    });
   }
 
   /** A new snapshot: the download link follows it (at detail 3 or more, uncompressed). */

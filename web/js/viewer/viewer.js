@@ -242,6 +242,21 @@ export class Viewer {
     this.requestRender();
   }
 
+  /** Looks at a small region (a fork's close-up): `center` from `r` away or so. */
+  closeUp(center, r) {
+    const c = new THREE.Vector3(...center);
+    const dir = this.camera.position.clone().sub(this.controls.target).normalize();
+    if (dir.lengthSq() < 0.5) dir.set(0.45, 0.28, 0.85).normalize();
+    const dist = r / Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    this.controls.target.copy(c);
+    this.camera.position.copy(c).addScaledVector(dir, dist);
+    this.camera.near = Math.max(0.001, dist / 200);
+    this.camera.far = dist * 400;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.requestRender();
+  }
+
   /** Normalized device coordinates of a client (CSS px) position. */
   ndc(clientX, clientY) {
     const rect = this.renderer.domElement.getBoundingClientRect();

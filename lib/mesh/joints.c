@@ -1,0 +1,545 @@
+/* meristem — implicit junctions in the bark (meristem/mesh.h, Junctions; G04
+ * §3, issue 18): which forks get a patch, where their shafts are cut, the
+ * patches built (lib/mesh/implicit/) with their UVs and ridge values, and
+ * written into the bark part. tube.c writes the cut rings. */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "core/alloc.h"
+#include "mesh_private.h"
+
+#define JUNCTION_DIAMETER_FRACTION 0.2f /* junction_diameter 0: this × the thickest */
+#define LATERAL_RATIO 0.25f  /* a lateral in a patch: at least this × its parent's diameter */
+#define SUPPORT_SEEN 0.8f    /* another primitive's field counts within this × its support */
+#define CUT_ROOM 0.85f       /* cuts take at most this fraction of an internode */
+#define REACH 1.15f          /* a cut acts within this × its shaft's radius (+ h) */
+#define SHELL 1.6f           /* the surface stays within this × a shaft's radius of its axis */
+#define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
+#define RIDGE_STEPS 4.0f     /* a lateral's ridge is full grown after this many steps */
+#define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
+#define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
+#define MAX_CELLS 200000u    /* a patch's grid at most; a fork that needs more stays tubes */
+
+static float radius_of(const merp_builder *b, uint32_t id)
+{
+    return 0.5f * b->nodes[id].diameter;
+}
+
+/* The radius at the end of internode id, as tube.c's next ring has it. */
+static float end_radius(const merp_builder *b, uint32_t id)
+{
+    uint32_t c = b->nodes[id].main_child;
+    return c != MER_NO_NODE && b->nodes[c].alive ? radius_of(b, c) : radius_of(b, id);
+}
+
+/* A living tip's last internode is a cone (tube.c): no cut fits in it. */
+static bool usable(const merp_builder *b, uint32_t id)
+{
+    if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || b->nodes[id].length <= 0.0f)
+        return false;
+    const mer_node *n = &b->nodes[id];
+    bool child = n->main_child != MER_NO_NODE && b->nodes[n->main_child].alive;
+    return child || n->terminal_bud == MER_BUD_NONE;
+}
+
+static void segment_of(const merp_builder *b, uint32_t id, merp_seg *s)
+{
+    const mer_node *n = &b->nodes[id];
+    memcpy(s->a, n->base, sizeof s->a);
+    merp_tip_of(n, s->b);
+    s->ra = radius_of(b, id);
+    s->rb = end_radius(b, id);
+}
+
+/* A patch's grid spacing: a few cells across the parent, about one across
+ * its thinnest lateral's radius (enough for marching tetrahedra to keep the
+ * tube, and the patch's cost). */
+static float cell_of(const merp_builder *b, const merp_joint *jt)
+{
+    float h = radius_of(b, jt->node[MERP_CUT_IN]) / CELLS_PER_RADIUS;
+    for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
+        h = fminf(h, radius_of(b, jt->node[s]) / CELLS_PER_LATERAL_RADIUS);
+    return h;
+}
+
+static int axis_cmp(const void *key, const void *elem)
+{
+    uint32_t id = *(const uint32_t *)key, first = ((const merp_axis *)elem)->first;
+    return id < first ? -1 : id > first;
+}
+
+static const merp_axis *axis_from(const merp_builder *b, uint32_t first)
+{
+    return bsearch(&first, b->axes, b->axis_count, sizeof *b->axes, axis_cmp);
+}
+
+/* How far along n from J a cut of a shaft of radius r (reach ρ) must lie to
+ * be clear of a primitive leaving J along m with support R: the disk at d
+ * is at least d·sin φ − ρ from that primitive's axis (φ between n and m), or
+ * d when m points back. -1 when they are too close to parallel. */
+static float clear_of(const float n[3], const float m[3], float R, float rho)
+{
+    float c = v3_dot(n, m);
+    if (c <= 0.0f)
+        return R;
+    float s = sqrtf(fmaxf(0.0f, 1.0f - c * c));
+    return s < 0.2f ? -1.0f : (R + rho) / s;
+}
+
+/* Plans the fork at P's tip into jt (cuts, field); false when it does not fit. */
+static bool plan_one(merp_builder *b, uint32_t P, const float *base_claim, merp_joint *jt)
+{
+    const mer_node *p = &b->nodes[P];
+    uint32_t C = p->main_child;
+    if (!usable(b, P) || !usable(b, C))
+        return false;
+    *jt = (merp_joint){.node = {P, C}, .cuts = 2};
+    merp_junction *f = &jt->field;
+    segment_of(b, P, &f->in);
+    segment_of(b, C, &f->out);
+    f->w = PCM_WIDTH;
+    for (int k = 0; k < 2; k++) {
+        uint32_t L = p->lateral_child[k];
+        if (!usable(b, L) || b->nodes[L].diameter < LATERAL_RATIO * p->diameter)
+            continue;
+        const merp_axis *a = axis_from(b, L);
+        float gap[3];
+        for (int i = 0; i < 3; i++)
+            gap[i] = b->nodes[L].base[i] - f->in.b[i];
+        if (a == NULL || merp_mesh_is_twig(b, a) || v3_len(gap) > 1e-4f * (1.0f + v3_len(f->in.b)))
+            continue;
+        segment_of(b, L, &f->lateral[f->laterals]);
+        jt->node[jt->cuts++] = L;
+        f->laterals++;
+    }
+    if (f->laterals == 0)
+        return false;
+    float h = cell_of(b, jt);
+    /* Each shaft's direction away from J, and its primitives' supports. */
+    float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS];
+    for (int i = 0; i < 3; i++)
+        dir[MERP_CUT_IN][i] = -p->dir[i];
+    for (uint32_t s = 1; s < jt->cuts; s++)
+        memcpy(dir[s], b->nodes[jt->node[s]].dir, sizeof dir[s]);
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        const merp_seg *g = s == 0 ? &f->in : s == 1 ? &f->out : &f->lateral[s - 2];
+        R[s] = SUPPORT_SEEN * merp_seg_support(g);
+    }
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        float r = radius_of(b, jt->node[s]), rho = REACH * r + h, d = r;
+        for (uint32_t o = 0; o < jt->cuts; o++) {
+            if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
+                continue;
+            float need = clear_of(dir[s], dir[o], R[o], rho);
+            if (need < 0.0f)
+                return false;
+            d = fmaxf(d, need);
+        }
+        jt->d[s] = d + 2.0f * h;
+        float room = CUT_ROOM * b->nodes[jt->node[s]].length - (s == 0 ? base_claim[P] : 0.0f);
+        if (jt->d[s] > room)
+            return false;
+    }
+    float ridge_up[3];
+    memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
+    for (uint32_t k = 0; k < f->laterals; k++) {
+        float age = (float)(b->step - b->nodes[jt->node[2 + k]].born);
+        merp_junction_bound(f, k, ridge_up, merp_clampf(age / RIDGE_STEPS, 0.0f, 1.0f));
+    }
+    return true;
+}
+
+static mer_result plan(merp_builder *b, mer_error *err)
+{
+    size_t n = b->node_count;
+    b->joint_at = merp_malloc((n ? n : 1) * sizeof *b->joint_at);
+    b->lateral_in = merp_malloc((n ? n : 1) * sizeof *b->lateral_in);
+    float *base_claim = merp_calloc(n ? n : 1, sizeof *base_claim);
+    uint32_t cap = 0;
+    mer_result rc = MER_OK;
+    if (b->joint_at == NULL || b->lateral_in == NULL || base_claim == NULL)
+        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
+    for (size_t i = 0; i < n && rc == MER_OK; i++)
+        b->joint_at[i] = b->lateral_in[i] = UINT32_MAX;
+    float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
+                                                      : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
+    merp_joint jt;
+    for (uint32_t id = 0; id < n && rc == MER_OK; id++) {
+        if (!b->nodes[id].alive || b->nodes[id].diameter < threshold || !plan_one(b, id, base_claim, &jt))
+            continue;
+        if (b->joint_count == cap) {
+            cap = cap ? 2 * cap : 16;
+            merp_joint *grown = merp_realloc(b->joints, cap * sizeof *grown);
+            if (grown == NULL) {
+                rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
+                break;
+            }
+            b->joints = grown;
+        }
+        jt.ok = true;
+        b->joints[b->joint_count] = jt;
+        b->joint_at[id] = b->joint_count;
+        for (uint32_t s = 1; s < jt.cuts; s++) {
+            base_claim[jt.node[s]] = jt.d[s];
+            if (s >= MERP_CUT_LATERAL)
+                b->lateral_in[jt.node[s]] = b->joint_count * MERP_PATCH_CUTS + s;
+        }
+        b->joint_count++;
+    }
+    merp_free(base_claim);
+    return rc;
+}
+
+/* A fork whose patch failed: its shafts are tubes again. */
+static void unplan(merp_builder *b, merp_joint *jt)
+{
+    jt->ok = false;
+    b->joint_at[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
+        b->lateral_in[jt->node[s]] = UINT32_MAX;
+}
+
+/* Each axis's joints and, for a lateral not in a patch, its base disk; with
+ * `record`, the cut rings of the axes that have any. */
+static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
+{
+    for (uint32_t i = 0; i < b->axis_count; i++) {
+        merp_axis *a = &b->axes[i];
+        const mer_node *first = &b->nodes[a->first];
+        bool starts_in = b->lateral_in[a->first] != UINT32_MAX;
+        a->base_cap = first->parent == MER_NO_NODE || !starts_in;
+        a->joints = 0;
+        uint32_t id = a->first;
+        for (uint32_t k = 0; k + 1 < a->count; k++, id = b->nodes[id].main_child)
+            a->joints += b->joint_at[id] != UINT32_MAX;
+        if (record && (a->joints > 0 || starts_in)) {
+            mer_result rc = merp_mesh_record_rings(b, a, err);
+            if (rc != MER_OK)
+                return rc;
+        }
+    }
+    return MER_OK;
+}
+
+/* The grid of jt's patch: the box of every shaft from J to just past its cut,
+ * grown by the shell its surface stays in, with cells of h. */
+static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g)
+{
+    const float *J = jt->field.in.b;
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++)
+        lo[k] = hi[k] = J[k];
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        const mer_node *n = &b->nodes[jt->node[s]];
+        float sign = s == MERP_CUT_IN ? -1.0f : 1.0f, reach = jt->d[s] + 2.0f * h;
+        float e = SHELL * fmaxf(radius_of(b, jt->node[s]), s < 2 ? radius_of(b, jt->node[0]) : 0.0f) + 2.0f * h;
+        for (int k = 0; k < 3; k++) {
+            float end = J[k] + sign * reach * n->dir[k];
+            lo[k] = fminf(lo[k], fminf(J[k], end) - e);
+            hi[k] = fmaxf(hi[k], fmaxf(J[k], end) + e);
+        }
+    }
+    uint64_t cells = 1;
+    g->h = h;
+    for (int k = 0; k < 3; k++) {
+        g->origin[k] = lo[k];
+        g->n[k] = (uint32_t)ceilf((hi[k] - lo[k]) / h);
+        g->n[k] = g->n[k] < 1 ? 1 : g->n[k];
+        cells *= g->n[k];
+    }
+    return cells <= MAX_CELLS;
+}
+
+/* The shaft nearest p: the smallest distance in units of the shaft's radius. */
+static uint32_t nearest_shaft(const merp_joint *jt, const float p[3])
+{
+    const merp_junction *f = &jt->field;
+    uint32_t best = 0;
+    float best_x = INFINITY;
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        const merp_seg *g = s == 0 ? &f->in : s == 1 ? &f->out : &f->lateral[s - 2];
+        float t, d = merp_seg_distance(g, p, &t), x = d / ((1.0f - t) * g->ra + t * g->rb);
+        if (x < best_x)
+            best_x = x, best = s;
+    }
+    return best;
+}
+
+/* Vertex k's UV on shaft s: u by angle in the cut ring's frame, v by arc
+ * length from the cut along the shaft (mesh.h, UVs). */
+static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, const float p[3],
+                     float uv[2])
+{
+    const mer_node *n = &b->nodes[jt->node[s]];
+    float o[3], q[3];
+    float at = s == MERP_CUT_IN ? n->length - jt->d[s] : jt->d[s];
+    for (int k = 0; k < 3; k++) {
+        o[k] = n->base[k] + at * n->dir[k];
+        q[k] = p[k] - o[k];
+    }
+    float r = radius_of(b, jt->node[s]) + end_radius(b, jt->node[s]);
+    float u = atan2f(v3_dot(q, jt->frame[s][1]), v3_dot(q, jt->frame[s][0])) / MERP_TWO_PI;
+    uv[0] = u < 0.0f ? u + 1.0f : u;
+    uv[1] = jt->v[s] + v3_dot(q, n->dir) / (MERP_TWO_PI * 0.5f * r);
+}
+
+/* Gives a vertex of u < ½ in every triangle that spans the seam (u jumps
+ * over 1 → 0) a copy at u + 1, as the tube's seam vertex. */
+static void split_seam(merp_joint *jt, uint32_t *copy)
+{
+    merp_trimesh *m = &jt->mesh;
+    uint32_t n = m->vertex_count;
+    for (uint32_t v = 0; v < n; v++)
+        copy[v] = UINT32_MAX;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        uint32_t *c = m->triangles + 3 * (size_t)t;
+        float lo = 2.0f, hi = -1.0f;
+        for (int k = 0; k < 3; k++)
+            lo = fminf(lo, jt->uvs[2 * c[k]]), hi = fmaxf(hi, jt->uvs[2 * c[k]]);
+        if (hi - lo <= 0.5f)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = c[k];
+            if (jt->uvs[2 * v] >= 0.5f)
+                continue;
+            if (copy[v] == UINT32_MAX) {
+                uint32_t w = copy[v] = m->vertex_count++;
+                memcpy(m->positions + 3 * (size_t)w, m->positions + 3 * (size_t)v, 3 * sizeof(float));
+                memcpy(m->normals + 3 * (size_t)w, m->normals + 3 * (size_t)v, 3 * sizeof(float));
+                jt->uvs[2 * w] = jt->uvs[2 * v] + 1.0f;
+                jt->uvs[2 * w + 1] = jt->uvs[2 * v + 1];
+                jt->ridge[w] = jt->ridge[v];
+                jt->shaft[w] = jt->shaft[v];
+            }
+            c[k] = copy[v];
+        }
+    }
+}
+
+/* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
+ * rings shade as the tubes), shafts, ridge b = F_b, UVs (ring copies exactly
+ * the ring's), then the seam split. */
+static void patch_attributes(const merp_builder *b, merp_joint *jt, float h, uint32_t *scratch)
+{
+    merp_trimesh *m = &jt->mesh;
+    uint32_t ring_first = m->vertex_count;
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        ring_first -= jt->sides[s];
+    const float e = 0.05f * h;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
+        for (int k = 0; k < 3; k++) {
+            float a[3] = {p[0], p[1], p[2]}, c[3] = {p[0], p[1], p[2]};
+            a[k] += e, c[k] -= e;
+            nr[k] = merp_junction_field(c, &jt->field) - merp_junction_field(a, &jt->field);
+        }
+        if (!v3_normalize(nr))
+            nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
+        jt->ridge[v] = merp_junction_ridge(&jt->field, p);
+        uint32_t s = nearest_shaft(jt, p);
+        uint32_t r = v - ring_first, j = r;
+        if (v >= ring_first) /* a ring copy: its cut and place on the ring */
+            for (s = 0; j >= jt->sides[s]; s++)
+                j -= jt->sides[s];
+        jt->shaft[v] = (uint8_t)s;
+        shaft_uv(b, jt, s, p, jt->uvs + 2 * (size_t)v);
+        if (v >= ring_first) {
+            jt->uvs[2 * v] = (float)j / (float)jt->sides[s];
+            jt->uvs[2 * v + 1] = jt->v[s];
+        }
+    }
+    if (!b->opt.no_uvs)
+        split_seam(jt, scratch);
+}
+
+static int pos_cmp(const void *x, const void *y)
+{
+    return memcmp(x, y, 3 * sizeof(float));
+}
+
+typedef struct dedge {
+    uint32_t a, b;
+} dedge;
+
+static int dedge_cmp(const void *x, const void *y)
+{
+    const dedge *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    return p->b < q->b ? -1 : p->b > q->b;
+}
+
+/* Whether patch m (ring copies from ring_first on) can close the bark: no two
+ * vertices at one position, no directed edge twice, and open only along its
+ * rings. A patch that fails leaves its fork as tubes, so the bark stays a
+ * 2-manifold whatever the polygonizer met there. */
+static bool patch_closes(const merp_trimesh *m, uint32_t ring_first)
+{
+    size_t n = m->vertex_count, e = 3 * (size_t)m->triangle_count;
+    float *p = merp_malloc((n ? n : 1) * 3 * sizeof *p);
+    dedge *d = merp_malloc((e ? e : 1) * sizeof *d);
+    bool ok = p != NULL && d != NULL;
+    if (ok) {
+        memcpy(p, m->positions, n * 3 * sizeof *p);
+        qsort(p, n, 3 * sizeof *p, pos_cmp);
+        for (size_t i = 1; i < n && ok; i++)
+            ok = pos_cmp(p + 3 * (i - 1), p + 3 * i) != 0;
+        for (size_t t = 0; t < m->triangle_count; t++)
+            for (int k = 0; k < 3; k++)
+                d[3 * t + k] = (dedge){m->triangles[3 * t + k], m->triangles[3 * t + (k + 1) % 3]};
+        qsort(d, e, sizeof *d, dedge_cmp);
+    }
+    for (size_t i = 0; i < e && ok; i++) {
+        dedge r = {d[i].b, d[i].a};
+        ok = (i == 0 || dedge_cmp(&d[i - 1], &d[i]) != 0) && d[i].a != d[i].b &&
+             (bsearch(&r, d, e, sizeof *d, dedge_cmp) != NULL || (d[i].a >= ring_first && d[i].b >= ring_first));
+    }
+    merp_free(p), merp_free(d);
+    return ok;
+}
+
+/* Builds jt's patch into exact arrays of its own. MER_ERR_INVALID (and the
+ * caller unplans the fork) when the patch does not close on its cuts. */
+static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
+{
+    float h = cell_of(b, jt);
+    merp_patch pt = {.j = &jt->field, .cuts = jt->cuts};
+    if (!patch_grid(b, jt, h, &pt.grid))
+        return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        const mer_node *n = &b->nodes[jt->node[s]];
+        merp_cut *c = &pt.cut[s];
+        float sign = s == MERP_CUT_IN ? -1.0f : 1.0f;
+        for (int k = 0; k < 3; k++) {
+            c->o[k] = jt->field.in.b[k] + sign * jt->d[s] * n->dir[k];
+            c->n[k] = sign * n->dir[k];
+        }
+        c->reach = REACH * radius_of(b, jt->node[s]) + h;
+        c->ring = jt->ring[s];
+        c->sides = jt->sides[s];
+    }
+    uint64_t vmax, tmax;
+    merp_patch_bound(&pt, &vmax, &tmax);
+    merp_trimesh m = {0};
+    m.positions = merp_malloc(vmax * 3 * sizeof(float));
+    m.normals = merp_malloc(vmax * 3 * sizeof(float));
+    m.triangles = merp_malloc(tmax * 3 * sizeof(uint32_t));
+    mer_result rc = MER_OK;
+    if (m.positions == NULL || m.normals == NULL || m.triangles == NULL)
+        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a junction");
+    if (rc == MER_OK)
+        rc = merp_patch_build(&pt, &m, err);
+    uint32_t ring_first = m.vertex_count;
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        ring_first -= jt->sides[s];
+    if (rc == MER_OK && !patch_closes(&m, ring_first))
+        rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
+    /* Exact arrays, with room for the seam's copies (at most one a vertex). */
+    size_t room = 2 * (size_t)m.vertex_count;
+    if (rc == MER_OK) {
+        jt->mesh = (merp_trimesh){m.vertex_count, m.triangle_count,
+                                  merp_malloc(room * 3 * sizeof(float)),
+                                  merp_malloc(room * 3 * sizeof(float)),
+                                  merp_malloc((size_t)m.triangle_count * 3 * sizeof(uint32_t))};
+        jt->uvs = merp_malloc(room * 2 * sizeof(float));
+        jt->ridge = merp_malloc(room * sizeof(float));
+        jt->shaft = merp_malloc(room);
+        uint32_t *scratch = merp_malloc(room * sizeof(uint32_t));
+        if (!jt->mesh.positions || !jt->mesh.normals || !jt->mesh.triangles || !jt->uvs ||
+            !jt->ridge || !jt->shaft || !scratch) {
+            rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a junction");
+        } else {
+            memcpy(jt->mesh.positions, m.positions, (size_t)m.vertex_count * 3 * sizeof(float));
+            memcpy(jt->mesh.triangles, m.triangles, (size_t)m.triangle_count * 3 * sizeof(uint32_t));
+            patch_attributes(b, jt, h, scratch);
+            if (jt->mesh.vertex_count > MER_MESH_CHUNK_VERTICES)
+                rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction has too many vertices");
+        }
+        merp_free(scratch);
+    }
+    merp_free(m.positions), merp_free(m.normals), merp_free(m.triangles);
+    return rc;
+}
+
+static void free_patch(merp_joint *jt)
+{
+    merp_free(jt->mesh.positions), merp_free(jt->mesh.normals), merp_free(jt->mesh.triangles);
+    merp_free(jt->uvs), merp_free(jt->ridge), merp_free(jt->shaft);
+    jt->mesh = (merp_trimesh){0};
+    jt->uvs = jt->ridge = NULL;
+    jt->shaft = NULL;
+}
+
+mer_result merp_mesh_joints(merp_builder *b, mer_error *err)
+{
+    mer_result rc = plan(b, err);
+    if (rc == MER_OK)
+        rc = walk_axes(b, true, err);
+    /* Patches are pure functions of their joint: any order gives the same bytes. */
+    for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
+        rc = build_patch(b, &b->joints[i], err);
+        if (rc == MER_ERR_INVALID) {
+            free_patch(&b->joints[i]);
+            unplan(b, &b->joints[i]);
+            rc = MER_OK;
+        }
+    }
+    if (rc == MER_OK)
+        rc = walk_axes(b, false, err);
+    return rc;
+}
+
+void merp_mesh_joints_size(const merp_builder *b, uint64_t *vertices, uint64_t *indices)
+{
+    *vertices = *indices = 0;
+    for (uint32_t i = 0; i < b->joint_count; i++)
+        if (b->joints[i].ok) {
+            *vertices += b->joints[i].mesh.vertex_count;
+            *indices += 3 * (uint64_t)b->joints[i].mesh.triangle_count;
+        }
+}
+
+#define RIDGE_DARKEN 0.55f /* a colour on the ridge (b = 1) keeps this much of itself */
+
+mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err)
+{
+    merp_cursor *c = &b->bark;
+    for (uint32_t i = 0; i < b->joint_count; i++) {
+        const merp_joint *jt = &b->joints[i];
+        if (!jt->ok)
+            continue;
+        const merp_trimesh *m = &jt->mesh;
+        mer_result rc = merp_mesh_begin_group(c, m->vertex_count, err);
+        if (rc != MER_OK)
+            return rc;
+        mer_mesh_part *part = c->part;
+        uint32_t first = merp_take_vertices(c, m->vertex_count);
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            const mer_node *n = &b->nodes[jt->node[jt->shaft[v]]];
+            const float *uv = jt->uvs + 2 * (size_t)v;
+            merp_set_vertex(part, first + v, m->positions + 3 * (size_t)v, m->normals + 3 * (size_t)v,
+                            uv[0], uv[1], n->id);
+            part->ridge[first + v] = jt->ridge[v];
+            merp_mesh_color(b, part, first + v, 1, n);
+            if (part->colors != NULL)
+                for (int k = 0; k < 3; k++)
+                    part->colors[4 * (size_t)(first + v) + k] *= 1.0f - (1.0f - RIDGE_DARKEN) * jt->ridge[v];
+        }
+        for (uint32_t t = 0; t < m->triangle_count; t++) {
+            const uint32_t *tri = m->triangles + 3 * (size_t)t;
+            merp_put_triangle(c, first + tri[0], first + tri[1], first + tri[2]);
+        }
+    }
+    return MER_OK;
+}
+
+void merp_mesh_joints_free(merp_builder *b)
+{
+    for (uint32_t i = 0; i < b->joint_count; i++)
+        free_patch(&b->joints[i]);
+    merp_free(b->joints);
+    merp_free(b->joint_at);
+    merp_free(b->lateral_in);
+}

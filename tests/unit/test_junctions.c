@@ -1,0 +1,150 @@
+/* Implicit junctions in the mesher (meristem/mesh.h, Junctions; issue 18):
+ * on a real grown tree, forks are patched, the whole bark is a closed
+ * 2-manifold with consistent winding once equal positions are welded (no
+ * boundary edge between patch and tube), the ridge attribute is there, the
+ * output is deterministic, and the default (tubes) is unchanged. */
+#include "config.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include <meristem.h>
+
+#include "trimesh_check.h"
+
+static mer_scene *grown(uint32_t steps)
+{
+    mer_params p;
+    mer_error err;
+    assert_int_equal(mer_preset_params("fig7-bh-0.54", &p, &err), MER_OK);
+    mer_scene *s = NULL;
+    assert_int_equal(mer_scene_new(&p, 7, &s, &err), MER_OK);
+    assert_int_equal(mer_scene_step(s, steps, NULL, NULL, NULL, NULL, &err), MER_OK);
+    return s;
+}
+
+typedef struct welded {
+    float p[3];
+    uint32_t v;
+} welded;
+
+static int welded_cmp(const void *x, const void *y)
+{
+    const welded *a = x, *b = y;
+    int c = memcmp(a->p, b->p, sizeof a->p);
+    return c ? c : (a->v > b->v) - (a->v < b->v);
+}
+
+/* The bark's triangles with absolute vertex numbers, each vertex replaced by
+ * the first of its position. */
+static uint32_t *welded_triangles(const mer_mesh_part *m)
+{
+    welded *w = malloc(m->vertex_count * sizeof *w);
+    uint32_t *canon = malloc(m->vertex_count * sizeof *canon);
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        memcpy(w[v].p, m->positions + 3 * (size_t)v, sizeof w[v].p);
+        w[v].v = v;
+    }
+    qsort(w, m->vertex_count, sizeof *w, welded_cmp);
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        canon[w[i].v] = i > 0 && memcmp(w[i].p, w[i - 1].p, sizeof w[i].p) == 0 ? canon[w[i - 1].v] : w[i].v;
+    uint32_t *tri = malloc(m->index_count * sizeof *tri);
+    for (uint32_t c = 0; c < m->chunk_count; c++) {
+        const mer_mesh_chunk *ch = &m->chunks[c];
+        for (uint32_t k = 0; k < ch->index_count; k++)
+            tri[ch->first_index + k] = canon[ch->first_vertex + m->indices[ch->first_index + k]];
+    }
+    free(w);
+    free(canon);
+    return tri;
+}
+
+static void whole_tree_is_closed(void **state)
+{
+    (void)state;
+    mer_scene *s = grown(12);
+    mer_error err;
+    mer_mesh *m = NULL;
+    const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+    assert_true(m->junctions >= 5);
+    uint32_t *tri = welded_triangles(&m->bark);
+    size_t twice, edges;
+    for (uint32_t t = 0; t < m->bark.index_count / 3; t++) {
+        assert_int_not_equal(tri[3 * t], tri[3 * t + 1]);
+        assert_int_not_equal(tri[3 * t + 1], tri[3 * t + 2]);
+        assert_int_not_equal(tri[3 * t], tri[3 * t + 2]);
+    }
+    assert_int_equal(tm_open_edges(tri, m->bark.index_count / 3, &twice, &edges), 0);
+    assert_int_equal(twice, 0);
+    assert_true(tm_volume(m->bark.positions, tri, m->bark.index_count / 3) > 0);
+    /* The ridge: 0 on tubes, near 1 somewhere in a crotch. */
+    assert_non_null(m->bark.ridge);
+    float most = 0.0f;
+    for (uint32_t v = 0; v < m->bark.vertex_count; v++) {
+        assert_true(m->bark.ridge[v] >= 0.0f && m->bark.ridge[v] <= 1.0f);
+        most = m->bark.ridge[v] > most ? m->bark.ridge[v] : most;
+    }
+    assert_true(most > 0.9f);
+    free(tri);
+    mer_mesh_free(m);
+    mer_scene_free(s);
+}
+
+static void same_bytes_and_default_unchanged(void **state)
+{
+    (void)state;
+    mer_scene *s = grown(10);
+    mer_error err;
+    const mer_mesh_options implicit = {.junctions = MER_JUNCTIONS_IMPLICIT, .color = MER_COLOR_AGE};
+    const mer_mesh_options tubes = {.junctions = MER_JUNCTIONS_TUBES}, none = {0};
+    uint8_t *glb[4] = {0};
+    size_t size[4];
+    const mer_mesh_options *opts[4] = {&implicit, &implicit, &tubes, &none};
+    for (int i = 0; i < 4; i++) {
+        mer_mesh *m = NULL;
+        assert_int_equal(mer_mesh_build(s, opts[i], &m, &err), MER_OK);
+        assert_true(i >= 2 ? m->bark.ridge == NULL && m->junctions == 0 : m->junctions > 0);
+        assert_int_equal(mer_gltf_write_tree(m, NULL, NULL, &glb[i], &size[i], &err), MER_OK);
+        mer_mesh_free(m);
+    }
+    assert_int_equal(size[0], size[1]);
+    assert_memory_equal(glb[0], glb[1], size[0]);
+    assert_int_equal(size[2], size[3]);
+    assert_memory_equal(glb[2], glb[3], size[2]);
+    assert_true(size[0] > size[2]);
+    for (int i = 0; i < 4; i++)
+        mer_gltf_free(glb[i]);
+    mer_scene_free(s);
+}
+
+static void bad_options(void **state)
+{
+    (void)state;
+    mer_scene *s = grown(3);
+    mer_error err;
+    mer_mesh *m = NULL;
+    mer_mesh_options o = {.junctions = 2};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_ERR_RANGE);
+    assert_string_equal(err.field, "junctions");
+    o = (mer_mesh_options){.junctions = 1, .junction_diameter = -1.0f};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_ERR_RANGE);
+    assert_string_equal(err.field, "junction_diameter");
+    mer_scene_free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(whole_tree_is_closed),
+        cmocka_unit_test(same_bytes_and_default_unchanged),
+        cmocka_unit_test(bad_options),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
