@@ -48,6 +48,7 @@ void merp_env_free(merp_env *e)
     mer_shadow_free(e->shadow);
     merp_free(e->pend);
     merp_free(e->pend_tmp);
+    merp_free(e->casts);
     memset(e, 0, sizeof *e);
 }
 

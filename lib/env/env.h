@@ -17,6 +17,11 @@
 
 enum { MERP_OBS_BOX = 1, MERP_OBS_SPHERE = 2, MERP_OBS_MESH = 3 };
 
+/* `count` casts of a bud's shadow pyramid at voxel (i, j, k) (negative: lifted). */
+typedef struct merp_shadow_cast {
+    int32_t i, j, k, count;
+} merp_shadow_cast;
+
 /* A triangle mesh's solid inside, voxelized once (solid.c). */
 typedef struct merp_solid merp_solid;
 
@@ -39,6 +44,8 @@ typedef struct merp_env {
     int batching;
     uint64_t *pend, *pend_tmp;
     size_t npend, pend_cap;
+    merp_shadow_cast *casts; /* the held-back casts merged by voxel */
+    size_t casts_cap;
 } merp_env;
 
 /* Grids built ahead of a parameter change, so that a failure leaves the old ones. */
@@ -117,6 +124,13 @@ void merp_shadow_light_cells(const mer_shadow *sh, const uint32_t *cells, size_t
                              float *q);
 size_t merp_shadow_cells(const mer_shadow *sh);
 void merp_shadow_cast_cell(mer_shadow *sh, uint32_t cell, int32_t count);
+/* The voxel (i, j, k) of index `cell`, as a cast. */
+merp_shadow_cast merp_shadow_cast_of(const mer_shadow *sh, uint32_t cell, int32_t count);
+/* Casts c[0, n), given by non-decreasing j, layer by layer: every pyramid's
+ * square in one layer of the grid is added before the next layer, so a layer
+ * is brought into the cache once rather than once per pyramid that reaches it.
+ * The same grid as casting each. O(n · q_max + pyramids' voxels + layers). */
+void merp_shadow_cast_layers(mer_shadow *sh, const merp_shadow_cast *c, size_t n);
 
 /* markers.c, shadow.c: deep copies, grids and scratch included. MER_ERR_NOMEM. */
 mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error *err);

@@ -114,6 +114,20 @@ static size_t idx(const mer_shadow *sh, int i, int j, int k)
     return ((size_t)j * (size_t)sh->dim[2] + (size_t)k) * (size_t)sh->dim[0] + (size_t)i;
 }
 
+/* Adds d to the square of half-width q about (I, K) in one layer (x fastest). */
+static void add_square(uint32_t *layer, int dx, int dz, int I, int K, int q, uint32_t d)
+{
+    int i0 = I - q, i1 = I + q, k0 = K - q, k1 = K + q;
+    if (i0 < 0) i0 = 0;
+    if (k0 < 0) k0 = 0;
+    if (i1 >= dx) i1 = dx - 1;
+    if (k1 >= dz) k1 = dz - 1;
+    uint32_t *row = layer + (size_t)k0 * (size_t)dx;
+    for (int k = k0; k <= k1; k++, row += dx)
+        for (int i = i0; i <= i1; i++)
+            row[i] += d;
+}
+
 void mer_shadow_cast(mer_shadow *sh, const int ijk[3], int sign, float weight)
 {
     const int I = ijk[0], J = ijk[1], K = ijk[2];
@@ -124,16 +138,7 @@ void mer_shadow_cast(mer_shadow *sh, const int ijk[3], int sign, float weight)
         uint32_t d = weight == 1.0f ? sh->delta[q] : (uint32_t)lroundf((float)sh->delta[q] * weight);
         if (sign < 0)
             d = (uint32_t)0 - d; /* unsigned wrap: exact inverse of the addition */
-        int i0 = I - (int)q, i1 = I + (int)q, k0 = K - (int)q, k1 = K + (int)q;
-        if (i0 < 0) i0 = 0;
-        if (k0 < 0) k0 = 0;
-        if (i1 >= sh->dim[0]) i1 = sh->dim[0] - 1;
-        if (k1 >= sh->dim[2]) k1 = sh->dim[2] - 1;
-        for (int k = k0; k <= k1; k++) {
-            uint32_t *row = sh->s + idx(sh, 0, j, k);
-            for (int i = i0; i <= i1; i++)
-                row[i] += d;
-        }
+        add_square(sh->s + idx(sh, 0, j, 0), sh->dim[0], sh->dim[2], I, K, (int)q, d);
     }
 }
 
@@ -148,22 +153,43 @@ size_t merp_shadow_cells(const mer_shadow *sh) { return sh->nvox; }
 
 void merp_shadow_cast_cell(mer_shadow *sh, uint32_t cell, int32_t count)
 {
+    merp_shadow_cast c = merp_shadow_cast_of(sh, cell, count);
+    merp_shadow_cast_layers(sh, &c, 1);
+}
+
+merp_shadow_cast merp_shadow_cast_of(const mer_shadow *sh, uint32_t cell, int32_t count)
+{
     assert(cell < sh->nvox);
-    const int dx = sh->dim[0], dz = sh->dim[2];
-    const int I = (int)(cell % (uint32_t)dx), K = (int)(cell / (uint32_t)dx % (uint32_t)dz);
-    const int J = (int)(cell / ((uint32_t)dx * (uint32_t)dz));
-    for (uint32_t q = 0; q <= sh->q_max && J >= (int)q; q++) {
-        /* count casts at once: the same sum as count single ones, wrapping alike */
-        uint32_t d = sh->delta[q] * (uint32_t)count;
-        int i0 = I - (int)q, i1 = I + (int)q, k0 = K - (int)q, k1 = K + (int)q;
-        if (i0 < 0) i0 = 0;
-        if (k0 < 0) k0 = 0;
-        if (i1 >= dx) i1 = dx - 1;
-        if (k1 >= dz) k1 = dz - 1;
-        uint32_t *row = sh->s + idx(sh, 0, J - (int)q, k0);
-        for (int k = k0; k <= k1; k++, row += dx)
-            for (int i = i0; i <= i1; i++)
-                row[i] += d;
+    const uint32_t dx = (uint32_t)sh->dim[0], dz = (uint32_t)sh->dim[2];
+    merp_shadow_cast c = {(int32_t)(cell % dx), (int32_t)(cell / (dx * dz)),
+                          (int32_t)(cell / dx % dz), count};
+    return c;
+}
+
+void merp_shadow_cast_layers(mer_shadow *sh, const merp_shadow_cast *c, size_t n)
+{
+    if (n == 0)
+        return;
+    const int dx = sh->dim[0], dz = sh->dim[2], qmax = (int)sh->q_max;
+    const size_t layer_size = (size_t)dx * (size_t)dz;
+    int top = c[n - 1].j, bottom = c[0].j - qmax;
+    if (bottom < 0)
+        bottom = 0;
+    /* A pyramid at layer J covers layers J − q_max .. J: layer L takes the casts
+     * with L <= J <= L + q_max, c[a, b). */
+    size_t a = 0, b = 0;
+    for (int L = bottom; L <= top; L++) {
+        while (a < n && c[a].j < L)
+            a++;
+        while (b < n && c[b].j <= L + qmax)
+            b++;
+        uint32_t *layer = sh->s + (size_t)L * layer_size;
+        for (size_t t = a; t < b; t++) {
+            assert(t == a || c[t].j >= c[t - 1].j);
+            /* count casts at once: the same sum as count single ones, wrapping alike */
+            uint32_t d = sh->delta[c[t].j - L] * (uint32_t)c[t].count;
+            add_square(layer, dx, dz, c[t].i, c[t].k, c[t].j - L, d);
+        }
     }
 }
 

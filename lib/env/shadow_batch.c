@@ -1,10 +1,10 @@
 /* meristem — bud shadows cast in batches (P09 §4.1). A step's new shoots add and
  * lift thousands of shadow pyramids, each a few hundred voxels in ~50 rows of a
  * grid far larger than the cache. Held back and sorted by voxel, the pyramids
- * of one step are cast in grid order, neighbours after neighbours, so their rows
- * are mostly still in the cache; buds on the same voxel (a shoot's tip and its
- * last lateral, a bud gone where another appeared) are cast once, with their
- * net count. The sums wrap modulo 2³², so any order and any grouping gives the
+ * of one step are cast layer by layer: each layer of the grid takes the squares
+ * of every pyramid that reaches it while it is in the cache. Buds on the same
+ * voxel (a shoot's tip and its last lateral, a bud gone where another appeared)
+ * are cast once, with their net count. The sums wrap modulo 2³², so any order and any grouping gives the
  * very same grid. */
 #include "config.h"
 
@@ -69,12 +69,22 @@ void merp_env_batch_end(merp_env *e)
     if (n == 0)
         return;
     uint64_t *k = sort_keys(e->pend, e->pend_tmp, n, merp_shadow_cells(e->shadow));
+    /* The casts merged by voxel, by voxel: by layer j first (x fastest, then z). */
+    int merged = e->casts_cap >= n || MERP_RESIZE(e->casts, n);
+    if (merged && e->casts_cap < n)
+        e->casts_cap = n;
+    size_t m = 0;
     for (size_t t = 0; t < n;) {
         uint64_t cell = k[t] >> 1;
         int32_t count = 0;
         for (; t < n && k[t] >> 1 == cell; t++)
             count += (k[t] & 1) ? -1 : 1;
-        if (count != 0)
+        if (count == 0)
+            continue;
+        if (merged)
+            e->casts[m++] = merp_shadow_cast_of(e->shadow, (uint32_t)cell, count);
+        else /* without memory for the list: one pyramid at a time, the same sum */
             merp_shadow_cast_cell(e->shadow, (uint32_t)cell, count);
     }
+    merp_shadow_cast_layers(e->shadow, e->casts, m);
 }
