@@ -37,6 +37,9 @@ float merp_seg_xc(void);
  * (may be NULL). Cost O(1). */
 float merp_seg_distance(const merp_seg *s, const float p[3], float *t);
 
+/* Its square, without the square root (what the fields compare). */
+float merp_seg_distance2(const merp_seg *s, const float p[3], float *t);
+
 /* f(p) of the tapered capsule s (see above), in [0, 1]. Requires ra, rb > 0. */
 float merp_seg_field(const merp_seg *s, const float p[3]);
 
@@ -136,6 +139,18 @@ void merp_mtet_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles
  * MER_ERR_NOMEM (scratch). Cost O(samples) evaluations + O(crossed cells). */
 mer_result merp_mtet_polygonize(const merp_grid *g, merp_field_fn f, const void *data,
                                 merp_trimesh *out, mer_error *err);
+
+/* As merp_mtet_polygonize, but only the surface reached from `seeds` (nseeds
+ * ≥ 1 points, each inside the solid or on a row of cells along +x that meets
+ * the surface): from the first crossed cell along +x of each seed, the walk
+ * follows the surface cell to cell across the faces it crosses, so only the
+ * samples of crossed cells are evaluated. The same mesh as
+ * merp_mtet_polygonize's for every connected piece of surface a seed reaches
+ * (vertices in another order); pieces no seed reaches are missing. Cost
+ * O(crossed cells) evaluations, plus clearing O(samples) bytes. */
+mer_result merp_mtet_polygonize_seeded(const merp_grid *g, merp_field_fn f, const void *data,
+                                       const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out,
+                                       mer_error *err);
 
 /* ------------------------------------------------------------ junction.c */
 
