@@ -170,6 +170,12 @@ typedef struct merp_junction {
     merp_bound bound[MERP_JUNCTION_LATERALS];
     uint32_t laterals;       /* 1..MERP_JUNCTION_LATERALS */
     float w;                 /* PCM's bulge width (field units) */
+    /* The bud scale scar between the parent's last shoot (in) and this
+     * year's (out): A = F_s·max(in', out') + (1 − F_s)·max(in, out) with F_s =
+     * scar_weight·F_b,scar (PCM of in and out, bulge width MERP_ISO). All
+     * zero (no scar) unless merp_junction_age sets them. */
+    merp_bound scar;
+    float scar_weight;
 } merp_junction;
 
 /* Places lateral k's bound at the crotch C between it and the parent's
@@ -179,11 +185,33 @@ typedef struct merp_junction {
  * `ridge` ∈ [0, 1] (the ridge's age, G04 Fig. 7; 0: no ridge, F_b = 0). */
 void merp_junction_bound(merp_junction *j, uint32_t k, const float up[3], float ridge);
 
+/* Ages the junction's bark to `years` (≥ 1; the years since the lateral's
+ * shoot grew: 1 in the season it appears), after G04 §3.2 and Fig. 7: the
+ * bud scale scar ring at the base of the parent's shoot (between in and out)
+ * fades as bark grows over it, and each lateral's scar ring, a crease all
+ * round its base at first, becomes its branch bark ridge in the crotch above
+ * it. G04 gives no law; ours: the parent's scar weight is
+ * σ(y) = merp_junction_scar_weight(y) = e^(−(y − 1)/3), 1, 0.37, 0.14, 0.05
+ * at years 1, 4, 7, 10, and each lateral's bound moves from its ring
+ * (around the lateral's axis where it meets the parent, F_b = 1 out to
+ * 1.15 r_L) to merp_junction_bound's crotch bound at ridge 1, by 1 − σ(y)
+ * (the bound's ends and radii interpolated). Sets scar, scar_weight and
+ * every bound[k] (replacing merp_junction_bound's). */
+void merp_junction_age(merp_junction *j, const float up[3], float years);
+
+/* σ(y) of merp_junction_age: 1 up to year 1, e^(−(y − 1)/3) after. */
+float merp_junction_scar_weight(float years);
+
 /* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
 float merp_junction_field(const float p[3], const void *data);
 
 /* F_b(p) of the junction: b, the ridge's weight at p. */
 float merp_junction_ridge(const merp_junction *j, const float p[3]);
+
+/* How much each bounded blend changes the field at p: *scar = F_s·|B1 − B2|
+ * of the parent's scar (in and out), *ridge = F_b·|B1 − B2| of the laterals'
+ * ridge (the strength of a scar or ridge there, in field units). */
+void merp_junction_strength(const merp_junction *j, const float p[3], float *scar, float *ridge);
 
 /* --------------------------------------------------------------- patch.c */
 
