@@ -152,6 +152,30 @@ mer_result merp_mtet_polygonize_seeded(const merp_grid *g, merp_field_fn f, cons
                                        const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out,
                                        mer_error *err);
 
+/* ----------------------------------------------------------------- dc.c */
+
+/* The most vertices and triangles merp_dc_polygonize can write for `g`: one
+ * vertex per cell, two triangles per grid edge (3 a sample). */
+void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles);
+
+/* Dual contouring (Ju et al. 2002) of f ≥ MERP_ISO on `g`, for surfaces whose
+ * creases must stay sharp (the branch bark ridge): each cell the surface
+ * crosses gets one vertex, the minimum of the quadratic error function of its
+ * edge crossings (refined onto the surface) and their normals −∇f, solved as
+ * a least-squares problem regularised towards the crossings' mass point
+ * (weight 0.02 a crossing) and clamped into the cell; each grid edge the
+ * surface crosses joins the vertices of its four cells in a quad, wound
+ * outwards (from the edge's inside end to its outside end), split into two
+ * triangles along the diagonal that folds least. Where the surface stays in
+ * the grid and crosses each cell in one sheet the result is closed and
+ * consistently wound. With `seeds` NULL every cell is looked at; else only
+ * the surface reached from the seeds (as merp_mtet_polygonize_seeded).
+ * Normals are −∇f at the vertices (one side's, on a crease). `out` holds
+ * merp_dc_bound's counts. Errors: MER_ERR_NOMEM. Cost: O(crossed cells)
+ * evaluations (each crossing is solved in each of its cells). */
+mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
+                              uint32_t nseeds, merp_trimesh *out, mer_error *err);
+
 /* ------------------------------------------------------------ junction.c */
 
 #define MERP_JUNCTION_LATERALS 2 /* a node has at most two lateral children */

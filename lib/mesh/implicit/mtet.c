@@ -20,11 +20,6 @@ static const uint8_t kuhn[6][4] = {
     {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7},
 };
 
-/* At most this many regula falsi steps on an edge; fewer once the point is
- * within REFINE_TOL · h of the surface (|f − c| over the bracket's slope). */
-enum { REFINE_STEPS = 8 };
-#define REFINE_TOL 1e-4f
-
 typedef struct mtet {
     const merp_grid *g;
     merp_field_fn f;
@@ -49,58 +44,6 @@ static void sample_pos(const merp_grid *g, uint32_t i, uint32_t j, uint32_t k, f
     p[2] = g->origin[2] + (float)k * g->h;
 }
 
-/* −∇f / |∇f| at p, where f(p) = fp, by forward differences over a step of
- * h / 50 (three evaluations); `fallback` where ∇f vanishes. */
-static void normal_at(const mtet *m, const float p[3], float fp, const float fallback[3], float n[3])
-{
-    float e = m->g->h * 0.02f;
-    for (int a = 0; a < 3; a++) {
-        float q[3] = {p[0], p[1], p[2]};
-        q[a] += e;
-        n[a] = fp - m->f(q, m->data);
-    }
-    if (!v3_normalize(n)) {
-        memcpy(n, fallback, sizeof(float) * 3);
-        v3_normalize(n);
-    }
-}
-
-/* The surface point on the segment from pa (inside, fa ≥ c) to pb (outside):
- * regula falsi with the Illinois modification, keeping the bracket. Returns
- * f at p. */
-static float solve_edge(const mtet *m, const float pa[3], float fa, const float pb[3], float fb,
-                        float p[3])
-{
-    float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
-    int side = 0;
-    float t = 0.5f;
-    for (int it = 0; it < REFINE_STEPS; it++) {
-        t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
-        for (int k = 0; k < 3; k++)
-            p[k] = pa[k] + t * (pb[k] - pa[k]);
-        float gt = m->f(p, m->data) - MERP_ISO;
-        /* ga − gb over the bracket is the slope per unit t; t times the
-         * edge's length (h or more) is a distance. */
-        if (fabsf(gt) * (tb - ta) < REFINE_TOL * fabsf(ga - gb))
-            return gt + MERP_ISO;
-        if (gt >= 0.0f) {
-            ta = t, ga = gt;
-            if (side == 1)
-                gb *= 0.5f;
-            side = 1;
-        } else {
-            tb = t, gb = gt;
-            if (side == -1)
-                ga *= 0.5f;
-            side = -1;
-        }
-    }
-    t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
-    for (int k = 0; k < 3; k++)
-        p[k] = pa[k] + t * (pb[k] - pa[k]);
-    return m->f(p, m->data);
-}
-
 /* The vertex on the edge between corners c1 ⊂ c2 (bit masks) of cell (i,j,k),
  * made once for all the tetrahedra that share the edge. */
 static uint32_t edge_vertex(mtet *m, const uint32_t cell[3], uint8_t c1, uint8_t c2)
@@ -116,13 +59,14 @@ static uint32_t edge_vertex(mtet *m, const uint32_t cell[3], uint8_t c1, uint8_t
     sample_pos(m->g, i2, j2, k2, p2);
     const float *value = m->w->value; /* both corners are known: their cell was marched */
     bool in1 = value[s1] >= MERP_ISO;
-    float fp = in1 ? solve_edge(m, p1, value[s1], p2, value[s2], p) : solve_edge(m, p2, value[s2], p1, value[s1], p);
+    float fp = in1 ? merp_walk_solve(m->w, p1, value[s1], p2, value[s2], p)
+                   : merp_walk_solve(m->w, p2, value[s2], p1, value[s1], p);
     for (int a = 0; a < 3; a++)
         dir[a] = in1 ? p2[a] - p1[a] : p1[a] - p2[a];
     merp_trimesh *o = m->out;
     uint32_t v = o->vertex_count++;
     memcpy(o->positions + 3 * (size_t)v, p, sizeof p);
-    normal_at(m, p, fp, dir, o->normals + 3 * (size_t)v);
+    merp_walk_normal(m->w, p, fp, dir, o->normals + 3 * (size_t)v);
     *slot = v + 1;
     return v;
 }

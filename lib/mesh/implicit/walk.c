@@ -4,9 +4,17 @@
 
 #include <assert.h>
 #include <math.h>
+#include <string.h>
 
 #include "core/alloc.h"
+#include "core/vec.h"
 #include "mesh/implicit/walk.h"
+
+/* At most this many regula falsi steps on an edge; fewer once the point is
+ * within REFINE_TOL of the edge's length from the surface (|f − c| over the
+ * bracket's slope). */
+enum { REFINE_STEPS = 8 };
+#define REFINE_TOL 1e-4f
 
 const uint8_t merp_walk_face[6] = {0x55, 0xaa, 0x33, 0xcc, 0x0f, 0xf0};
 
@@ -123,3 +131,50 @@ bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
     }
     return false;
 }
+
+void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const float fallback[3], float n[3])
+{
+    float e = w->g->h * 0.02f;
+    for (int a = 0; a < 3; a++) {
+        float q[3] = {p[0], p[1], p[2]};
+        q[a] += e;
+        n[a] = fp - w->f(q, w->data);
+    }
+    if (!v3_normalize(n)) {
+        memcpy(n, fallback, sizeof(float) * 3);
+        v3_normalize(n);
+    }
+}
+
+float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3])
+{
+    float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
+    int side = 0;
+    float t = 0.5f;
+    for (int it = 0; it < REFINE_STEPS; it++) {
+        t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
+        for (int k = 0; k < 3; k++)
+            p[k] = pa[k] + t * (pb[k] - pa[k]);
+        float gt = w->f(p, w->data) - MERP_ISO;
+        /* ga − gb over the bracket is the slope per unit t; t times the
+         * edge's length (h or more) is a distance. */
+        if (fabsf(gt) * (tb - ta) < REFINE_TOL * fabsf(ga - gb))
+            return gt + MERP_ISO;
+        if (gt >= 0.0f) {
+            ta = t, ga = gt;
+            if (side == 1)
+                gb *= 0.5f;
+            side = 1;
+        } else {
+            tb = t, gb = gt;
+            if (side == -1)
+                ga *= 0.5f;
+            side = -1;
+        }
+    }
+    t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
+    for (int k = 0; k < 3; k++)
+        p[k] = pa[k] + t * (pb[k] - pa[k]);
+    return w->f(p, w->data);
+}
+

@@ -59,4 +59,14 @@ void merp_walk_all(merp_walk *w);
  * seeds and a breadth-first walk: deterministic. */
 bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask);
 
+/* The surface point p on the segment from pa (inside, fa ≥ c) to pb
+ * (outside): regula falsi with the Illinois modification, keeping the
+ * bracket, until p is within 1e-4 of the segment's length from the surface.
+ * Returns f(p). Cost: a few evaluations. */
+float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3]);
+
+/* −∇f / |∇f| at p, where f(p) = fp, by forward differences over h / 50
+ * (three evaluations); `fallback` (normalized) where ∇f vanishes. */
+void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const float fallback[3], float n[3]);
+
 #endif
