@@ -192,10 +192,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *d
         merp_walk_free(&w);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
     }
-    if (seeds == NULL)
-        merp_walk_all(&w);
-    for (uint32_t s = 0; s < nseeds; s++)
-        merp_walk_seed(&w, seeds[s]);
+    merp_walk_start(&w, seeds, nseeds);
     out->vertex_count = out->triangle_count = 0;
     uint32_t cell[3];
     float cf[8];
@@ -205,7 +202,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *d
     /* Every crossed cell has its vertex: now the quads, in the walk's order. */
     for (uint32_t i = 0; i < w.tail; i++) {
         uint32_t c = w.queue[i];
-        cell[0] = c % g->n[0], cell[1] = c / g->n[0] % g->n[1], cell[2] = c / (g->n[0] * g->n[1]);
+        merp_walk_cell(&w, c, cell);
         if (d.cell_v[c] == 0)
             continue;
         mask = merp_walk_corners(&w, cell, cf);

@@ -176,10 +176,7 @@ static mer_result march(const merp_grid *g, merp_field_fn f, const void *data, c
         merp_walk_free(&w);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
     }
-    if (seeds == NULL)
-        merp_walk_all(&w);
-    for (uint32_t s = 0; s < nseeds; s++)
-        merp_walk_seed(&w, seeds[s]);
+    merp_walk_start(&w, seeds, nseeds);
     out->vertex_count = out->triangle_count = 0;
     uint32_t cell[3];
     float cf[8];

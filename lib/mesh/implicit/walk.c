@@ -107,12 +107,25 @@ void merp_walk_all(merp_walk *w)
                 push(w, i, j, k);
 }
 
+void merp_walk_start(merp_walk *w, const float (*seeds)[3], uint32_t nseeds)
+{
+    if (seeds == NULL)
+        merp_walk_all(w);
+    for (uint32_t s = 0; s < nseeds; s++)
+        merp_walk_seed(w, seeds[s]);
+}
+
+void merp_walk_cell(const merp_walk *w, uint32_t c, uint32_t cell[3])
+{
+    const uint32_t *n = w->g->n;
+    cell[0] = c % n[0], cell[1] = c / n[0] % n[1], cell[2] = c / (n[0] * n[1]);
+}
+
 bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
 {
     const uint32_t *n = w->g->n;
     while (w->head < w->tail) {
-        uint32_t c = w->queue[w->head++];
-        cell[0] = c % n[0], cell[1] = c / n[0] % n[1], cell[2] = c / (n[0] * n[1]);
+        merp_walk_cell(w, w->queue[w->head++], cell);
         *mask = merp_walk_corners(w, cell, cf);
         if (*mask == 0 || *mask == 0xff)
             continue;
