@@ -119,6 +119,9 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/implicit/mtet.c \
 	lib/mesh/implicit/junction.c \
 	lib/mesh/implicit/patch.c \
+	lib/mesh/implicit/walk.h \
+	lib/mesh/implicit/walk.c \
+	lib/mesh/implicit/dc.c \
 	lib/scene_private.h \
 	lib/version.c \
 	lib/gltf/gltf_private.h \

@@ -13,6 +13,8 @@
 #    then the model's step of the same size onto the skeleton (a process each).
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
 #    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
+#  - bench_patch: one implicit junction's patch (issue 18) at a few grid
+#    spacings: best and median milliseconds per patch, vertices, triangles.
 # `make table1`: see below.
 # `make bench-http`: meristemd under wrk on loopback (needs Debian's wrk).
 # `make bench-restore`: time to listen and to the first answer from the oldest
@@ -21,7 +23,7 @@
 # `make bench-page`: the brush client loading and drawing 10,000-internode
 # snapshots in headless Chromium (needs node, the npm test tools, chromium).
 EXTRA_PROGRAMS = tests/bench/bench tests/bench/bench_mesh tests/bench/table1 \
-	tests/bench/bench_inverse tests/bench/bench_lsystem
+	tests/bench/bench_inverse tests/bench/bench_lsystem tests/bench/bench_patch
 tests_bench_bench_lsystem_SOURCES = tests/bench/bench_lsystem.c
 tests_bench_bench_lsystem_LDADD = lib/libmeristem-core.la
 tests_bench_bench_SOURCES = tests/bench/bench.c
@@ -30,12 +32,14 @@ tests_bench_bench_mesh_SOURCES = tests/bench/bench_mesh.c
 tests_bench_bench_inverse_SOURCES = tests/bench/bench_inverse.c
 tests_bench_bench_inverse_LDADD = lib/libmeristem-core.la
 tests_bench_table1_SOURCES = tests/bench/table1.c
+tests_bench_bench_patch_SOURCES = tests/bench/bench_patch.c
+tests_bench_bench_patch_LDADD = lib/libmeristem-core.la
 tests_bench_table1_LDADD = lib/libmeristem-core.la
 tests_bench_bench_mesh_LDADD = lib/libmeristem-core.la
 # It encodes GLB through tinygltf: link with the C++ driver.
 nodist_EXTRA_tests_bench_bench_mesh_SOURCES = tests/bench/link-as-cxx.cc
 CLEANFILES += tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/table1$(EXEEXT) \
-	tests/bench/bench_inverse$(EXEEXT) tests/bench/bench_lsystem$(EXEEXT)
+	tests/bench/bench_inverse$(EXEEXT) tests/bench/bench_lsystem$(EXEEXT) tests/bench/bench_patch$(EXEEXT)
 EXTRA_DIST += tests/bench/http-bench.sh tests/bench/page-load.js tests/bench/refused-edit.js \
 	tests/bench/restore.js
 
@@ -44,7 +48,7 @@ BENCH_WORKLOADS = table1-left table1-center table1-right \
 BENCH_RUNS = 3
 
 bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/bench_inverse$(EXEEXT) \
-  tests/bench/bench_lsystem$(EXEEXT)
+  tests/bench/bench_lsystem$(EXEEXT) tests/bench/bench_patch$(EXEEXT)
 	@./tests/bench/bench$(EXEEXT) --header
 	@for w in $(BENCH_WORKLOADS); do ./tests/bench/bench$(EXEEXT) $$w $(BENCH_RUNS) || exit 1; done
 	@./tests/bench/bench_inverse$(EXEEXT) $(BENCH_RUNS)
@@ -55,6 +59,7 @@ bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/be
 	@./tests/bench/bench_lsystem$(EXEEXT) --header
 	@./tests/bench/bench_lsystem$(EXEEXT) string $(BENCH_RUNS)
 	@./tests/bench/bench_lsystem$(EXEEXT) step $(BENCH_RUNS)
+	@./tests/bench/bench_patch$(EXEEXT)
 
 bench-http: server/meristemd$(EXEEXT)
 	@$(SHELL) $(srcdir)/tests/bench/http-bench.sh server/meristemd$(EXEEXT)

@@ -141,6 +141,91 @@ static void gbb_reduces(void **state)
     assert_true(mid > (b1 < b2 ? b1 : b2) && mid < (b1 > b2 ? b1 : b2));
 }
 
+/* A fork: the parent along y through J = 0 (radius 0.5, then 0.45), a
+ * lateral of radius 0.3 at 45° towards +x. */
+static merp_junction aged_fork(float years)
+{
+    const float s2 = 0.70710678f, up[3] = {0, 1, 0};
+    merp_junction j = {
+        .in = {{0, -2.5f, 0}, {0, 0, 0}, 0.5f, 0.5f},
+        .out = {{0, 0, 0}, {0, 2.5f, 0}, 0.45f, 0.45f},
+        .lateral = {{{0, 0, 0}, {3 * s2, 3 * s2, 0}, 0.3f, 0.3f}},
+        .laterals = 1,
+        .w = 0.15f,
+    };
+    merp_junction_age(&j, up, years);
+    return j;
+}
+
+typedef struct strengths {
+    float trunk, crotch, under;
+} strengths;
+
+/* The largest scar or ridge strength (merp_junction_strength) on three
+ * stretches of bark: the parent's ring at J on the side away from the
+ * lateral, the crotch above the lateral, and the lateral's underside where it
+ * meets the parent. */
+static strengths measure(const merp_junction *j)
+{
+    const float s2 = 0.70710678f, up[3] = {0, 1, 0};
+    merp_junction ref = *j;
+    merp_junction_bound(&ref, 0, up, 1.0f);
+    const float *C = ref.bound[0].a; /* the crotch */
+    strengths m = {0, 0, 0};
+    for (int a = 0; a <= 12; a++)
+        for (int i = 0; i <= 16; i++) {
+            float scar, ridge, u = (float)i / 16.0f;
+            /* The far side: angles 120°..240° from +x, |y| ≤ 0.8. */
+            float phi = (float)(M_PI * (2.0 / 3.0 + (2.0 / 3.0) * a / 12.0));
+            const float pt[3] = {0.5f * cosf(phi), -0.8f + 1.6f * u, 0.5f * sinf(phi)};
+            merp_junction_strength(j, pt, &scar, &ridge);
+            m.trunk = fmaxf(m.trunk, scar + ridge);
+            /* Within 0.15 of the crotch. */
+            const float pc[3] = {C[0] + 0.3f * (u - 0.5f), C[1] + 0.3f * ((float)a / 12.0f - 0.5f), C[2]};
+            merp_junction_strength(j, pc, &scar, &ridge);
+            m.crotch = fmaxf(m.crotch, ridge);
+            /* Under the lateral: its lower line, t in 0.3..0.9 along it. */
+            float t = 0.3f + 0.6f * u, off = 0.3f + 0.02f * (float)(a - 6);
+            const float pl[3] = {t * s2 + off * s2, t * s2 - off * s2, 0};
+            merp_junction_strength(j, pl, &scar, &ridge);
+            m.under = fmaxf(m.under, ridge);
+        }
+    return m;
+}
+
+/* G04 Fig. 7 as merp_junction_age's law: over years 1, 4, 7, 10 the scar on
+ * the parent fades, the lateral's ring leaves its underside, and its crotch
+ * keeps a ridge as strong as the scar was. */
+static void ageing(void **state)
+{
+    (void)state;
+    const float years[4] = {1, 4, 7, 10};
+    strengths s[4];
+    for (int y = 0; y < 4; y++) {
+        merp_junction j = aged_fork(years[y]);
+        s[y] = measure(&j);
+        print_message("year %2.0f: trunk %.4f crotch %.4f under the lateral %.4f\n", (double)years[y],
+                      (double)s[y].trunk, (double)s[y].crotch, (double)s[y].under);
+    }
+    assert_true(s[0].trunk > 0.02f && s[0].under > 0.02f);
+    for (int y = 1; y < 4; y++) {
+        assert_true(s[y].trunk < 0.7f * s[y - 1].trunk);
+        assert_true(s[y].under <= s[y - 1].under);
+        assert_true(s[y].crotch >= 0.95f * s[y - 1].crotch);
+    }
+    assert_true(s[3].trunk < 0.1f * s[0].trunk && s[1].under < 0.1f * s[0].under);
+    assert_true(s[3].crotch > 0.5f * s[0].trunk);
+    /* No scar set: the field is the one merp_junction_bound gives. */
+    merp_junction plain = aged_fork(1.0f), aged = plain;
+    plain.scar_weight = 0.0f;
+    const float p[3] = {-0.5f, 0.2f, 0.0f};
+    float scar, ridge;
+    merp_junction_strength(&plain, p, &scar, &ridge);
+    assert_float_equal(scar, 0.0f, 0.0f);
+    merp_junction_strength(&aged, p, &scar, &ridge);
+    assert_true(scar > 0.0f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -151,6 +236,7 @@ int main(void)
         cmocka_unit_test(fb_range),
         cmocka_unit_test(fb_gradient_vanishes_at_ends),
         cmocka_unit_test(gbb_reduces),
+        cmocka_unit_test(ageing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -172,6 +172,33 @@ static void fork(void **state)
     mesh_free(&o);
 }
 
+/* The walk from seeds finds the same surface as the dense march, and
+ * evaluates only around it: two balls, one seeded, the other not reached. */
+static void seeded_walk(void **state)
+{
+    (void)state;
+    const merp_seg s = {{0, 0, 0}, {0, 0, 0}, 1, 1};
+    mesh_out dense, walked;
+    polygonize(&grid_ball, seg_fn, &s, &dense);
+    walked.m = (merp_trimesh){0, 0, malloc(dense.vmax * 3 * sizeof(float)), malloc(dense.vmax * 3 * sizeof(float)),
+                              malloc(dense.tmax * 3 * sizeof(uint32_t))};
+    const float seed[1][3] = {{0.05f, -0.3f, 0.2f}};
+    mer_error err;
+    assert_int_equal(merp_mtet_polygonize_seeded(&grid_ball, seg_fn, &s, seed, 1, &walked.m, &err), MER_OK);
+    assert_int_equal(walked.m.vertex_count, dense.m.vertex_count);
+    assert_int_equal(walked.m.triangle_count, dense.m.triangle_count);
+    assert_closed_sphere_like(&walked, 4.0 / 3.0 * M_PI, 0.02);
+    /* A second ball far from the seed is not reached. */
+    const merp_seg two[2] = {{{-0.8f, 0, 0}, {-0.8f, 0, 0}, 0.5f, 0.5f}, {{0.8f, 0, 0}, {0.8f, 0, 0}, 0.5f, 0.5f}};
+    const float left[1][3] = {{-0.8f, 0, 0}};
+    assert_int_equal(merp_mtet_polygonize_seeded(&grid_ball, contact_fn, two, left, 1, &walked.m, &err), MER_OK);
+    for (uint32_t v = 0; v < walked.m.vertex_count; v++)
+        assert_true(walked.m.positions[3 * v] < 0.0f);
+    assert_closed_genus0(&walked);
+    mesh_free(&dense);
+    mesh_free(&walked);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -180,6 +207,7 @@ int main(void)
         cmocka_unit_test(contact_crease),
         cmocka_unit_test(open_when_cut),
         cmocka_unit_test(fork),
+        cmocka_unit_test(seeded_walk),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -3,6 +3,7 @@
 #include "config.h"
 
 #include <assert.h>
+#include <math.h>
 #include <stddef.h>
 
 #include "mesh/implicit/implicit.h"
@@ -11,8 +12,10 @@ float merp_bound_field(const merp_bound *bnd, const float p[3])
 {
     assert(bnd->r_in >= 0.0f && bnd->r_out > bnd->r_in);
     merp_seg s = {{bnd->a[0], bnd->a[1], bnd->a[2]}, {bnd->b[0], bnd->b[1], bnd->b[2]}, 1.0f, 1.0f};
-    float d = merp_seg_distance(&s, p, NULL);
-    float sn = (d - bnd->r_in) / (bnd->r_out - bnd->r_in);
+    float d2 = merp_seg_distance2(&s, p, NULL);
+    if (d2 >= bnd->r_out * bnd->r_out)
+        return 0.0f; /* beyond the support: most points, no square root */
+    float sn = (sqrtf(d2) - bnd->r_in) / (bnd->r_out - bnd->r_in);
     if (sn <= 0.0f)
         return 1.0f;
     if (sn >= 1.0f)

@@ -37,6 +37,9 @@ float merp_seg_xc(void);
  * (may be NULL). Cost O(1). */
 float merp_seg_distance(const merp_seg *s, const float p[3], float *t);
 
+/* Its square, without the square root (what the fields compare). */
+float merp_seg_distance2(const merp_seg *s, const float p[3], float *t);
+
 /* f(p) of the tapered capsule s (see above), in [0, 1]. Requires ra, rb > 0. */
 float merp_seg_field(const merp_seg *s, const float p[3]);
 
@@ -137,6 +140,42 @@ void merp_mtet_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles
 mer_result merp_mtet_polygonize(const merp_grid *g, merp_field_fn f, const void *data,
                                 merp_trimesh *out, mer_error *err);
 
+/* As merp_mtet_polygonize, but only the surface reached from `seeds` (nseeds
+ * ≥ 1 points, each inside the solid or on a row of cells along +x that meets
+ * the surface): from the first crossed cell along +x of each seed, the walk
+ * follows the surface cell to cell across the faces it crosses, so only the
+ * samples of crossed cells are evaluated. The same mesh as
+ * merp_mtet_polygonize's for every connected piece of surface a seed reaches
+ * (vertices in another order); pieces no seed reaches are missing. Cost
+ * O(crossed cells) evaluations, plus clearing O(samples) bytes. */
+mer_result merp_mtet_polygonize_seeded(const merp_grid *g, merp_field_fn f, const void *data,
+                                       const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out,
+                                       mer_error *err);
+
+/* ----------------------------------------------------------------- dc.c */
+
+/* The most vertices and triangles merp_dc_polygonize can write for `g`: one
+ * vertex per cell, two triangles per grid edge (3 a sample). */
+void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles);
+
+/* Dual contouring (Ju et al. 2002) of f ≥ MERP_ISO on `g`, for surfaces whose
+ * creases must stay sharp (the branch bark ridge): each cell the surface
+ * crosses gets one vertex, the minimum of the quadratic error function of its
+ * edge crossings (refined onto the surface) and their normals −∇f, solved as
+ * a least-squares problem regularised towards the crossings' mass point
+ * (weight 0.02 a crossing) and clamped into the cell; each grid edge the
+ * surface crosses joins the vertices of its four cells in a quad, wound
+ * outwards (from the edge's inside end to its outside end), split into two
+ * triangles along the diagonal that folds least. Where the surface stays in
+ * the grid and crosses each cell in one sheet the result is closed and
+ * consistently wound. With `seeds` NULL every cell is looked at; else only
+ * the surface reached from the seeds (as merp_mtet_polygonize_seeded).
+ * Normals are −∇f at the vertices (one side's, on a crease). `out` holds
+ * merp_dc_bound's counts. Errors: MER_ERR_NOMEM. Cost: O(crossed cells)
+ * evaluations (each crossing is solved in each of its cells). */
+mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
+                              uint32_t nseeds, merp_trimesh *out, mer_error *err);
+
 /* ------------------------------------------------------------ junction.c */
 
 #define MERP_JUNCTION_LATERALS 2 /* a node has at most two lateral children */
@@ -155,6 +194,12 @@ typedef struct merp_junction {
     merp_bound bound[MERP_JUNCTION_LATERALS];
     uint32_t laterals;       /* 1..MERP_JUNCTION_LATERALS */
     float w;                 /* PCM's bulge width (field units) */
+    /* The bud scale scar between the parent's last shoot (in) and this
+     * year's (out): A = F_s·max(in', out') + (1 − F_s)·max(in, out) with F_s =
+     * scar_weight·F_b,scar (PCM of in and out, bulge width MERP_ISO). All
+     * zero (no scar) unless merp_junction_age sets them. */
+    merp_bound scar;
+    float scar_weight;
 } merp_junction;
 
 /* Places lateral k's bound at the crotch C between it and the parent's
@@ -164,11 +209,33 @@ typedef struct merp_junction {
  * `ridge` ∈ [0, 1] (the ridge's age, G04 Fig. 7; 0: no ridge, F_b = 0). */
 void merp_junction_bound(merp_junction *j, uint32_t k, const float up[3], float ridge);
 
+/* Ages the junction's bark to `years` (≥ 1; the years since the lateral's
+ * shoot grew: 1 in the season it appears), after G04 §3.2 and Fig. 7: the
+ * bud scale scar ring at the base of the parent's shoot (between in and out)
+ * fades as bark grows over it, and each lateral's scar ring, a crease all
+ * round its base at first, becomes its branch bark ridge in the crotch above
+ * it. G04 gives no law; ours: the parent's scar weight is
+ * σ(y) = merp_junction_scar_weight(y) = e^(−(y − 1)/3), 1, 0.37, 0.14, 0.05
+ * at years 1, 4, 7, 10, and each lateral's bound moves from its ring
+ * (around the lateral's axis where it meets the parent, F_b = 1 out to
+ * 1.15 r_L) to merp_junction_bound's crotch bound at ridge 1, by 1 − σ(y)
+ * (the bound's ends and radii interpolated). Sets scar, scar_weight and
+ * every bound[k] (replacing merp_junction_bound's). */
+void merp_junction_age(merp_junction *j, const float up[3], float years);
+
+/* σ(y) of merp_junction_age: 1 up to year 1, e^(−(y − 1)/3) after. */
+float merp_junction_scar_weight(float years);
+
 /* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
 float merp_junction_field(const float p[3], const void *data);
 
 /* F_b(p) of the junction: b, the ridge's weight at p. */
 float merp_junction_ridge(const merp_junction *j, const float p[3]);
+
+/* How much each bounded blend changes the field at p: *scar = F_s·|B1 − B2|
+ * of the parent's scar (in and out), *ridge = F_b·|B1 − B2| of the laterals'
+ * ridge (the strength of a scar or ridge there, in field units). */
+void merp_junction_strength(const merp_junction *j, const float p[3], float *scar, float *ridge);
 
 /* --------------------------------------------------------------- patch.c */
 

@@ -5,13 +5,14 @@
 
 #include <assert.h>
 #include <math.h>
+#include <string.h>
 
 #include "core/vec.h"
 #include "mesh/implicit/implicit.h"
 
-void merp_junction_bound(merp_junction *j, uint32_t k, const float up[3], float ridge)
+/* Lateral k's crotch bound (see merp_junction_bound) into *b. */
+static void crotch_bound(const merp_junction *j, uint32_t k, const float up[3], float ridge, merp_bound *b)
 {
-    assert(k < j->laterals);
     const merp_seg *l = &j->lateral[k];
     float d[3], e[3];
     for (int a = 0; a < 3; a++)
@@ -32,13 +33,84 @@ void merp_junction_bound(merp_junction *j, uint32_t k, const float up[3], float 
     float r_P = j->in.rb, r_L = l->ra, t = (r_P + r_L * cos_t) / sin_t;
     float x = t * sin_t - r_L * cos_t, y = t * cos_t + r_L * sin_t;
     float g = ridge < 0.0f ? 0.0f : ridge > 1.0f ? 1.0f : ridge;
-    merp_bound *b = &j->bound[k];
     for (int a = 0; a < 3; a++) {
         b->a[a] = l->a[a] + x * e[a] + y * up[a];
         b->b[a] = b->a[a] + 0.5f * r_L * g * d[a];
     }
     b->r_in = 0.4f * r_L * g;
     b->r_out = b->r_in + 0.8f * r_L * g + 1e-6f;
+}
+
+void merp_junction_bound(merp_junction *j, uint32_t k, const float up[3], float ridge)
+{
+    assert(k < j->laterals);
+    crotch_bound(j, k, up, ridge, &j->bound[k]);
+}
+
+/* The bark's time law (merp_junction_age): a scar's visible weight after y
+ * years, e^(−(y − 1)/τ) with τ = 3 years. */
+#define AGE_TAU 3.0f
+
+float merp_junction_scar_weight(float years)
+{
+    return years <= 1.0f ? 1.0f : expf(-(years - 1.0f) / AGE_TAU);
+}
+
+/* Lateral k's scar ring: the stretch of its axis where it meets the parent's
+ * surface, from below (t = (r_P − r_L cos θ) / sin θ) to the crotch above (t
+ * = (r_P + r_L cos θ) / sin θ), with F_b = 1 a little beyond its radius, so
+ * the whole contact curve is a crease. */
+static void ring_bound(const merp_junction *j, uint32_t k, const float up[3], merp_bound *b)
+{
+    const merp_seg *l = &j->lateral[k];
+    float d[3];
+    for (int a = 0; a < 3; a++)
+        d[a] = l->b[a] - l->a[a];
+    float len = v3_len(d);
+    v3_normalize(d);
+    float cos_t = fminf(v3_dot(d, up), 0.985f), sin_t = sqrtf(1.0f - cos_t * cos_t);
+    float r_P = j->in.rb, r_L = l->ra;
+    float t0 = fmaxf(0.0f, (r_P - r_L * cos_t) / sin_t), t1 = fminf(len, (r_P + r_L * cos_t) / sin_t);
+    for (int a = 0; a < 3; a++) {
+        b->a[a] = l->a[a] + t0 * d[a];
+        b->b[a] = l->a[a] + fmaxf(t0, t1) * d[a];
+    }
+    b->r_in = 1.15f * r_L;
+    b->r_out = b->r_in + 0.8f * r_L;
+}
+
+void merp_junction_age(merp_junction *j, const float up[3], float years)
+{
+    assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
+    float sigma = merp_junction_scar_weight(years), m = 1.0f - sigma;
+    /* The parent's scar: a band about its axis at J, as wide as PCM's bulge
+     * between in and out (about 1.3 r_P either side). */
+    float ax[3];
+    for (int a = 0; a < 3; a++)
+        ax[a] = j->in.b[a] - j->in.a[a];
+    if (!v3_normalize(ax))
+        memcpy(ax, up, sizeof ax);
+    float r_P = j->in.rb;
+    for (int a = 0; a < 3; a++) {
+        j->scar.a[a] = j->in.b[a] - 0.6f * r_P * ax[a];
+        j->scar.b[a] = j->in.b[a] + 0.6f * r_P * ax[a];
+    }
+    j->scar.r_in = 1.1f * r_P;
+    j->scar.r_out = 2.0f * r_P;
+    j->scar_weight = j->out.ra > 0.0f ? sigma : 0.0f;
+    /* Each lateral's ring turns into its crotch's ridge. */
+    for (uint32_t k = 0; k < j->laterals; k++) {
+        merp_bound ring, ridge;
+        ring_bound(j, k, up, &ring);
+        crotch_bound(j, k, up, 1.0f, &ridge);
+        merp_bound *b = &j->bound[k];
+        for (int a = 0; a < 3; a++) {
+            b->a[a] = ring.a[a] + m * (ridge.a[a] - ring.a[a]);
+            b->b[a] = ring.b[a] + m * (ridge.b[a] - ring.b[a]);
+        }
+        b->r_in = ring.r_in + m * (ridge.r_in - ring.r_in);
+        b->r_out = ring.r_out + m * (ridge.r_out - ring.r_out);
+    }
 }
 
 float merp_junction_ridge(const merp_junction *j, const float p[3])
@@ -53,14 +125,35 @@ float merp_junction_ridge(const merp_junction *j, const float p[3])
     return F_b;
 }
 
-float merp_junction_field(const float p[3], const void *data)
+/* The parts of F_g at p: the parent's axis A (with its scar), the
+ * laterals' PCM union b1 and blend b2, and the weights of the two bounded
+ * blends with the differences they weigh. */
+typedef struct terms {
+    float F_s, scar_diff; /* the parent's scar: F_s and |B1 − B2| of in, out */
+    float F_b, b1, b2;
+} terms;
+
+/* PCM's bulge width for the scar between a year's shoot and the last: the
+ * widest (MERP_ISO), so the ring shows. */
+#define SCAR_W MERP_ISO
+
+static void junction_terms(const merp_junction *j, const float p[3], terms *t)
 {
-    const merp_junction *j = data;
     assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
-    float A = merp_seg_field(&j->in, p);
+    float f_in = merp_seg_field(&j->in, p), A = f_in;
+    float f_out = 0.0f;
     if (j->out.ra > 0.0f) {
-        float f_out = merp_seg_field(&j->out, p);
+        f_out = merp_seg_field(&j->out, p);
         A = f_out > A ? f_out : A;
+    }
+    t->F_s = t->scar_diff = 0.0f;
+    if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
+        t->F_s = j->scar_weight * merp_bound_field(&j->scar, p);
+        if (t->F_s > 0.0f) {
+            float a1 = merp_pcm_union(f_in, f_out, SCAR_W);
+            t->scar_diff = fabsf(a1 - A);
+            A = merp_gbb(t->F_s, a1, A);
+        }
     }
     float L[MERP_JUNCTION_LATERALS], f[1 + MERP_JUNCTION_LATERALS] = {A};
     float A_d = A, b1 = 0.0f;
@@ -73,7 +166,22 @@ float merp_junction_field(const float p[3], const void *data)
         float L_d = L[k] + merp_pcm_delta(MERP_ISO - A, j->w);
         b1 = L_d > b1 ? L_d : b1;
     }
-    b1 = A_d > b1 ? A_d : b1;
-    float b2 = merp_blend_sum(f, 1 + j->laterals);
-    return merp_gbb(merp_junction_ridge(j, p), b1, b2);
+    t->b1 = A_d > b1 ? A_d : b1;
+    t->b2 = merp_blend_sum(f, 1 + j->laterals);
+    t->F_b = merp_junction_ridge(j, p);
+}
+
+float merp_junction_field(const float p[3], const void *data)
+{
+    terms t;
+    junction_terms(data, p, &t);
+    return merp_gbb(t.F_b, t.b1, t.b2);
+}
+
+void merp_junction_strength(const merp_junction *j, const float p[3], float *scar, float *ridge)
+{
+    terms t;
+    junction_terms(j, p, &t);
+    *scar = t.F_s * t.scar_diff;
+    *ridge = t.F_b * fabsf(t.b1 - t.b2);
 }

@@ -12,6 +12,7 @@
 #include "core/alloc.h"
 #include "core/vec.h"
 #include "mesh/implicit/implicit.h"
+#include "mesh/implicit/walk.h"
 
 /* The six tetrahedra of a cell: paths 0 → a → a|b → 7 over the corner bits
  * (x = 1, y = 2, z = 4), one per order of the three axes. */
@@ -19,14 +20,11 @@ static const uint8_t kuhn[6][4] = {
     {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7},
 };
 
-enum { REFINE_STEPS = 8 };
-
 typedef struct mtet {
     const merp_grid *g;
     merp_field_fn f;
     const void *data;
-    uint32_t sx, sy;   /* samples along x, y */
-    float *value;      /* per sample */
+    merp_walk *w;
     uint32_t *edge_v;  /* per sample × 7 directions: vertex + 1, 0 when none yet */
     merp_trimesh *out;
 } mtet;
@@ -39,62 +37,11 @@ void merp_mtet_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles
     *triangles = cells * 6 * 2;
 }
 
-static uint32_t sample_index(const mtet *m, uint32_t i, uint32_t j, uint32_t k)
-{
-    return i + m->sx * (j + m->sy * k);
-}
-
 static void sample_pos(const merp_grid *g, uint32_t i, uint32_t j, uint32_t k, float p[3])
 {
     p[0] = g->origin[0] + (float)i * g->h;
     p[1] = g->origin[1] + (float)j * g->h;
     p[2] = g->origin[2] + (float)k * g->h;
-}
-
-/* −∇f / |∇f| at p by central differences; `fallback` where ∇f vanishes. */
-static void normal_at(const mtet *m, const float p[3], const float fallback[3], float n[3])
-{
-    float e = m->g->h * 0.05f;
-    for (int a = 0; a < 3; a++) {
-        float q[3] = {p[0], p[1], p[2]}, r[3] = {p[0], p[1], p[2]};
-        q[a] += e;
-        r[a] -= e;
-        n[a] = m->f(r, m->data) - m->f(q, m->data);
-    }
-    if (!v3_normalize(n)) {
-        memcpy(n, fallback, sizeof(float) * 3);
-        v3_normalize(n);
-    }
-}
-
-/* The surface point on the segment from pa (inside, fa ≥ c) to pb (outside):
- * regula falsi with the Illinois modification, keeping the bracket. */
-static void solve_edge(const mtet *m, const float pa[3], float fa, const float pb[3], float fb,
-                       float p[3])
-{
-    float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
-    int side = 0;
-    float t = 0.5f;
-    for (int it = 0; it < REFINE_STEPS; it++) {
-        t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
-        for (int k = 0; k < 3; k++)
-            p[k] = pa[k] + t * (pb[k] - pa[k]);
-        float gt = m->f(p, m->data) - MERP_ISO;
-        if (gt >= 0.0f) {
-            ta = t, ga = gt;
-            if (side == 1)
-                gb *= 0.5f;
-            side = 1;
-        } else {
-            tb = t, gb = gt;
-            if (side == -1)
-                ga *= 0.5f;
-            side = -1;
-        }
-    }
-    t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
-    for (int k = 0; k < 3; k++)
-        p[k] = pa[k] + t * (pb[k] - pa[k]);
 }
 
 /* The vertex on the edge between corners c1 ⊂ c2 (bit masks) of cell (i,j,k),
@@ -103,24 +50,23 @@ static uint32_t edge_vertex(mtet *m, const uint32_t cell[3], uint8_t c1, uint8_t
 {
     uint32_t i1 = cell[0] + (c1 & 1), j1 = cell[1] + (c1 >> 1 & 1), k1 = cell[2] + (c1 >> 2 & 1);
     uint32_t i2 = cell[0] + (c2 & 1), j2 = cell[1] + (c2 >> 1 & 1), k2 = cell[2] + (c2 >> 2 & 1);
-    uint32_t s1 = sample_index(m, i1, j1, k1), s2 = sample_index(m, i2, j2, k2);
+    uint32_t s1 = merp_walk_sample(m->w, i1, j1, k1), s2 = merp_walk_sample(m->w, i2, j2, k2);
     uint32_t *slot = &m->edge_v[(size_t)s1 * 7 + (uint32_t)(c1 ^ c2) - 1];
     if (*slot != 0)
         return *slot - 1;
     float p1[3], p2[3], p[3], dir[3];
     sample_pos(m->g, i1, j1, k1, p1);
     sample_pos(m->g, i2, j2, k2, p2);
-    bool in1 = m->value[s1] >= MERP_ISO;
-    if (in1)
-        solve_edge(m, p1, m->value[s1], p2, m->value[s2], p);
-    else
-        solve_edge(m, p2, m->value[s2], p1, m->value[s1], p);
+    const float *value = m->w->value; /* both corners are known: their cell was marched */
+    bool in1 = value[s1] >= MERP_ISO;
+    float fp = in1 ? merp_walk_solve(m->w, p1, value[s1], p2, value[s2], p)
+                   : merp_walk_solve(m->w, p2, value[s2], p1, value[s1], p);
     for (int a = 0; a < 3; a++)
         dir[a] = in1 ? p2[a] - p1[a] : p1[a] - p2[a];
     merp_trimesh *o = m->out;
     uint32_t v = o->vertex_count++;
     memcpy(o->positions + 3 * (size_t)v, p, sizeof p);
-    normal_at(m, p, dir, o->normals + 3 * (size_t)v);
+    merp_walk_normal(m->w, p, fp, dir, o->normals + 3 * (size_t)v);
     *slot = v + 1;
     return v;
 }
@@ -207,50 +153,51 @@ static void tetra(mtet *m, const uint32_t cell[3], const uint8_t c[4], const flo
     emit(m, cell, e2, ci, co);
 }
 
-/* Marches the cell at (i, j, k) when its corners differ in sign. */
-static void cell_march(mtet *m, uint32_t i, uint32_t j, uint32_t k)
+/* Marches a cell whose corners (values cf) differ in sign. */
+static void cell_march(mtet *m, const uint32_t cell[3], const float cf[8])
 {
-    float cf[8];
-    int inside = 0;
-    for (uint8_t c = 0; c < 8; c++) {
-        cf[c] = m->value[sample_index(m, i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1))];
-        inside += cf[c] >= MERP_ISO;
-    }
-    if (inside == 0 || inside == 8)
-        return;
-    const uint32_t cell[3] = {i, j, k};
     for (int t = 0; t < 6; t++) {
         const float f[4] = {cf[kuhn[t][0]], cf[kuhn[t][1]], cf[kuhn[t][2]], cf[kuhn[t][3]]};
         tetra(m, cell, kuhn[t], f);
     }
 }
 
+/* Marches the cells the walk gives: every crossed cell when `seeds` is NULL,
+ * else those reached from the seeds. */
+static mer_result march(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
+                        uint32_t nseeds, merp_trimesh *out, mer_error *err)
+{
+    merp_walk w;
+    if (merp_walk_init(&w, g, f, data, err) != MER_OK)
+        return MER_ERR_NOMEM;
+    mtet m = {g, f, data, &w, NULL, out};
+    m.edge_v = merp_calloc((size_t)w.sx * w.sy * (g->n[2] + 1) * 7, sizeof(uint32_t));
+    if (m.edge_v == NULL) {
+        merp_walk_free(&w);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
+    }
+    merp_walk_start(&w, seeds, nseeds);
+    out->vertex_count = out->triangle_count = 0;
+    uint32_t cell[3];
+    float cf[8];
+    uint8_t mask;
+    while (merp_walk_next(&w, cell, cf, &mask))
+        cell_march(&m, cell, cf);
+    merp_walk_free(&w);
+    merp_free(m.edge_v);
+    return MER_OK;
+}
+
 mer_result merp_mtet_polygonize(const merp_grid *g, merp_field_fn f, const void *data,
                                 merp_trimesh *out, mer_error *err)
 {
-    assert(g->n[0] >= 1 && g->n[1] >= 1 && g->n[2] >= 1 && g->h > 0.0f);
-    mtet m = {g, f, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, out};
-    size_t samples = (size_t)m.sx * m.sy * (g->n[2] + 1);
-    m.value = merp_malloc(samples * sizeof(float));
-    m.edge_v = merp_calloc(samples * 7, sizeof(uint32_t));
-    if (m.value == NULL || m.edge_v == NULL) {
-        merp_free(m.value);
-        merp_free(m.edge_v);
-        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
-    }
-    for (uint32_t k = 0; k <= g->n[2]; k++)
-        for (uint32_t j = 0; j <= g->n[1]; j++)
-            for (uint32_t i = 0; i <= g->n[0]; i++) {
-                float p[3];
-                sample_pos(g, i, j, k, p);
-                m.value[sample_index(&m, i, j, k)] = f(p, data);
-            }
-    out->vertex_count = out->triangle_count = 0;
-    for (uint32_t k = 0; k < g->n[2]; k++)
-        for (uint32_t j = 0; j < g->n[1]; j++)
-            for (uint32_t i = 0; i < g->n[0]; i++)
-                cell_march(&m, i, j, k);
-    merp_free(m.value);
-    merp_free(m.edge_v);
-    return MER_OK;
+    return march(g, f, data, NULL, 0, out, err);
+}
+
+mer_result merp_mtet_polygonize_seeded(const merp_grid *g, merp_field_fn f, const void *data,
+                                       const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out,
+                                       mer_error *err)
+{
+    assert(seeds != NULL && nseeds >= 1);
+    return march(g, f, data, seeds, nseeds, out, err);
 }

@@ -88,16 +88,21 @@ static void drop_caps(merp_trimesh *m, const int8_t *on_cut)
 
 /* next[a] = b for every directed edge a→b whose reverse no triangle has (a
  * boundary edge); UINT32_MAX elsewhere. MER_ERR_INVALID when a vertex starts
- * two boundary edges (the loops are not simple). */
-static mer_result boundary_next(const merp_trimesh *m, uint32_t *next, mer_error *err)
+ * two boundary edges (the loops are not simple). Only edges with both ends
+ * on a cut are looked at: the polygonizer's mesh is closed, so the open
+ * edges are those the dropped caps had, all in the cut planes. */
+static mer_result boundary_next(const merp_trimesh *m, const int8_t *on_cut, uint32_t *next, mer_error *err)
 {
-    size_t n = (size_t)m->triangle_count * 3;
-    edge *e = merp_malloc((n ? n : 1) * sizeof *e);
+    size_t n = 0;
+    edge *e = merp_malloc(((size_t)m->triangle_count * 3 + 1) * sizeof *e);
     if (e == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
     for (size_t t = 0; t < m->triangle_count; t++)
-        for (int k = 0; k < 3; k++)
-            e[3 * t + k] = (edge){m->triangles[3 * t + k], m->triangles[3 * t + (k + 1) % 3]};
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = m->triangles[3 * t + k], b = m->triangles[3 * t + (k + 1) % 3];
+            if (on_cut[a] >= 0 && on_cut[b] >= 0)
+                e[n++] = (edge){a, b};
+        }
     qsort(e, n, sizeof *e, edge_cmp);
     for (uint32_t v = 0; v < m->vertex_count; v++)
         next[v] = UINT32_MAX;
@@ -254,7 +259,7 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, float kappa,
     }
     if (rc == MER_OK) {
         drop_caps(m, on_cut);
-        rc = boundary_next(m, next, err);
+        rc = boundary_next(m, on_cut, next, err);
     }
     uint32_t vertices = m->vertex_count;
     for (uint32_t i = 0; i < pt->cuts && rc == MER_OK; i++) {
@@ -276,6 +281,14 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
 {
     assert(pt->cuts >= 1 && pt->cuts <= MERP_PATCH_CUTS);
     clipped cl = {pt, 1.0f / pt->grid.h};
-    mer_result rc = merp_mtet_polygonize(&pt->grid, clipped_field, &cl, out, err);
+    /* Seeds inside the solid: the junction point and each shaft halfway to
+     * its cut; the clipped surface is one piece, so the walk finds it all. */
+    float seeds[1 + MERP_PATCH_CUTS][3];
+    const float *J = pt->j->in.b;
+    for (uint32_t i = 0; i <= pt->cuts; i++)
+        for (int k = 0; k < 3; k++)
+            seeds[i][k] = i == 0 ? J[k] : 0.5f * (J[k] + pt->cut[i - 1].o[k]);
+    mer_result rc = merp_mtet_polygonize_seeded(&pt->grid, clipped_field, &cl, (const float(*)[3])seeds,
+                                                1 + pt->cuts, out, err);
     return rc == MER_OK ? stitch_all(out, pt, cl.kappa, err) : rc;
 }

@@ -17,7 +17,9 @@ float merp_seg_xc(void)
     return XC;
 }
 
-float merp_seg_distance(const merp_seg *s, const float p[3], float *t)
+/* The squared distance from p to s and the parameter of the closest point:
+ * the fields need d² only, so no square root. */
+static float seg_distance2(const merp_seg *s, const float p[3], float *t)
 {
     float ab[3], ap[3];
     for (int k = 0; k < 3; k++) {
@@ -32,18 +34,31 @@ float merp_seg_distance(const merp_seg *s, const float p[3], float *t)
     float q[3];
     for (int k = 0; k < 3; k++)
         q[k] = ap[k] - u * ab[k];
+    *t = u;
+    return v3_dot(q, q);
+}
+
+float merp_seg_distance2(const merp_seg *s, const float p[3], float *t)
+{
+    float u;
+    float d2 = seg_distance2(s, p, &u);
     if (t != NULL)
         *t = u;
-    return v3_len(q);
+    return d2;
+}
+
+float merp_seg_distance(const merp_seg *s, const float p[3], float *t)
+{
+    return sqrtf(merp_seg_distance2(s, p, t));
 }
 
 float merp_seg_field(const merp_seg *s, const float p[3])
 {
     assert(s->ra > 0.0f && s->rb > 0.0f);
     float t;
-    float d = merp_seg_distance(s, p, &t);
+    float d2 = seg_distance2(s, p, &t);
     float R = ((1.0f - t) * s->ra + t * s->rb) / XC;
-    float x2 = (d / R) * (d / R);
+    float x2 = d2 / (R * R);
     if (x2 >= 1.0f)
         return 0.0f;
     float u = 1.0f - x2;

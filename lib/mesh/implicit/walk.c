@@ -1,0 +1,193 @@
+/* meristem — lazily evaluated lattice samples and the walk over the cells
+ * the surface crosses (walk.h). */
+#include "config.h"
+
+#include <assert.h>
+#include <math.h>
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/vec.h"
+#include "mesh/implicit/walk.h"
+
+/* At most this many regula falsi steps on an edge; fewer once the point is
+ * within REFINE_TOL of the edge's length from the surface (|f − c| over the
+ * bracket's slope). */
+enum { REFINE_STEPS = 8 };
+#define REFINE_TOL 1e-4f
+
+const uint8_t merp_walk_face[6] = {0x55, 0xaa, 0x33, 0xcc, 0x0f, 0xf0};
+
+static uint32_t cell_count(const merp_grid *g)
+{
+    return g->n[0] * g->n[1] * g->n[2];
+}
+
+mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
+                          mer_error *err)
+{
+    assert(g->n[0] >= 1 && g->n[1] >= 1 && g->n[2] >= 1 && g->h > 0.0f);
+    uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
+    assert(samples < UINT32_MAX);
+    *w = (merp_walk){g, f, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
+    uint32_t cells = cell_count(g);
+    w->value = merp_malloc((size_t)samples * sizeof(float));
+    w->known = merp_calloc((size_t)(samples / 32 + 1), sizeof(uint32_t));
+    w->seen = merp_calloc((size_t)(cells / 32 + 1), sizeof(uint32_t));
+    w->queue = merp_malloc((size_t)cells * sizeof(uint32_t));
+    if (w->value == NULL || w->known == NULL || w->seen == NULL || w->queue == NULL) {
+        merp_walk_free(w);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
+    }
+    return MER_OK;
+}
+
+void merp_walk_free(merp_walk *w)
+{
+    merp_free(w->value);
+    merp_free(w->known);
+    merp_free(w->seen);
+    merp_free(w->queue);
+    w->value = NULL, w->known = w->seen = w->queue = NULL;
+}
+
+float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
+{
+    uint32_t s = merp_walk_sample(w, i, j, k);
+    if (!(w->known[s >> 5] >> (s & 31) & 1u)) {
+        const float p[3] = {w->g->origin[0] + (float)i * w->g->h, w->g->origin[1] + (float)j * w->g->h,
+                            w->g->origin[2] + (float)k * w->g->h};
+        w->value[s] = w->f(p, w->data);
+        w->known[s >> 5] |= 1u << (s & 31);
+    }
+    return w->value[s];
+}
+
+uint8_t merp_walk_corners(merp_walk *w, const uint32_t cell[3], float cf[8])
+{
+    uint8_t mask = 0;
+    for (uint8_t c = 0; c < 8; c++) {
+        cf[c] = merp_walk_value(w, cell[0] + (c & 1), cell[1] + (c >> 1 & 1), cell[2] + (c >> 2 & 1));
+        mask |= (uint8_t)((cf[c] >= MERP_ISO) << c);
+    }
+    return mask;
+}
+
+static void push(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
+{
+    uint32_t c = i + w->g->n[0] * (j + w->g->n[1] * k);
+    if (w->seen[c >> 5] >> (c & 31) & 1u)
+        return;
+    w->seen[c >> 5] |= 1u << (c & 31);
+    w->queue[w->tail++] = c;
+}
+
+void merp_walk_seed(merp_walk *w, const float p[3])
+{
+    uint32_t cell[3];
+    for (int a = 0; a < 3; a++) {
+        float x = floorf((p[a] - w->g->origin[a]) / w->g->h);
+        cell[a] = x < 0.0f ? 0 : x >= (float)w->g->n[a] ? w->g->n[a] - 1 : (uint32_t)x;
+    }
+    float cf[8];
+    for (; cell[0] < w->g->n[0]; cell[0]++) {
+        uint8_t mask = merp_walk_corners(w, cell, cf);
+        if (mask != 0 && mask != 0xff) {
+            push(w, cell[0], cell[1], cell[2]);
+            return;
+        }
+    }
+}
+
+void merp_walk_all(merp_walk *w)
+{
+    for (uint32_t k = 0; k < w->g->n[2]; k++)
+        for (uint32_t j = 0; j < w->g->n[1]; j++)
+            for (uint32_t i = 0; i < w->g->n[0]; i++)
+                push(w, i, j, k);
+}
+
+void merp_walk_start(merp_walk *w, const float (*seeds)[3], uint32_t nseeds)
+{
+    if (seeds == NULL)
+        merp_walk_all(w);
+    for (uint32_t s = 0; s < nseeds; s++)
+        merp_walk_seed(w, seeds[s]);
+}
+
+void merp_walk_cell(const merp_walk *w, uint32_t c, uint32_t cell[3])
+{
+    const uint32_t *n = w->g->n;
+    cell[0] = c % n[0], cell[1] = c / n[0] % n[1], cell[2] = c / (n[0] * n[1]);
+}
+
+bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
+{
+    const uint32_t *n = w->g->n;
+    while (w->head < w->tail) {
+        merp_walk_cell(w, w->queue[w->head++], cell);
+        *mask = merp_walk_corners(w, cell, cf);
+        if (*mask == 0 || *mask == 0xff)
+            continue;
+        for (int face = 0; face < 6; face++) {
+            uint8_t fm = *mask & merp_walk_face[face];
+            if (fm == 0 || fm == merp_walk_face[face])
+                continue; /* no surface through this face */
+            int a = face / 2, up = face % 2;
+            if (up ? cell[a] + 1 >= n[a] : cell[a] == 0)
+                continue;
+            uint32_t q[3] = {cell[0], cell[1], cell[2]};
+            q[a] = up ? q[a] + 1 : q[a] - 1;
+            push(w, q[0], q[1], q[2]);
+        }
+        return true;
+    }
+    return false;
+}
+
+void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const float fallback[3], float n[3])
+{
+    float e = w->g->h * 0.02f;
+    for (int a = 0; a < 3; a++) {
+        float q[3] = {p[0], p[1], p[2]};
+        q[a] += e;
+        n[a] = fp - w->f(q, w->data);
+    }
+    if (!v3_normalize(n)) {
+        memcpy(n, fallback, sizeof(float) * 3);
+        v3_normalize(n);
+    }
+}
+
+float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3])
+{
+    float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
+    int side = 0;
+    float t = 0.5f;
+    for (int it = 0; it < REFINE_STEPS; it++) {
+        t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
+        for (int k = 0; k < 3; k++)
+            p[k] = pa[k] + t * (pb[k] - pa[k]);
+        float gt = w->f(p, w->data) - MERP_ISO;
+        /* ga − gb over the bracket is the slope per unit t; t times the
+         * edge's length (h or more) is a distance. */
+        if (fabsf(gt) * (tb - ta) < REFINE_TOL * fabsf(ga - gb))
+            return gt + MERP_ISO;
+        if (gt >= 0.0f) {
+            ta = t, ga = gt;
+            if (side == 1)
+                gb *= 0.5f;
+            side = 1;
+        } else {
+            tb = t, gb = gt;
+            if (side == -1)
+                ga *= 0.5f;
+            side = -1;
+        }
+    }
+    t = ga != gb ? ta + (tb - ta) * ga / (ga - gb) : 0.5f * (ta + tb);
+    for (int k = 0; k < 3; k++)
+        p[k] = pa[k] + t * (pb[k] - pa[k]);
+    return w->f(p, w->data);
+}
+
