@@ -9,7 +9,7 @@ FUZZ_SERVER = server/refusal.c server/refusal.h server/decode.c server/decode.h 
 	server/codec.c server/codec.h server/edit_ops.c server/edit_ops.h \
 	server/edits.c server/edits.h server/spec.c server/spec.h \
 	server/journal.c server/journal.h server/io_hooks.h \
-	server/functions_json.c server/functions_json.h
+	server/functions_json.c server/functions_json.h server/spec_sow.c
 FUZZ_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir) $(JANSSON_CFLAGS) $(ZLIB_CFLAGS)
 FUZZ_LDADD = lib/libmeristem-core.la $(JANSSON_LIBS) $(ZLIB_LIBS)
 
