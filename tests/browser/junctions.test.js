@@ -3,7 +3,8 @@
 // Chromium against a real meristemd (issue 18, item 5): ticking the box asks for
 // snapshot.glb?junctions=implicit and draws the forks of thick branches as patches
 // (more triangles there, and a ridge value the page darkens the bark by); the close-up
-// brings the camera to such a fork; unticking it gives the tubes back.
+// brings the camera to such a fork (the key C: the fork under the pointer); unticking
+// it gives the tubes back.
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const path = require('node:path');
@@ -93,6 +94,24 @@ test('the junctions toggle asks for implicit junctions, the close-up looks at a 
   // The fork is a patch: its ridge points are near it, and more triangles than tubes.
   const near = await bark(fork.at, 1.5 * fork.diameter);
   await page.screenshot({ path: path.join(process.env.MER_ARTIFACTS, 'browser-junctions-fork.png') });
+
+  // The key C: the fork nearest the tree under the pointer. The pointer goes to the
+  // base of another thick lateral, where the tree in front is that fork.
+  await page.click('#frame');
+  const other = await page.evaluate(({ first, from }) => window.meristem.session.skeleton().then((sk) => {
+    const v = window.meristem.viewer;
+    for (const n of sk.byId.values()) {
+      const p = sk.byId.get(n.parent);
+      if (!p || n.order <= p.order || n.id === first || String(n.base) === String(from) || n.diameter < 0.3 * p.diameter) continue;
+      const at = v.screenOf(n.base), hit = v.pick(at.x, at.y, 0);
+      if (hit && hit.point.distanceTo(v.camera.position.clone().set(...n.base)) < p.diameter) return { base: n.base, at };
+    }
+    return null;
+  }), { first: fork.lateral, from: fork.at });
+  assert.ok(other, 'another fork in view');
+  await page.mouse.move(other.at.x, other.at.y);
+  await page.keyboard.press('c');
+  await page.waitForFunction((b) => String(window.meristem.panels.view.fork.at) === String(b), other.base, { timeout: 15000 });
 
   await page.uncheck('#junctions');
   await page.waitForFunction(() => !window.meristem.viewer.url?.includes('junctions='), null, { timeout: 60000 });
