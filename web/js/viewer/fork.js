@@ -65,7 +65,7 @@ export function chooseFork(nodes, { ridge = null, near = null } = {}) {
     ? all.filter((f) => anyNear(ridge, f.at, 0.5 * f.diameter + f.lateral.diameter)) : [];
   if (meshed.length) all = meshed;
   else {
-    const thickest = Math.max(...nodes.filter((n) => n.alive).map((n) => n.diameter));
+    const thickest = nodes.reduce((m, n) => (n.alive && n.diameter > m ? n.diameter : m), 0);
     const thick = all.filter((f) => f.diameter >= JUNCTION_FRACTION * thickest);
     if (thick.length) all = thick;
   }
