@@ -60,6 +60,7 @@ TESTS += tests/conformance/importers.test.js
 TESTS += tests/browser/history.test.js
 TESTS += tests/browser/models.test.js
 TESTS += tests/browser/forest.test.js
+TESTS += tests/browser/junctions.test.js
 TESTS += tests/conformance/validate.test.js
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
@@ -101,6 +102,7 @@ EXTRA_DIST += \
 	tests/support/render-glb.js \
 	tests/browser/page.test.js \
 	tests/browser/forest.test.js \
+	tests/browser/junctions.test.js \
 	tests/browser/brush.test.js \
 	tests/browser/controls.test.js \
 	tests/browser/modeller.test.js \

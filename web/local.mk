@@ -18,7 +18,8 @@ WEB_FILES = web/index.html web/style.css web/favicon.svg \
 	web/js/panels/time.js web/js/panels/lsystem.js web/js/panels/inverse.js \
 	web/js/panels/gfunc.js \
 	web/js/viewer/viewer.js web/js/viewer/loader.js web/js/viewer/picking.js \
-	web/js/viewer/highlight.js web/js/viewer/lod.js web/js/viewer/probe.js
+	web/js/viewer/highlight.js web/js/viewer/lod.js web/js/viewer/probe.js \
+	web/js/viewer/fork.js
 THREE_PARTS = \
 	LICENSE \
 	build/three.module.js \

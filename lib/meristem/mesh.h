@@ -78,8 +78,11 @@
  * field's value (0 on tubes, up to 1 on the ridge), in `ridge` (glTF
  * `_RIDGE`); with a colour mode the colour is darkened by it. Patch UVs
  * continue the bark's of the nearest shaft (u by angle in that shaft's ring
- * frame, v by arc length), with seam vertices of their own. The ridge grows in
- * with the lateral's age: full after four steps.
+ * frame, v by arc length), with seam vertices of their own. The bark ages with
+ * the fork's oldest lateral, in years (steps, 1 in the season it appears; G04
+ * Fig. 7): the lateral's scar ring round its base moves into the crotch as its
+ * bark ridge, and where the fork also ends one season's shoot, the parent's bud
+ * scale scar there fades (weight e^(−(y − 1)/3)).
  *
  * Colours. Optionally a COLOR_0 per vertex: by branch order (a fixed palette),
  * by light Q (the subtree's light at the last step, dark blue → yellow, scaled

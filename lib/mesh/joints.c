@@ -17,7 +17,6 @@
 #define REACH 1.15f          /* a cut acts within this × its shaft's radius (+ h) */
 #define SHELL 1.6f           /* the surface stays within this × a shaft's radius of its axis */
 #define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
-#define RIDGE_STEPS 4.0f     /* a lateral's ridge is full grown after this many steps */
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
 #define MAX_CELLS 200000u    /* a patch's grid at most; a fork that needs more stays tubes */
@@ -144,10 +143,15 @@ static bool plan_one(merp_builder *b, uint32_t P, const float *base_claim, merp_
     }
     float ridge_up[3];
     memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
-    for (uint32_t k = 0; k < f->laterals; k++) {
-        float age = (float)(b->step - b->nodes[jt->node[2 + k]].born);
-        merp_junction_bound(f, k, ridge_up, merp_clampf(age / RIDGE_STEPS, 0.0f, 1.0f));
-    }
+    /* The bark ages with the oldest lateral (G04 Fig. 7): years = 1 in the
+     * season it appears. The parent's bud scale scar exists only where J ends
+     * one season's shoot and C begins the next's. */
+    uint32_t born = b->nodes[jt->node[2]].born;
+    for (uint32_t k = 1; k < f->laterals; k++)
+        born = born < b->nodes[jt->node[2 + k]].born ? born : b->nodes[jt->node[2 + k]].born;
+    merp_junction_age(f, ridge_up, 1.0f + (float)(b->step > born ? b->step - born : 0));
+    if (b->nodes[C].born == p->born)
+        f->scar_weight = 0.0f;
     return true;
 }
 

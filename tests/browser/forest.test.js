@@ -1,7 +1,7 @@
 'use strict';
 // A sown forest from the page, in headless Chromium against a real meristemd: the
 // model "sown forest" swaps the preset list for the plants, their spacing, the area
-// and the presets; New tree sows them; the camera frames the whole forest (every
+// and the presets (on one line of the top bar); New tree sows them; the camera frames the whole forest (every
 // plant's base on screen), also after it grows; a refused count shows the problem.
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
@@ -41,6 +41,14 @@ test('a forest sown from the page is framed whole', async () => {
   await page.selectOption('#model', 'forest');
   assert.ok(await page.isVisible('#sow-fields'));
   assert.ok(!(await page.isVisible('#preset')), 'no preset list for a forest');
+  // The fields fit the top bar at 1280 px: one row, and the bar no taller than two lines.
+  const bar = await page.evaluate(() => ({
+    rows: new Set(['#sow-count', '#sow-distance', '#sow-size', '#sow-presets']
+      .map((q) => Math.round(document.querySelector(q).getBoundingClientRect().top))).size,
+    height: document.querySelector('#topbar').getBoundingClientRect().height,
+  }));
+  assert.equal(bar.rows, 1, 'the sow fields on one line');
+  assert.ok(bar.height < 90, `the top bar is ${bar.height} px high`);
   await page.fill('#sow-count', '14');
   await page.fill('#sow-distance', '9');
   await page.fill('#sow-size', '60');

@@ -82,6 +82,9 @@ async function start() {
   if (id) {
     try {
       await openSession(await sessionReply);
+      // ?fork=ID (a lateral's node id) or ?fork=thickest: a gallery's fork close-up.
+      const fork = params.get('fork');
+      if (fork) await panelsById.view.closeUp({ lateral: fork === 'thickest' ? null : Number(fork) });
     } catch (e) {
       session.problem(e);
       forgetSessionInUrl();
@@ -109,6 +112,8 @@ window.meristem = {
   setTool: (id) => input.setTool(id),
   stepN: (n) => panelsById.growth.stepN(n),
   undo: () => panelsById.history.undo(),
+  /** The fork close-up (panels/view.js): resolves to the fork looked at, or null. */
+  closeUp: (opts) => panelsById.view.closeUp(opts),
   redo: () => panelsById.history.redoLast(),
   get sessionId() { return session.state.id; },
   get summary() { return session.state.summary; },

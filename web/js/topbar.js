@@ -31,14 +31,13 @@ export class TopBar {
     };
   }
 
-  /** A forest has no preset of its own: its fields replace the preset list. */
+  /** A forest has no preset of its own: its fields replace the preset list and its
+   * description (index.html: what sowing does is their title). */
   showSow() {
     const sown = $('#model').value === 'forest';
     $('#sow-fields').hidden = !sown;
     $('#preset-label').hidden = sown;
-    $('#preset-description').textContent = sown
-      ? 'plants placed by Poisson-disk sampling, no two closer than "apart", each in its Voronoi cell; presets dealt round-robin'
-      : $('#preset-description').textContent;
+    $('#preset-description').hidden = sown;
   }
 
   /** Keeps the presets (GET /v1/presets: presets [{name, description, model}]) and lists

@@ -2,6 +2,7 @@
 // and the download link.
 import * as api from '../api.js';
 import { $ } from '../util.js';
+import { forks, chooseFork, forkView } from '../viewer/fork.js';
 
 /** The snapshot options the panel selects (api.snapshotUrl's). */
 export function viewOptions() {
@@ -9,20 +10,8 @@ export function viewOptions() {
     markers: $('#show-markers').checked, color: $('#color').value, junctions: $('#junctions').checked };
 }
 
-/** The thickest fork with a lateral at least a quarter as thick as its parent (the
- * forks implicit junctions mesh first): its point and its parent's diameter, or null. */
-export function thickestFork(nodes) {
-  const byId = new Map(nodes.map((n) => [n.id, n]));
-  let best = null;
-  for (const n of nodes) {
-    const p = n.parent === null ? null : byId.get(n.parent);
-    if (!p || !n.alive || n.order <= p.order || n.diameter < 0.25 * p.diameter) continue;
-    if (!best || p.diameter > best.diameter) best = { at: p.tip, diameter: p.diameter };
-  }
-  return best;
-}
-
-/** Sets the panel from a gallery page's query (?view=gallery&markers=1&leaves=0&detail=3&color=order). */
+/** Sets the panel from a gallery page's query (?view=gallery&markers=1&leaves=0&detail=3&color=order
+ * &junctions=implicit). */
 export function viewFromQuery(params) {
   $('#show-markers').checked = params.get('markers') === '1';
   $('#show-leaves').checked = params.get('leaves') !== '0';
@@ -36,6 +25,9 @@ export class ViewPanel {
 
   constructor({ viewer, session }) {
     this.session = session;
+    this.viewer = viewer;
+    this.pointer = null;   // the pointer over the view, client px, or null
+    this.fork = null;      // the fork of the last close-up
     const refresh = () => session.refresh();
     $('#show-bark').addEventListener('change', (e) => viewer.setVisible({ bark: e.target.checked }));
     $('#show-leaves').addEventListener('change', (e) => { viewer.setVisible({ leaves: e.target.checked }); refresh(); });
@@ -44,13 +36,35 @@ export class ViewPanel {
     $('#color').addEventListener('change', refresh);
     $('#detail').addEventListener('change', refresh);
     $('#junctions').addEventListener('change', refresh);
-    // A close-up of the thickest fork, where implicit junctions show their ridge.
-    $('#fork-close-up').addEventListener('click', () => {
-      session.skeleton().then((skel) => {
-        const fork = skel && thickestFork([...skel.byId.values()]);
-        if (fork) viewer.closeUp(fork.at, 3 * fork.diameter);
-      });
-    });
+    $('#fork-close-up').addEventListener('click', () => this.closeUp());
+    const canvas = viewer.renderer.domElement;
+    canvas.addEventListener('pointermove', (e) => { this.pointer = { x: e.clientX, y: e.clientY }; });
+    canvas.addEventListener('pointerleave', () => { this.pointer = null; });
+    this.keys = { c: () => this.closeUp({ atPointer: true }) };
+  }
+
+  /**
+   * A close-up of a fork, where implicit junctions show their blend and ridge
+   * (viewer/fork.js): the fork of lateral `lateral` (a node id), or with `atPointer`
+   * the fork nearest the tree under the pointer, else the thickest fork with a
+   * junction patch (or that would get one). Resolves to the fork, or null.
+   */
+  async closeUp({ lateral = null, atPointer = false } = {}) {
+    const skel = await this.session.skeleton();
+    if (!skel) return null;
+    const nodes = [...skel.byId.values()];
+    let fork;
+    if (lateral !== null) {
+      fork = forks(nodes).find((f) => f.lateral.id === lateral) || null;
+    } else {
+      const hit = atPointer && this.pointer ? this.viewer.pick(this.pointer.x, this.pointer.y) : null;
+      fork = chooseFork(nodes, { ridge: this.viewer.ridgePoints(), near: hit ? hit.point.toArray() : null });
+    }
+    if (!fork) return null;
+    const v = forkView(fork);
+    this.viewer.closeUp(v.center, v.radius, v.dir);
+    this.fork = fork;
+    return fork;
   }
 
   /** A new snapshot: the download link follows it (at detail 3 or more, uncompressed). */

@@ -6,7 +6,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { fetchSnapshot } from '../api.js';
-import { NODE_ID } from './picking.js';
+import { NODE_ID, RIDGE } from './picking.js';
 
 /** A glTF loader that decodes EXT_meshopt_compression. */
 export const createLoader = () => new GLTFLoader().setMeshoptDecoder(MeshoptDecoder);
@@ -18,7 +18,8 @@ export const createLoader = () => new GLTFLoader().setMeshoptDecoder(MeshoptDeco
  *   formats the GPU reads as they are, where 3-component ones are converted on every
  *   upload (the shaders read xyz either way; ~10 ms less per 10k-internode load);
  * - the `_NODE_ID` attribute moves to `userData.nodeIds`: only picking and highlights
- *   read it, on the CPU, so it is never uploaded.
+ *   read it, on the CPU, so it is never uploaded; `_RIDGE` (implicit junctions) moves
+ *   to `userData.ridge` likewise (install() turns it into colour).
  * An attribute two primitives share (a twig chunk and its lines) stays one attribute,
  * uploaded once.
  */
@@ -39,6 +40,11 @@ export function gpuReady(geometry) {
   if (ids) {
     geometry.userData.nodeIds = ids;
     geometry.deleteAttribute(NODE_ID);
+  }
+  const ridge = geometry.attributes[RIDGE];
+  if (ridge) {
+    geometry.userData.ridge = ridge;
+    geometry.deleteAttribute(RIDGE);
   }
   return geometry;
 }
@@ -172,6 +178,31 @@ export async function load(viewer, url, { signal } = {}) {
   return { changed: true, ms: viewer.lastLoad.ms };
 }
 
+/** A colour on the branch bark ridge (b = 1) keeps this much of itself, as meristemd's
+ * COLOR_0 does (lib/mesh/joints.c). */
+const RIDGE_DARKEN = 0.55;
+
+/**
+ * The bark ridge of implicit junctions, darker (G04 §3.2, Fig. 6): a bark geometry
+ * without colours whose `_RIDGE` is above 0 somewhere gets per-vertex colours, the
+ * bark's `color` darkened by b. Colours meristemd sent are darkened already.
+ */
+function ridgeColors(geometry, color) {
+  const b = geometry.userData.ridge;
+  if (!b || geometry.attributes.color) return;
+  let any = false;
+  for (let i = 0; i < b.count && !any; i++) any = b.getX(i) > 0;
+  if (!any) return;
+  const rgba = new Uint8Array(4 * b.count);
+  const base = [color.r, color.g, color.b].map((x) => 255 * x);
+  for (let i = 0; i < b.count; i++) {
+    const k = 1 - (1 - RIDGE_DARKEN) * Math.min(1, Math.max(0, b.getX(i)));
+    rgba[4 * i] = base[0] * k; rgba[4 * i + 1] = base[1] * k; rgba[4 * i + 2] = base[2] * k;
+    rgba[4 * i + 3] = 255;
+  }
+  geometry.setAttribute('color', new THREE.Uint8BufferAttribute(rgba, 4, true));
+}
+
 /** Replaces the viewer's tree with a parsed snapshot, each part on the viewer's material. */
 function install(viewer, gltf) {
   const { materials } = viewer;
@@ -183,6 +214,7 @@ function install(viewer, gltf) {
   viewer.twigLines = [];
   viewer.twigDiameter = 0;
   viewer.nodeInfo = null;
+  viewer.ridgeInfo = null;
   viewer.extras = gltf.asset?.extras || gltf.parser?.json?.asset?.extras || null;
   const root = gltf.scene;
   root.traverse((o) => {
@@ -196,8 +228,9 @@ function install(viewer, gltf) {
       viewer.twigLines.push(o);
     } else if (o.isMesh) {
       gpuReady(o.geometry);
-      const colored = Boolean(o.geometry.attributes.color);
       const name = o.material?.name || '';
+      if (name !== 'leaf') ridgeColors(o.geometry, materials.bark.color);
+      const colored = Boolean(o.geometry.attributes.color);
       if (name === 'leaf') {
         o.material = colored ? materials.leafColored : materials.leaf;
         viewer.leafMeshes.push(o);

@@ -6,6 +6,9 @@ import * as THREE from 'three';
 /** GLTFLoader names a custom attribute by its glTF name in lower case. */
 export const NODE_ID = '_node_id';
 
+/** b = F_b of implicit junctions, per bark vertex (mesh.h, Junctions): 0 on tubes. */
+export const RIDGE = '_ridge';
+
 /** The per-vertex node ids of a snapshot geometry (a BufferAttribute), or undefined. */
 export const nodeIdsOf = (geometry) => geometry.userData.nodeIds;
 
@@ -117,6 +120,22 @@ export function markerPositions(markers) {
   for (let i = 0; i < pos.count; i++) {
     v.fromBufferAttribute(pos, i).applyMatrix4(mw);
     out.push([v.x, v.y, v.z]);
+  }
+  return out;
+}
+
+/** World positions of the bark vertices with a ridge value above 0, as a flat xyz array. */
+export function ridgePoints(barkMeshes) {
+  const out = [];
+  const v = new THREE.Vector3();
+  for (const mesh of barkMeshes) {
+    const b = mesh.geometry.userData.ridge, pos = mesh.geometry.attributes.position;
+    if (!b) continue;
+    for (let i = 0; i < b.count; i++) {
+      if (!(b.getX(i) > 0)) continue;
+      v.fromBufferAttribute(pos, i).applyMatrix4(mesh.matrixWorld);
+      out.push(v.x, v.y, v.z);
+    }
   }
   return out;
 }

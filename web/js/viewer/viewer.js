@@ -14,7 +14,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { createLoader, precompile, prefetch, load } from './loader.js';
-import { pick, nodeTable, maxNodeId, markerPositions } from './picking.js';
+import { pick, nodeTable, maxNodeId, markerPositions, ridgePoints } from './picking.js';
 import { Highlighter } from './highlight.js';
 import { chooseTwigDetail } from './lod.js';
 import { canvasVariance } from './probe.js';
@@ -116,6 +116,7 @@ export class Viewer {
     this.leaves = null;
     this.markers = null;    // THREE.Points
     this.nodeInfo = null;   // lazily computed per-node centroids and axes
+    this.ridgeInfo = null;  // lazily gathered points on junctions' ridges
     this.extras = null;
     this.lastLoad = null;   // {ms, fetchMs, parseMs, renderMs, bytes, triangles, lines, prefetched, drawnAt, paintWaitMs}
     this.prefetched = null; // {url, reply, at}: a snapshot asked for before anyone loads it
@@ -242,20 +243,34 @@ export class Viewer {
     this.requestRender();
   }
 
-  /** Looks at a small region (a fork's close-up): `center` from `r` away or so. */
-  closeUp(center, r) {
+  /**
+   * Looks at a small region (a fork's close-up): the ball of radius `r` about `center`
+   * fills the view, seen from `dir` (a direction from the centre towards the camera;
+   * by default the current one).
+   */
+  closeUp(center, r, dir = null) {
     const c = new THREE.Vector3(...center);
-    const dir = this.camera.position.clone().sub(this.controls.target).normalize();
-    if (dir.lengthSq() < 0.5) dir.set(0.45, 0.28, 0.85).normalize();
-    const dist = r / Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    const d = dir ? new THREE.Vector3(...dir).normalize()
+      : this.camera.position.clone().sub(this.controls.target).normalize();
+    if (d.lengthSq() < 0.5) d.set(0.45, 0.28, 0.85).normalize();
+    const half = THREE.MathUtils.degToRad(this.camera.fov / 2);
+    const halfWide = Math.atan(Math.tan(half) * this.camera.aspect);
+    const dist = r / Math.tan(Math.min(half, halfWide));
     this.controls.target.copy(c);
-    this.camera.position.copy(c).addScaledVector(dir, dist);
+    this.camera.position.copy(c).addScaledVector(d, dist);
     this.camera.near = Math.max(0.001, dist / 200);
     this.camera.far = dist * 400;
     this.camera.updateProjectionMatrix();
     this.controls.update();
     this.requestRender();
   }
+
+  /**
+   * The bark's points on implicit junctions' bounding field (`_RIDGE` > 0: the
+   * patches' crotches), world space, as a flat xyz array; empty without junctions.
+   * Computed once per snapshot, on demand.
+   */
+  ridgePoints() { return (this.ridgeInfo ??= ridgePoints(this.barkMeshes)); }
 
   /** Normalized device coordinates of a client (CSS px) position. */
   ndc(clientX, clientY) {

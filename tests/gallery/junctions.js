@@ -1,0 +1,105 @@
+'use strict';
+// `make gallery-junctions`: the README's figures of implicit junctions (G04 §3), drawn
+// by the brush client in headless Chromium against a real meristemd, as gallery.js
+// draws the presets:
+//   junctions-tree.png   a whole tree with implicit junctions;
+//   junctions-fork.png   the page's fork close-up of that tree (?fork=thickest);
+//   junctions-years.png  one fork when its lateral is 2, 4, 7 and 10 years old (G04
+//                        Fig. 7 shows years 1, 4, 7, 10; in its first season a P09
+//                        lateral is one internode ending in a cone, which gets no
+//                        patch), a 2×2 montage.
+// usage: node junctions.js OUT
+// The engine is deterministic, so "the same fork, older" is the same preset and seed
+// stepped further: one session per year, each drawn at ?fork=LATERAL.
+const fs = require('node:fs');
+const path = require('node:path');
+const { chromium } = require('playwright-core');
+const { startDaemon, api } = require('../support/daemon.js');
+
+const TREE = { preset: 'fig7-bh-0.54', seed: 1, steps: 12 };
+/** The fork of the years: a lateral of a main branch whose fork is a patch from its
+ * second season to its tenth; it is `age` seasons old (the skeleton's age, steps since
+ * the step that grew it) after `born` + age steps. */
+const FORK = { preset: 'fig7-bh-0.54', seed: 1, lateral: 78, born: 4 };
+const YEARS = [2, 4, 7, 10];
+
+/** Grows a new session of `preset` to `steps` steps; resolves to its summary. */
+async function grow(url, preset, seed, steps) {
+  const s = (await api(url, 'POST', '/v1/sessions', { preset, seed })).body;
+  let summary = s;
+  for (let done = 0; done < steps; done += 10) {
+    summary = (await api(url, 'POST', `/v1/sessions/${s.id}/edits`, { op: 'step', count: Math.min(10, steps - done) })).body;
+  }
+  return summary;
+}
+
+/** Opens the gallery view of session `id` with `query` and waits until it is drawn. */
+async function show(page, base, id, query) {
+  await page.goto(`${base}/?session=${id}&view=gallery&leaves=0&detail=4&junctions=implicit&${query}`);
+  await page.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null, null, { timeout: 600000 });
+}
+
+/** What the page's close-up looked at: the fork's lateral, its age, and how many bark
+ * points near the fork carry a ridge value (0: the mesher made no patch there). */
+function closeUpState(page) {
+  return page.evaluate(() => {
+    const m = window.meristem, f = m.panels.view.fork;
+    if (!f) return null;
+    const pts = m.viewer.ridgePoints(), r = 2 * f.diameter;
+    let near = 0;
+    for (let i = 0; i < pts.length; i += 3) {
+      if (Math.hypot(pts[i] - f.at[0], pts[i + 1] - f.at[1], pts[i + 2] - f.at[2]) < r) near++;
+    }
+    return { lateral: f.lateral.id, age: f.lateral.age, ridgePoints: near, triangles: m.lastLoad.triangles };
+  });
+}
+
+/** Four images as a 2×2 montage with their captions, `size` px each. */
+async function montage(page, images, size, file) {
+  const cells = images.map(({ png, label }) => `<figure><img src="data:image/png;base64,${png.toString('base64')}">` +
+    `<figcaption>${label}</figcaption></figure>`).join('');
+  await page.setViewportSize({ width: 2 * size, height: 2 * size });
+  await page.setContent(`<style>body{margin:0;display:grid;grid-template-columns:${size}px ${size}px;background:#fff}
+    figure{margin:0;position:relative;width:${size}px;height:${size}px}img{width:${size}px;height:${size}px;display:block}
+    figcaption{position:absolute;left:8px;top:6px;font:bold 18px sans-serif;color:#333;background:rgba(255,255,255,.7);padding:1px 6px}
+    </style>${cells}`);
+  await page.screenshot({ path: file });
+}
+
+(async () => {
+  const out = path.resolve(process.argv[2] || 'gallery');
+  fs.mkdirSync(out, { recursive: true });
+  const d = await startDaemon(['--quiet', '--max-request-seconds', '600']);
+  const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'] });
+  try {
+    const page = await browser.newPage({ viewport: { width: 720, height: 720 } });
+    page.on('pageerror', (e) => console.error(String(e)));
+
+    const tree = await grow(d.url, TREE.preset, TREE.seed, TREE.steps);
+    await show(page, d.url, tree.id, 'color=none');
+    await page.screenshot({ path: path.join(out, 'junctions-tree.png') });
+    await show(page, d.url, tree.id, 'color=none&fork=thickest');
+    const thickest = await closeUpState(page);
+    await page.screenshot({ path: path.join(out, 'junctions-fork.png') });
+    console.log(`${TREE.preset} seed ${TREE.seed}, ${tree.internodes} internodes; thickest fork ${JSON.stringify(thickest)}`);
+
+    const size = 480;
+    await page.setViewportSize({ width: size, height: size });
+    const images = [];
+    for (const year of YEARS) {
+      const s = await grow(d.url, FORK.preset, FORK.seed, FORK.born + year);
+      await show(page, d.url, s.id, `color=none&fork=${FORK.lateral}`);
+      const st = await closeUpState(page);
+      console.log(`year ${year}: step ${s.step}, ${JSON.stringify(st)}`);
+      if (!st || st.lateral !== FORK.lateral || st.age !== year || st.ridgePoints === 0) {
+        throw new Error(`year ${year}: the fork of lateral ${FORK.lateral} is not a junction patch of that age: ${JSON.stringify(st)}`);
+      }
+      images.push({ png: await page.screenshot(), label: `${year} years` });
+    }
+    await montage(page, images, size, path.join(out, 'junctions-years.png'));
+  } finally {
+    await browser.close();
+    await d.stop();
+  }
+})().catch((e) => { console.error(e); process.exit(1); });
