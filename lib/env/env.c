@@ -222,6 +222,12 @@ void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3
     mer_shadow_direction(e->shadow, pos, dir, e->p.theta, e->p.shadow_dir, v);
 }
 
+void merp_env_direction_ahead(const merp_env *e, uint32_t cell)
+{
+    assert(e != NULL && e->shadow != NULL);
+    merp_shadow_prefetch_around(e->shadow, cell);
+}
+
 void merp_env_occupy(merp_env *e, const float p[3])
 {
     if (e->p.environment == MER_ENV_MARKERS)

@@ -117,6 +117,9 @@ static inline void merp_light_prefetch(const merp_light *l, uint32_t cell)
 #endif
 }
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3]);
+/* Asks the memory ahead for what merp_env_direction of a bud in voxel `cell`
+ * reads: nine rows of the grid, far apart. */
+void merp_env_direction_ahead(const merp_env *e, uint32_t cell);
 /* A bud at p that may not grow still clears its occupancy zone of markers. */
 void merp_env_occupy(merp_env *e, const float p[3]);
 /* 1 if p is below the ground or inside an obstacle. O(obstacles). */
@@ -151,6 +154,9 @@ uint32_t merp_shadow_cell(const mer_shadow *sh, const float p[3]);
  * grid read in place under light C (merp_env_light). */
 float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c);
 merp_light merp_shadow_light_view(const mer_shadow *sh, float c);
+/* Asks the memory for the 3 × 3 rows about voxel `cell` that
+ * mer_shadow_direction reads. */
+void merp_shadow_prefetch_around(const mer_shadow *sh, uint32_t cell);
 void merp_shadow_light_cells(const mer_shadow *sh, const uint32_t *cells, size_t n, float c,
                              float *q);
 size_t merp_shadow_cells(const mer_shadow *sh);

@@ -421,6 +421,22 @@ void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float di
         memcpy(out, neighbours[found].u, 3 * sizeof *out);
 }
 
+void merp_shadow_prefetch_around(const mer_shadow *sh, uint32_t cell)
+{
+#if defined(__GNUC__)
+    const ptrdiff_t sz = sh->dim[0], sy = (ptrdiff_t)sh->dim[0] * sh->dim[2];
+    for (int dj = -1; dj <= 1; dj++)
+        for (int dk = -1; dk <= 1; dk++) {
+            ptrdiff_t o = (ptrdiff_t)cell + dj * sy + dk * sz;
+            if (o >= 0 && (size_t)o < sh->nvox)
+                __builtin_prefetch(sh->s + o);
+        }
+#else
+    (void)sh;
+    (void)cell;
+#endif
+}
+
 uint64_t mer_shadow_hash(const mer_shadow *sh)
 {
     uint64_t h = MERP_FNV_OFFSET;

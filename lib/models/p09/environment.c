@@ -183,6 +183,9 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
     return MER_OK;
 }
 
+/* How many growing buds ahead merp_p09_directions asks for a bud's neighbours. */
+#define DIRECTION_AHEAD 4
+
 void merp_p09_directions(merp_model *m, const merp_world *w)
 {
     assert(m != NULL && w != NULL);
@@ -194,16 +197,22 @@ void merp_p09_directions(merp_model *m, const merp_world *w)
         if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, NULL) == 0)
             continue;
         m->bkey[g] = key;
-        if (m->v_deferred) {
-            float pos[3];
-            merp_skel_node_end(w->sk, key / 3, pos);
-            merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * g);
-            merp_env_direction(w->env, pos, m->bdir + 3 * g, m->bv + 3 * g);
-        } else if (g != b) {
+        if (!m->v_deferred && g != b)
             memcpy(m->bv + 3 * g, m->bv + 3 * b, 3 * sizeof *m->bv);
-        }
         g++;
     }
     m->bn = g;
+    /* V read from the grid now, for the few that grow; the voxels (m->cell) are
+     * this round's, and each bud's 26 neighbours lie in nine rows far apart:
+     * asked for a few buds ahead. */
+    for (size_t b = 0; m->v_deferred && b < g; b++) {
+        uint32_t key = m->bkey[b];
+        if (b + DIRECTION_AHEAD < g)
+            merp_env_direction_ahead(w->env, m->cell[m->bkey[b + DIRECTION_AHEAD] / 3]);
+        float pos[3];
+        merp_skel_node_end(w->sk, key / 3, pos);
+        merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * b);
+        merp_env_direction(w->env, pos, m->bdir + 3 * b, m->bv + 3 * b);
+    }
     m->v_deferred = 0;
 }
