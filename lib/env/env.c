@@ -210,10 +210,22 @@ void merp_env_light_cells(const merp_env *e, const uint32_t *cells, size_t n, fl
     merp_shadow_light_cells(e->shadow, cells, n, e->p.shadow_c, q);
 }
 
+merp_light merp_env_light(const merp_env *e)
+{
+    assert(e != NULL && e->shadow != NULL);
+    return merp_shadow_light_view(e->shadow, e->p.shadow_c);
+}
+
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3])
 {
     assert(e != NULL && e->shadow != NULL);
     mer_shadow_direction(e->shadow, pos, dir, e->p.theta, e->p.shadow_dir, v);
+}
+
+void merp_env_direction_ahead(const merp_env *e, uint32_t cell)
+{
+    assert(e != NULL && e->shadow != NULL);
+    merp_shadow_prefetch_around(e->shadow, cell);
 }
 
 void merp_env_occupy(merp_env *e, const float p[3])

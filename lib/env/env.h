@@ -6,6 +6,7 @@
 #ifndef MERISTEM_ENV_H
 #define MERISTEM_ENV_H
 
+#include <assert.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -87,7 +88,38 @@ mer_result merp_env_perceive(merp_env *e, size_t n, const float *pos, const floa
  * facing `dir` (O(26)). */
 uint32_t merp_env_cell(const merp_env *e, const float pos[3]);
 void merp_env_light_cells(const merp_env *e, const uint32_t *cells, size_t n, float *q);
+/* The shadow grid read in place, for a walk over every bud that reads each
+ * voxel itself (P09's environment input), with no call per voxel: Q = max(C − s
+ * + a, 0) as merp_shadow_light_cell gives it, bit for bit. Valid until the grid
+ * changes or is rebuilt. */
+typedef struct merp_light {
+    const uint32_t *s; /* the voxels' shade, in units of `unit` */
+    size_t n;          /* voxels */
+    float unit, c, a;  /* a/4096; the light C of an unshaded voxel; a */
+} merp_light;
+merp_light merp_env_light(const merp_env *e);
+static inline float merp_light_at(const merp_light *l, uint32_t cell)
+{
+    assert(cell < l->n);
+    float s = (float)(int32_t)l->s[cell] * l->unit;
+    float q = l->c - s + l->a;
+    return q > 0.0f ? q : 0.0f;
+}
+/* Asks the memory for voxel `cell` ahead of its read: a big tree's buds are
+ * spread over a grid far larger than the cache. */
+static inline void merp_light_prefetch(const merp_light *l, uint32_t cell)
+{
+#if defined(__GNUC__)
+    __builtin_prefetch(l->s + cell);
+#else
+    (void)l;
+    (void)cell;
+#endif
+}
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3]);
+/* Asks the memory ahead for what merp_env_direction of a bud in voxel `cell`
+ * reads: nine rows of the grid, far apart. */
+void merp_env_direction_ahead(const merp_env *e, uint32_t cell);
 /* A bud at p that may not grow still clears its occupancy zone of markers. */
 void merp_env_occupy(merp_env *e, const float p[3]);
 /* 1 if p is below the ground or inside an obstacle. O(obstacles). */
@@ -118,8 +150,13 @@ void merp_env_batch_end(merp_env *e);
  * does), the number of voxels, and `count` casts of a bud's pyramid at a voxel
  * (negative: lifted). */
 uint32_t merp_shadow_cell(const mer_shadow *sh, const float p[3]);
-/* mer_shadow_light of a bud in voxel `cell`; of buds in cells[0, n) into q. */
+/* mer_shadow_light of a bud in voxel `cell`; of buds in cells[0, n) into q; the
+ * grid read in place under light C (merp_env_light). */
 float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c);
+merp_light merp_shadow_light_view(const mer_shadow *sh, float c);
+/* Asks the memory for the 3 × 3 rows about voxel `cell` that
+ * mer_shadow_direction reads. */
+void merp_shadow_prefetch_around(const mer_shadow *sh, uint32_t cell);
 void merp_shadow_light_cells(const mer_shadow *sh, const uint32_t *cells, size_t n, float c,
                              float *q);
 size_t merp_shadow_cells(const mer_shadow *sh);

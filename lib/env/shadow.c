@@ -27,6 +27,9 @@ struct mer_shadow {
     uint32_t q_max;
     uint32_t delta[QMAX_LIMIT + 1]; /* round(4096·b^(−q)): Δs in units of a/4096 */
     uint32_t *s;
+    /* scratch of merp_shadow_cast_layers, made on first use: a layer's 2-D
+     * difference, (dim[2] + 1) rows of dim[0] + 1, then one row of column sums */
+    uint32_t *diff;
 };
 
 mer_result mer_shadow_new(const float bmin[3], const float bmax[3], float voxel, float a,
@@ -83,6 +86,7 @@ void mer_shadow_free(mer_shadow *sh)
     if (sh == NULL)
         return;
     merp_free(sh->s);
+    merp_free(sh->diff);
     merp_free(sh);
 }
 
@@ -114,18 +118,35 @@ static size_t idx(const mer_shadow *sh, int i, int j, int k)
     return ((size_t)j * (size_t)sh->dim[2] + (size_t)k) * (size_t)sh->dim[0] + (size_t)i;
 }
 
-/* Adds d to the square of half-width q about (I, K) in one layer (x fastest). */
+/* Voxels [i0, i1] × [k0, k1] of one layer. */
+typedef struct rect {
+    int i0, i1, k0, k1;
+} rect;
+
+/* The square of half-width q about (I, K), clipped to a layer of dx × dz. */
+static rect square(int dx, int dz, int I, int K, int q)
+{
+    rect r = {I - q, I + q, K - q, K + q};
+    if (r.i0 < 0) r.i0 = 0;
+    if (r.k0 < 0) r.k0 = 0;
+    if (r.i1 >= dx) r.i1 = dx - 1;
+    if (r.k1 >= dz) r.k1 = dz - 1;
+    return r;
+}
+
+/* Adds d to rectangle r of one layer (x fastest). */
+static void add_rect(uint32_t *layer, int dx, rect r, uint32_t d)
+{
+    uint32_t *row = layer + (size_t)r.k0 * (size_t)dx;
+    for (int k = r.k0; k <= r.k1; k++, row += dx)
+        for (int i = r.i0; i <= r.i1; i++)
+            row[i] += d;
+}
+
+/* Adds d to the square of half-width q about (I, K) in one layer. */
 static void add_square(uint32_t *layer, int dx, int dz, int I, int K, int q, uint32_t d)
 {
-    int i0 = I - q, i1 = I + q, k0 = K - q, k1 = K + q;
-    if (i0 < 0) i0 = 0;
-    if (k0 < 0) k0 = 0;
-    if (i1 >= dx) i1 = dx - 1;
-    if (k1 >= dz) k1 = dz - 1;
-    uint32_t *row = layer + (size_t)k0 * (size_t)dx;
-    for (int k = k0; k <= k1; k++, row += dx)
-        for (int i = i0; i <= i1; i++)
-            row[i] += d;
+    add_rect(layer, dx, square(dx, dz, I, K, q), d);
 }
 
 void mer_shadow_cast(mer_shadow *sh, const int ijk[3], int sign, float weight)
@@ -166,6 +187,58 @@ merp_shadow_cast merp_shadow_cast_of(const mer_shadow *sh, uint32_t cell, int32_
     return c;
 }
 
+/* The squares of c[a, b) in layer L (cast from layer c[t].j, so of half-width
+ * c[t].j − L): their bounding box, and how many voxels they cover in all. */
+static size_t layer_squares(const mer_shadow *sh, const merp_shadow_cast *c, size_t a,
+                            size_t b, int L, rect *box)
+{
+    rect bb = {sh->dim[0], -1, sh->dim[2], -1};
+    size_t area = 0;
+    for (size_t t = a; t < b; t++) {
+        rect r = square(sh->dim[0], sh->dim[2], c[t].i, c[t].k, c[t].j - L);
+        area += (size_t)(r.i1 - r.i0 + 1) * (size_t)(r.k1 - r.k0 + 1);
+        bb.i0 = r.i0 < bb.i0 ? r.i0 : bb.i0;
+        bb.i1 = r.i1 > bb.i1 ? r.i1 : bb.i1;
+        bb.k0 = r.k0 < bb.k0 ? r.k0 : bb.k0;
+        bb.k1 = r.k1 > bb.k1 ? r.k1 : bb.k1;
+    }
+    *box = bb;
+    return area;
+}
+
+/* Adds the squares of c[a, b) to layer L through a 2-D difference: four
+ * corners a square, then one running sum over their bounding box `bb`, which
+ * leaves the scratch zero again. Many squares overlap in a crown: this costs
+ * the box's voxels rather than the squares' (the same sums modulo 2³²). */
+static void add_by_difference(mer_shadow *sh, uint32_t *layer, const merp_shadow_cast *c,
+                              size_t a, size_t b, int L, rect bb)
+{
+    const int dx = sh->dim[0], dz = sh->dim[2];
+    const size_t w = (size_t)dx + 1;
+    uint32_t *D = sh->diff, *col = sh->diff + ((size_t)dz + 1) * w;
+    for (size_t t = a; t < b; t++) {
+        rect r = square(dx, dz, c[t].i, c[t].k, c[t].j - L);
+        uint32_t d = sh->delta[c[t].j - L] * (uint32_t)c[t].count;
+        uint32_t *top = D + (size_t)r.k0 * w, *end = D + (size_t)(r.k1 + 1) * w;
+        top[r.i0] += d;
+        top[r.i1 + 1] -= d;
+        end[r.i0] -= d;
+        end[r.i1 + 1] += d;
+    }
+    memset(col + bb.i0, 0, (size_t)(bb.i1 - bb.i0 + 1) * sizeof *col);
+    for (int k = bb.k0; k <= bb.k1; k++) {
+        uint32_t *Dk = D + (size_t)k * w, *row = layer + (size_t)k * (size_t)dx, acc = 0;
+        for (int i = bb.i0; i <= bb.i1; i++) {
+            col[i] += Dk[i];
+            Dk[i] = 0;
+            acc += col[i];
+            row[i] += acc;
+        }
+        Dk[bb.i1 + 1] = 0;
+    }
+    memset(D + (size_t)(bb.k1 + 1) * w + bb.i0, 0, (size_t)(bb.i1 - bb.i0 + 2) * sizeof *D);
+}
+
 void merp_shadow_cast_layers(mer_shadow *sh, const merp_shadow_cast *c, size_t n)
 {
     if (n == 0)
@@ -184,6 +257,15 @@ void merp_shadow_cast_layers(mer_shadow *sh, const merp_shadow_cast *c, size_t n
         while (b < n && c[b].j <= L + qmax)
             b++;
         uint32_t *layer = sh->s + (size_t)L * layer_size;
+        rect bb;
+        size_t area = layer_squares(sh, c, a, b, L, &bb);
+        /* the running sum costs about two adds a voxel of the box */
+        if (area > 2 * (size_t)(bb.i1 - bb.i0 + 1) * (size_t)(bb.k1 - bb.k0 + 1) &&
+            (sh->diff != NULL || (sh->diff = merp_calloc(((size_t)dz + 2) * ((size_t)dx + 1),
+                                                         sizeof *sh->diff)) != NULL)) {
+            add_by_difference(sh, layer, c, a, b, L, bb);
+            continue;
+        }
         for (size_t t = a; t < b; t++) {
             assert(t == a || c[t].j >= c[t - 1].j);
             /* count casts at once: the same sum as count single ones, wrapping alike */
@@ -221,12 +303,16 @@ float mer_shadow_value(const mer_shadow *sh, const int ijk[3])
     return value_raw(sh, ijk[0], ijk[1], ijk[2]);
 }
 
+merp_light merp_shadow_light_view(const mer_shadow *sh, float c)
+{
+    merp_light l = {sh->s, sh->nvox, sh->a / FIX, c, sh->a};
+    return l;
+}
+
 float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c)
 {
-    assert(cell < sh->nvox);
-    float s = (float)(int32_t)sh->s[cell] * (sh->a / FIX);
-    float q = c - s + sh->a;  /* Q = max(C − s + a, 0) */
-    return q > 0.0f ? q : 0.0f;
+    merp_light l = merp_shadow_light_view(sh, c);
+    return merp_light_at(&l, cell);
 }
 
 /* How many voxels ahead merp_shadow_light_cells asks the memory for: enough reads
@@ -236,12 +322,11 @@ float merp_shadow_light_cell(const mer_shadow *sh, uint32_t cell, float c)
 void merp_shadow_light_cells(const mer_shadow *sh, const uint32_t *cells, size_t n, float c,
                              float *q)
 {
+    merp_light l = merp_shadow_light_view(sh, c);
     for (size_t t = 0; t < n; t++) {
-#if defined(__GNUC__)
         if (t + READ_AHEAD < n)
-            __builtin_prefetch(sh->s + cells[t + READ_AHEAD]);
-#endif
-        q[t] = merp_shadow_light_cell(sh, cells[t], c);
+            merp_light_prefetch(&l, cells[t + READ_AHEAD]);
+        q[t] = merp_light_at(&l, cells[t]);
     }
 }
 
@@ -336,6 +421,22 @@ void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float di
         memcpy(out, neighbours[found].u, 3 * sizeof *out);
 }
 
+void merp_shadow_prefetch_around(const mer_shadow *sh, uint32_t cell)
+{
+#if defined(__GNUC__)
+    const ptrdiff_t sz = sh->dim[0], sy = (ptrdiff_t)sh->dim[0] * sh->dim[2];
+    for (int dj = -1; dj <= 1; dj++)
+        for (int dk = -1; dk <= 1; dk++) {
+            ptrdiff_t o = (ptrdiff_t)cell + dj * sy + dk * sz;
+            if (o >= 0 && (size_t)o < sh->nvox)
+                __builtin_prefetch(sh->s + o);
+        }
+#else
+    (void)sh;
+    (void)cell;
+#endif
+}
+
 uint64_t mer_shadow_hash(const mer_shadow *sh)
 {
     uint64_t h = MERP_FNV_OFFSET;
@@ -352,6 +453,7 @@ mer_result merp_shadow_clone(const mer_shadow *sh, mer_shadow **out, mer_error *
     if (c == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");
     *c = *sh;
+    c->diff = NULL;
     if (!MERP_DUP(c->s, sh->s, sh->nvox)) {
         merp_free(c);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the shadow grid");

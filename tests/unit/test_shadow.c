@@ -12,6 +12,8 @@
 #include <meristem/params.h>
 #include <meristem/shadow.h>
 
+#include "env/env.h"
+
 #define assert_close(a, b) assert_true(fabsf((a) - (b)) < 1e-4f)
 
 static const float BMIN[3] = {0, 0, 0}, BMAX[3] = {10, 10, 10};
@@ -101,6 +103,39 @@ static void test_incremental_equals_rebuilt(void **state)
     mer_shadow_free(b);
 }
 
+/* Casts held back and cast layer by layer (merp_shadow_cast_layers, the bud
+ * batch) give the grid of the same casts made one by one: sparse layers add
+ * each square, crowded ones (here a 40 × 40 patch of buds under q_max 6) go
+ * through a running sum, and both must agree bit for bit, clipped edges and
+ * lifted (negative) counts included. */
+static void test_layers_equal_single_casts(void **state)
+{
+    (void)state;
+    static const float lo[3] = {0, 0, 0}, hi[3] = {48, 24, 40};
+    mer_shadow *a, *b;
+    assert_int_equal(mer_shadow_new(lo, hi, 1.0f, 0.3f, 1.7f, 6, &a, NULL), MER_OK);
+    assert_int_equal(mer_shadow_new(lo, hi, 1.0f, 0.3f, 1.7f, 6, &b, NULL), MER_OK);
+    merp_shadow_cast c[1700];
+    size_t n = 0;
+    uint32_t x = 12345;
+    for (int j = 0; j < 24; j += 3)
+        for (int t = 0; t < 200; t++) {
+            x = x * 1103515245u + 12345u;
+            int32_t count = (int32_t)(x >> 28) - 7; /* −7 .. 8, a few 0 */
+            int ijk[3] = {(int)(x >> 8) % 48, j, (int)(x >> 16) % 40};
+            c[n++] = (merp_shadow_cast){ijk[0], ijk[1], ijk[2], count};
+            for (int r = 0; r < (count < 0 ? -count : count); r++)
+                mer_shadow_cast(b, ijk, count < 0 ? -1 : 1, 1.0f);
+        }
+    int far[3] = {47, 23, 39}; /* one lone pyramid in a corner */
+    c[n++] = (merp_shadow_cast){far[0], far[1], far[2], 1};
+    mer_shadow_cast(b, far, 1, 1.0f);
+    merp_shadow_cast_layers(a, c, n);
+    assert_true(mer_shadow_hash(a) == mer_shadow_hash(b));
+    mer_shadow_free(a);
+    mer_shadow_free(b);
+}
+
 static void test_direction_least_shadowed_neighbour(void **state)
 {
     (void)state;
@@ -171,6 +206,7 @@ int main(void)
         cmocka_unit_test(test_pyramid_values),
         cmocka_unit_test(test_pyramid_clipped_at_edges),
         cmocka_unit_test(test_incremental_equals_rebuilt),
+        cmocka_unit_test(test_layers_equal_single_casts),
         cmocka_unit_test(test_direction_least_shadowed_neighbour),
         cmocka_unit_test(test_direction_gradient),
         cmocka_unit_test(test_new_rejects_bad_parameters),

@@ -19,8 +19,7 @@ static mer_result reserve_buds(merp_model *m, size_t want, mer_error *err)
     size_t cap = want + want / 2 + 64;
     if (!MERP_RESIZE(m->bkey, cap) || !MERP_RESIZE(m->bpos, 3 * cap) ||
         !MERP_RESIZE(m->bdir, 3 * cap) || !MERP_RESIZE(m->bv, 3 * cap) ||
-        !MERP_RESIZE(m->bq, cap) || !MERP_RESIZE(m->bquiet, cap) ||
-        !MERP_RESIZE(m->bcell, cap))
+        !MERP_RESIZE(m->bq, cap) || !MERP_RESIZE(m->bquiet, cap))
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for buds");
     m->bcap = cap;
     return MER_OK;
@@ -74,9 +73,52 @@ static mer_result update_cells(merp_model *m, const merp_world *w, mer_error *er
     return MER_OK;
 }
 
-/* Lists the buds that may grow into the round's scratch (bkey, and bpos and bdir
- * unless V waits, when their voxels bcell are listed, to read their light bq
- * all at once). */
+/* How many nodes ahead collect_lit asks the memory for a node's voxel. */
+#define READ_AHEAD 16
+
+/* Under shadow propagation while V waits: lists the buds that may grow (bkey)
+ * and sets every live node's buds' Q (qb: the light of the node's voxel for a
+ * listed bud, else 0) and v (vb: 0), in one walk that reads each node's voxel
+ * in place. */
+static mer_result collect_lit(merp_model *m, const merp_world *w, int syllepsis,
+                              mer_error *err)
+{
+    const merp_skeleton *sk = w->sk;
+    mer_result rc = update_cells(m, w, err);
+    if (rc != MER_OK)
+        return rc;
+    const merp_light light = merp_env_light(w->env);
+    const uint32_t *cell = m->cell, bpn = w->p->buds_per_node, n = sk->n;
+    const uint8_t *alive = sk->alive;
+    float *qb = m->qb, *vb = m->vb;
+    int every = !syllepsis && sk->con_node == MER_NO_NODE; /* no bud held back */
+    size_t bn = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (i + READ_AHEAD < n)
+            merp_light_prefetch(&light, cell[i + READ_AHEAD]);
+        if (!alive[i])
+            continue;
+        if (bn + 3 > m->bcap && (rc = reserve_buds(m, bn + 3, err)) != MER_OK)
+            return rc;
+        float q = -1.0f; /* read on the first listed bud */
+        for (uint32_t k = 0; k < 3; k++) {
+            float qk = 0.0f;
+            if (merp_skel_bud_exists(sk, i, k, bpn) && (every || may_grow(m, w, i, k, syllepsis))) {
+                m->bkey[bn++] = 3 * i + k;
+                if (q < 0.0f)
+                    q = merp_light_at(&light, cell[i]);
+                qk = q;
+            }
+            qb[3 * i + k] = qk;
+            vb[3 * i + k] = 0.0f;
+        }
+    }
+    m->bn = bn;
+    return MER_OK;
+}
+
+/* Lists the buds that may grow into the round's scratch (bkey, bpos and bdir),
+ * when V is not deferred. */
 static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis,
                                mer_error *err)
 {
@@ -84,11 +126,6 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
     int markers = w->p->environment == MER_ENV_MARKERS;
     uint32_t quiet_now = merp_env_epoch(w->env) + 1;
     m->bn = 0;
-    if (m->v_deferred) {
-        mer_result rc = update_cells(m, w, err);
-        if (rc != MER_OK)
-            return rc;
-    }
     for (uint32_t i = 0; i < sk->n; i++) {
         if (!sk->alive[i])
             continue;
@@ -98,17 +135,6 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
             if (!merp_skel_bud_exists(sk, i, k, w->p->buds_per_node))
                 continue;
             int ok = may_grow(m, w, i, k, syllepsis);
-            if (m->v_deferred) {
-                /* shadow propagation: a bud that may not grow has nothing to occupy */
-                if (!ok)
-                    continue;
-                mer_result rc = reserve_buds(m, m->bn + 1, err);
-                if (rc != MER_OK)
-                    return rc;
-                m->bkey[m->bn] = 3 * i + k;
-                m->bcell[m->bn++] = m->cell[i];
-                continue;
-            }
             /* A bud known to have no marker near it, with no marker added and no
              * bud moved since, can neither take nor remove one: Q = 0, skip it. */
             if (markers && m->quiet[3 * i + k] == quiet_now)
@@ -140,12 +166,10 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
     /* Under shadow propagation most buds get no resource: V waits for the few
      * that grow (merp_p09_directions), read from this same grid. */
     m->v_deferred = defer_v && w->p->environment == MER_ENV_SHADOW;
-    mer_result rc = collect_buds(m, w, syllepsis, err);
-    if (rc != MER_OK)
-        return rc;
     if (m->v_deferred)
-        merp_env_light_cells(w->env, m->bcell, m->bn, m->bq);
-    else
+        return collect_lit(m, w, syllepsis, err);
+    mer_result rc = collect_buds(m, w, syllepsis, err);
+    if (rc == MER_OK)
         rc = merp_env_perceive(w->env, m->bn, m->bpos, m->bdir, m->bq, m->bv, m->bquiet, err);
     if (rc != MER_OK)
         return rc;
@@ -159,6 +183,9 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
     return MER_OK;
 }
 
+/* How many growing buds ahead merp_p09_directions asks for a bud's neighbours. */
+#define DIRECTION_AHEAD 4
+
 void merp_p09_directions(merp_model *m, const merp_world *w)
 {
     assert(m != NULL && w != NULL);
@@ -170,16 +197,22 @@ void merp_p09_directions(merp_model *m, const merp_world *w)
         if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, NULL) == 0)
             continue;
         m->bkey[g] = key;
-        if (m->v_deferred) {
-            float pos[3];
-            merp_skel_node_end(w->sk, key / 3, pos);
-            merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * g);
-            merp_env_direction(w->env, pos, m->bdir + 3 * g, m->bv + 3 * g);
-        } else if (g != b) {
+        if (!m->v_deferred && g != b)
             memcpy(m->bv + 3 * g, m->bv + 3 * b, 3 * sizeof *m->bv);
-        }
         g++;
     }
     m->bn = g;
+    /* V read from the grid now, for the few that grow; the voxels (m->cell) are
+     * this round's, and each bud's 26 neighbours lie in nine rows far apart:
+     * asked for a few buds ahead. */
+    for (size_t b = 0; m->v_deferred && b < g; b++) {
+        uint32_t key = m->bkey[b];
+        if (b + DIRECTION_AHEAD < g)
+            merp_env_direction_ahead(w->env, m->cell[m->bkey[b + DIRECTION_AHEAD] / 3]);
+        float pos[3];
+        merp_skel_node_end(w->sk, key / 3, pos);
+        merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * b);
+        merp_env_direction(w->env, pos, m->bdir + 3 * b, m->bv + 3 * b);
+    }
     m->v_deferred = 0;
 }
