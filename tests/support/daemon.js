@@ -7,6 +7,30 @@ const path = require('node:path');
 const assert = require('node:assert/strict');
 
 /**
+ * The program to spawn for `exe` and its environment (this process's, now). In
+ * a build tree `exe` is libtool's wrapper script, which sets the library path
+ * and execs .libs/NAME after a dozen shell commands of its own; the suite
+ * starts meristemd a few hundred times, so the wrapper is read once and the
+ * program run directly, with the library path the wrapper would set. Anything
+ * else is run as is.
+ */
+const programs = new Map();
+function program(exe) {
+  if (!programs.has(exe)) {
+    let found = { exe, libs: null };
+    const real = path.join(path.dirname(exe), '.libs', path.basename(exe));
+    const script = fs.existsSync(real) ? fs.readFileSync(exe, 'latin1') : '';
+    const m = /^\s*LD_LIBRARY_PATH="([^"$]+):\$LD_LIBRARY_PATH"$/m.exec(script);
+    if (script.startsWith('#!') && /libtool/.test(script) && m) found = { exe: real, libs: m[1] };
+    programs.set(exe, found);
+  }
+  const { exe: file, libs } = programs.get(exe);
+  if (!libs) return { exe: file, env: process.env };
+  const paths = [libs, process.env.LD_LIBRARY_PATH].filter(Boolean).join(':');
+  return { exe: file, env: { ...process.env, LD_LIBRARY_PATH: paths } };
+}
+
+/**
  * Starts meristemd with `--port 0` and resolves once it logs the URL it listens on.
  * @param {string[]} extraArgs more command-line options
  * @param {{dataDir?: string, keepData?: boolean}} options an existing data folder to use
@@ -17,13 +41,13 @@ const assert = require('node:assert/strict');
  *   restart: (args?: string[], options?: {signal?: string, whileDown?: () => void}) => Promise<object>}>}
  */
 async function startDaemon(extraArgs = [], options = {}) {
-  const exe = process.env.MERISTEMD;
-  if (!exe) throw new Error('MERISTEMD is not set; run the tests with make check');
+  if (!process.env.MERISTEMD) throw new Error('MERISTEMD is not set; run the tests with make check');
+  const { exe, env } = program(process.env.MERISTEMD);
   const keepData = options.keepData ?? Boolean(options.dataDir);
   const dataDir = options.dataDir || fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-test-'));
   const args = ['--port', '0', '--web-root', process.env.MER_WEB_ROOT, '--data-dir', dataDir,
     ...extraArgs];
-  const child = spawn(exe, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  const child = spawn(exe, args, { stdio: ['ignore', 'pipe', 'pipe'], env });
   let output = '';
   child.stdout.on('data', (d) => { output += d; });
   child.stderr.on('data', (d) => { output += d; });
