@@ -62,7 +62,9 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/models/lsystem/lsystem_private.h \
 	lib/models/lsystem/expr.c \
 	lib/models/lsystem/string.c \
+	lib/models/lsystem/parse_private.h \
 	lib/models/lsystem/parse.c \
+	lib/models/lsystem/parse_production.c \
 	lib/models/lsystem/derive.c \
 	lib/models/lsystem/turtle.c \
 	lib/models/lsystem/model_private.h \

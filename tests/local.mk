@@ -22,46 +22,80 @@ AM_TESTS_ENVIRONMENT = \
 	export NODE_PATH='$(NODE_MODULES_DIR)'; \
 	export CHROMIUM='$(CHROMIUM)'; \
 	export PACKAGE_VERSION='$(PACKAGE_VERSION)'; \
+	export MER_SUITE_FILES='$(SUITE_TESTS) $(SUITE_SUPPORT)'; \
 	mkdir -p "$$MER_ARTIFACTS";
 
-TESTS += tests/check-exports.sh
-TESTS += tests/api/health.test.js
-TESTS += tests/api/static.test.js
-TESTS += tests/api/cli.test.js
-TESTS += tests/api/sessions.test.js
-TESTS += tests/api/junctions.test.js
-TESTS += tests/api/durability.test.js
-TESTS += tests/api/undo.test.js
-TESTS += tests/api/checkpoint.test.js
-TESTS += tests/api/restore.test.js
-TESTS += tests/api/sow.test.js
-TESTS += tests/api/compact.test.js
-TESTS += tests/api/crashloop.test.js
-TESTS += tests/api/security.test.js
-TESTS += tests/api/limits.test.js
-TESTS += tests/api/mhd-refusals.test.js
-TESTS += tests/api/obstacles.test.js
-TESTS += tests/api/shutdown.test.js
-TESTS += tests/api/slow-clients.test.js
-TESTS += tests/api/proto.test.js
-TESTS += tests/api/stall-spread.test.js
-TESTS += tests/api/history.test.js
-TESTS += tests/api/skeleton.test.js
-TESTS += tests/api/lsystem.test.js
-TESTS += tests/api/inverse.test.js
-TESTS += tests/api/hygiene.test.js
-TESTS += tests/api/models.test.js
-TESTS += tests/api/smoke.sh
-TESTS += tests/browser/page.test.js
-TESTS += tests/browser/brush.test.js
-TESTS += tests/browser/controls.test.js
-TESTS += tests/browser/modeller.test.js
-TESTS += tests/conformance/importers.test.js
-TESTS += tests/browser/history.test.js
-TESTS += tests/browser/models.test.js
-TESTS += tests/browser/forest.test.js
-TESTS += tests/browser/junctions.test.js
-TESTS += tests/conformance/validate.test.js
+# The whole suite, longest first: automake starts the tests in the order
+# listed, so under make -j the long ones (a minute or more each) run beside
+# the many short ones instead of alone at the end. The unit tests
+# (tests/unit/local.mk) start after these in practice whatever their place:
+# make puts off every target that depends on config.h (whose empty rule runs
+# in each make) until it has been through this list once.
+SUITE_TESTS = \
+	tests/golden/golden.test.js \
+	tests/api/crashloop.test.js \
+	tests/browser/brush.test.js \
+	tests/api/slow-clients.test.js \
+	tests/browser/controls.test.js \
+	tests/api/restore.test.js \
+	tests/browser/modeller.test.js \
+	tests/api/durability.test.js \
+	tests/conformance/importers.test.js \
+	tests/api/compact.test.js \
+	tests/browser/page.test.js \
+	tests/api/sow.test.js \
+	tests/api/inverse.test.js \
+	tests/api/proto.test.js \
+	tests/api/lsystem.test.js \
+	tests/api/hygiene.test.js \
+	tests/api/cli.test.js \
+	tests/api/models.test.js \
+	tests/browser/history.test.js \
+	tests/browser/models.test.js \
+	tests/browser/forest.test.js \
+	tests/browser/junctions.test.js \
+	tests/api/junctions.test.js \
+	tests/api/security.test.js \
+	tests/api/smoke.sh \
+	tests/api/checkpoint.test.js \
+	tests/api/limits.test.js \
+	tests/api/history.test.js \
+	tests/api/sessions.test.js \
+	tests/api/mhd-refusals.test.js \
+	tests/api/health.test.js \
+	tests/api/undo.test.js \
+	tests/api/stall-spread.test.js \
+	tests/api/shutdown.test.js \
+	tests/api/skeleton.test.js \
+	tests/api/obstacles.test.js \
+	tests/api/static.test.js \
+	tests/check-exports.sh \
+	tests/conformance/validate.test.js
+# Files the suite reads besides its scripts (check-dist.sh looks for them too).
+SUITE_SUPPORT = tests/support/run-node.sh tests/support/daemon.js tests/support/chromium.js \
+	tests/support/render-glb.js tests/golden/golden.json
+
+if DIST_SUITE
+# distcheck's build of the tarball (AM_DISTCHECK_CONFIGURE_FLAGS gives it
+# --enable-dist-suite). What it adds to the plain and sanitizer builds, which
+# run the whole suite on the same sources, is the tarball: that it holds every
+# file, builds out of a read-only source tree (with every test program, so
+# every test source is in it), installs and uninstalls. A third run of the
+# whole suite proves nothing more about the code, so it runs what checks the
+# tarball itself: every test script and data file of the suite is in it
+# (check-dist.sh), the library's exports, the daemon with its web root and
+# contract files, the offline command, and the page in Chromium.
+TESTS += tests/check-dist.sh \
+	tests/check-exports.sh \
+	tests/api/health.test.js \
+	tests/api/static.test.js \
+	tests/api/proto.test.js \
+	tests/api/cli.test.js \
+	tests/api/smoke.sh \
+	tests/browser/page.test.js
+else
+TESTS += $(SUITE_TESTS)
+endif
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
 tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_mesh.log \
@@ -71,6 +105,7 @@ tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_me
 
 EXTRA_DIST += \
 	tests/check-exports.sh \
+	tests/check-dist.sh \
 	tests/support/run-node.sh \
 	tests/support/daemon.js \
 	tests/support/chromium.js \

@@ -73,17 +73,14 @@ test('the journal keeps only the records after the last checkpoint, and restores
   assert.deepEqual(records.slice(1).map((r) => r.revision), [7, 8]);
   const scratch = await fromScratch(9, id);
   same(await look(d.url, id), scratch[8], 'compacted, live');
-  await d.stop('SIGKILL');
-
-  d = await startDaemon(args, { dataDir });
+  d = await d.restart(args);
   same(await look(d.url, id), scratch[8], 'compacted, restored after kill -9');
   await d.waitForLog(new RegExp(`${id}: restored from its checkpoint at revision 6 and 2 journal records`));  // stderr may lag: wait for the line
   assert.equal((await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit(8))).body.revision, 9);
   assert.deepEqual(journal(file).map((r) => r.revision), [undefined], 'compacted again at 9');
   assert.equal(journal(file)[0].checkpoint, 9);
   same(await look(d.url, id), scratch[9], 'after the next compaction');
-  await d.stop('SIGKILL');
-  d = await startDaemon(args, { dataDir });
+  d = await d.restart(args);
   same(await look(d.url, id), scratch[9], 'a journal of its first record alone');
 });
 
@@ -114,15 +111,13 @@ test('every crash state of a compaction restores every acknowledged revision', a
   assert.equal(journal(file)[0].checkpoint, 12);
   assert.ok(!fs.existsSync(`${file}.tmp`));
   await at(12, 'compacted');
-  await d.stop('SIGKILL');
   // After the rename: the new journal and its checkpoint.
-  d = await startDaemon(args, { dataDir });
+  d = await d.restart(args);
   await at(12, 'the new journal after kill -9');
   assert.equal((await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit(12))).body.revision, 13);
   await at(13, 'an edit after it');
-  await d.stop('SIGKILL');
-  const compacted = fs.readFileSync(file);
-  d = await startDaemon(args, { dataDir });
+  let compacted = null;
+  d = await d.restart(args, { whileDown: () => { compacted = fs.readFileSync(file); } });
   await at(13, 'and after another kill -9');
   await d.stop();
 

@@ -322,8 +322,7 @@ test('an edit whose record cannot be written (a full disk) answers 503 journal a
   const again = await api(d.url, 'POST', `/v1/sessions/${id}/edits`, edit);
   assert.equal(again.status, 200);
   assert.equal(again.body.revision, first.body.revision + 1);
-  await d.stop('SIGKILL');
-  d = await startDaemon(['--checkpoint-every', '0'], { dataDir });
+  d = await d.restart(['--checkpoint-every', '0']);
   const restored = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
   assert.equal(restored.revision, again.body.revision);
   assert.equal(restored.hash, again.body.hash);

@@ -11,7 +11,7 @@ const os = require('node:os');
 const path = require('node:path');
 const http = require('node:http');
 const validator = require('gltf-validator');
-const { startDaemon, api } = require('../support/daemon.js');
+const { startDaemon, api, sessionState, assertRestored } = require('../support/daemon.js');
 
 const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
 
@@ -162,19 +162,13 @@ test('an inverse session: the Populus over 27 years, functions replaced, fractio
   r = await edit(d.url, id, { op: 'prune', node: branch.id });
   assert.equal(r.status, 200, JSON.stringify(r.body));
 
-  const glb = await glbOf(d.url, id);
-  await validates(glb);
-  artifact('api-inverse.glb', glb);
-  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  const saved = await sessionState(d.url, id);
+  await validates(saved.glb);
+  artifact('api-inverse.glb', saved.glb);
 
   // kill -9, restart on the same folder: the journal replays to the same bytes.
-  await d.stop('SIGKILL');
-  d = await startDaemon([], { dataDir });
-  const again = await api(d.url, 'GET', `/v1/sessions/${id}`);
-  assert.equal(again.status, 200);
-  assert.equal(again.body.hash, summary.hash);
-  assert.deepEqual(again.body.inverse, summary.inverse);
-  assert.ok(Buffer.compare(await glbOf(d.url, id), glb) === 0, 'the same GLB bytes after restore');
+  d = await d.restart();
+  await assertRestored(d.url, id, saved, ['inverse']);
 });
 
 test('inverse sessions from an uploaded .fset; t and functions refused for other models', async (t) => {
@@ -309,14 +303,8 @@ test('inverse: a bend outlives set_functions, a prune of a node the new function
   r = await edit(d.url, id, { op: 'step', count: 2 });
   assert.equal(r.status, 200, JSON.stringify(r.body));
 
-  const glb = await glbOf(d.url, id, '?leaves=1');
-  await validates(glb);
-  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
-  await d.stop('SIGKILL');
-  d = await startDaemon([], { dataDir });
-  const restored = await api(d.url, 'GET', `/v1/sessions/${id}`);
-  assert.equal(restored.status, 200);
-  assert.equal(restored.body.hash, summary.hash);
-  assert.deepEqual(restored.body.inverse, summary.inverse);
-  assert.ok(Buffer.compare(await glbOf(d.url, id, '?leaves=1'), glb) === 0, 'the same GLB bytes after replay');
+  const saved = await sessionState(d.url, id, '?leaves=1');
+  await validates(saved.glb);
+  d = await d.restart();
+  await assertRestored(d.url, id, saved, ['inverse'], 'after replay');
 });

@@ -9,7 +9,7 @@ const fs = require('node:fs');
 const os = require('node:os');
 const path = require('node:path');
 const validator = require('gltf-validator');
-const { startDaemon, api } = require('../support/daemon.js');
+const { startDaemon, api, sessionState, assertRestored } = require('../support/daemon.js');
 
 const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
 
@@ -103,19 +103,13 @@ test('an L-system session: create, step, a refused source, prune, bend; restored
 
   const skeleton = await api(d.url, 'GET', `/v1/sessions/${id}/skeleton`);
   assert.equal(skeleton.status, 200);
-  const glb = await glbOf(d.url, id);
-  artifact('api-lsystem.glb', glb);
-  await validates(glb);
-  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  const saved = await sessionState(d.url, id);
+  artifact('api-lsystem.glb', saved.glb);
+  await validates(saved.glb);
 
   // kill -9, restart on the same folder: the journal replays to the same bytes.
-  await d.stop('SIGKILL');
-  d = await startDaemon([], { dataDir });
-  const again = await api(d.url, 'GET', `/v1/sessions/${id}`);
-  assert.equal(again.status, 200);
-  assert.equal(again.body.hash, summary.hash);
-  assert.deepEqual(again.body.lsystem, summary.lsystem);
-  assert.ok(Buffer.compare(await glbOf(d.url, id), glb) === 0, 'the same GLB bytes after restore');
+  d = await d.restart();
+  await assertRestored(d.url, id, saved, ['lsystem']);
   const s2 = await api(d.url, 'GET', `/v1/sessions/${id}/skeleton`);
   assert.deepEqual(s2.body, skeleton.body);
 });
@@ -161,16 +155,11 @@ test('cpfg tier 2: decomposition, homomorphism, ?P and ?E; restored from the jou
   assert.equal(r.body.lsystem.modules.W, undefined);
   assert.equal(r.body.lsystem.modules.I, 9 + 9 * 4 - 1);
   assert.equal(r.body.lsystem.segments, 44);
-  const glb = await glbOf(d.url, id);
-  await validates(glb);
-  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
+  const saved = await sessionState(d.url, id);
+  await validates(saved.glb);
 
-  await d.stop('SIGKILL');
-  d = await startDaemon([], { dataDir });
-  const again = await api(d.url, 'GET', `/v1/sessions/${id}`);
-  assert.equal(again.body.hash, summary.hash);
-  assert.deepEqual(again.body.lsystem, summary.lsystem);
-  assert.ok(Buffer.compare(await glbOf(d.url, id), glb) === 0, 'the same GLB bytes after restore');
+  d = await d.restart();
+  await assertRestored(d.url, id, saved, ['lsystem']);
 });
 
 test('L-system presets: listed with their model and source, and grown from their name', async (t) => {

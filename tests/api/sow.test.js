@@ -10,7 +10,7 @@ const fs = require('node:fs');
 const os = require('node:os');
 const path = require('node:path');
 const validator = require('gltf-validator');
-const { startDaemon, api } = require('../support/daemon.js');
+const { startDaemon, api, sessionState, assertRestored } = require('../support/daemon.js');
 
 const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
 
@@ -118,21 +118,15 @@ test('prune and bend a forest; kill -9 restores the same bytes', async (t) => {
   assert.equal(after.find((n) => n.id === branch.id).alive, false, 'the pruned branch stays gone');
   r = await api(d.url, 'POST', `/v1/sessions/${id}/edits`, { op: 'add_markers', points: [[0, 5, 0]] });
   assert.equal(r.status, 422, 'the brush is not a forest\'s');
-  const summary = (await api(d.url, 'GET', `/v1/sessions/${id}`)).body;
-  const glb = await glbOf(d.url, id);
-  await validates(glb);
+  const saved = await sessionState(d.url, id);
+  await validates(saved.glb);
 
-  await d.stop('SIGKILL');
-  d = await startDaemon([], { dataDir });
-  const again = await api(d.url, 'GET', `/v1/sessions/${id}`);
-  assert.equal(again.status, 200);
-  assert.equal(again.body.hash, summary.hash);
-  assert.equal(again.body.revision, summary.revision);
-  assert.ok(Buffer.compare(await glbOf(d.url, id), glb) === 0, 'the same GLB bytes after restore');
+  d = await d.restart([]);
+  await assertRestored(d.url, id, saved);
   // Without the checkpoint, the journal alone replays to the same forest.
-  await d.stop('SIGKILL');
-  for (const f of fs.readdirSync(dataDir)) if (f.endsWith('.checkpoint')) fs.rmSync(path.join(dataDir, f));
-  d = await startDaemon([], { dataDir });
-  assert.equal((await api(d.url, 'GET', `/v1/sessions/${id}`)).body.hash, summary.hash);
-  assert.ok(Buffer.compare(await glbOf(d.url, id), glb) === 0, 'the same GLB bytes after replay');
+  const dropCheckpoints = () => {
+    for (const f of fs.readdirSync(dataDir)) if (f.endsWith('.checkpoint')) fs.rmSync(path.join(dataDir, f));
+  };
+  d = await d.restart([], { whileDown: dropCheckpoints });
+  await assertRestored(d.url, id, saved, [], 'after replay');
 });

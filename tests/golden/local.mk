@@ -1,6 +1,6 @@
 # The golden test: recorded hashes and GLB digests that a refactoring must keep.
 # `make golden-update` re-records them (commit that on its own, saying why).
-TESTS += tests/golden/golden.test.js
+# It runs in `make check` from SUITE_TESTS (tests/local.mk), first of all.
 EXTRA_DIST += tests/golden/golden.test.js tests/golden/golden.json
 
 golden-update: all
