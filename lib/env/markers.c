@@ -229,28 +229,39 @@ static void range(const mer_markers *m, const float *c, float radius, int lo[3],
     }
 }
 
+/* Drops the entries of cell c within r2 of center (flagging their markers dead),
+ * compacting the cell in place in index order. Returns how many. Most cells lose
+ * none: nothing is written before the first one goes. */
+static size_t remove_in_cell(mer_markers *m, size_t c, const float *center, float r2)
+{
+    entry *items = m->items;
+    uint32_t t = m->start[c], end = m->end[c];
+    while (t < end && dist2(items[t].p, center) > r2)
+        t++;
+    if (t == end)
+        return 0;
+    uint32_t kept = t;
+    for (; t < end; t++) {
+        if (dist2(items[t].p, center) <= r2)
+            m->dead[items[t].id] = 1;
+        else
+            items[kept++] = items[t];
+    }
+    m->end[c] = kept;
+    return end - kept;
+}
+
 static size_t remove_sphere_grid(mer_markers *m, const float *center, float radius)
 {
     int lo[3], hi[3];
     range(m, center, radius, lo, hi);
     float r2 = radius * radius;
-    size_t removed = 0;
-    for (int k = lo[2]; k <= hi[2]; k++)
-        for (int j = lo[1]; j <= hi[1]; j++)
-            for (int i = lo[0]; i <= hi[0]; i++) {
-                size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
-                uint32_t kept = m->start[c];
-                for (uint32_t t = m->start[c]; t < m->end[c]; t++) {
-                    const entry *e = &m->items[t];
-                    if (dist2(e->p, center) <= r2) {
-                        m->dead[e->id] = 1;
-                        removed++;
-                    } else {
-                        m->items[kept++] = *e;
-                    }
-                }
-                m->end[c] = kept;
-            }
+    size_t removed = 0, row = (size_t)m->dim[0], plane = row * (size_t)m->dim[1];
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++)
+                removed += remove_in_cell(m, (size_t)z * plane + (size_t)y * row + (size_t)x,
+                                          center, r2);
     m->alive -= removed;
     return removed;
 }
@@ -293,13 +304,14 @@ static inline int in_cone(const float *apex, const float *dir, const float *p, f
     float d[3] = {p[0] - apex[0], p[1] - apex[1], p[2] - apex[2]};
     float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     *d2_out = d2;
-    if (!(d2 > 0.0f) || d2 > r2)
-        return 0;
     float dot = d[0] * dir[0] + d[1] * dir[1] + d[2] * dir[2];
-    /* dot/|d| >= cos(θ/2), without a division; careful with the sign. */
+    /* dot/|d| >= cos(θ/2), without a division; careful with the sign. The tests
+     * are combined with & rather than short-circuited: few markers of a cell are
+     * in a cone, and a branch on each test is mispredicted half the time. */
+    int near = (d2 > 0.0f) & (d2 <= r2), ahead = dot >= 0.0f;
     if (cos_half >= 0.0f)
-        return dot >= 0.0f && dot * dot >= cos2 * d2;
-    return dot >= 0.0f || dot * dot <= cos2 * d2;
+        return near & ahead & (dot * dot >= cos2 * d2);
+    return near & (ahead | (dot * dot <= cos2 * d2));
 }
 
 int mer_in_cone(const float apex[3], const float dir[3], const float p[3], float r,
@@ -468,8 +480,12 @@ mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, cons
     if (!ensure_grid(m))
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
     /* 1. Occupancy zones: markers within ρ of any bud are deleted from S. */
-    for (size_t b = 0; b < n && m->alive > 0; b++)
+    for (size_t b = 0; b < n && m->alive > 0; b++) {
+        /* A node's buds share its end: the zone of the first has emptied it. */
+        if (b > 0 && memcmp(pos + 3 * b, pos + 3 * (b - 1), 3 * sizeof *pos) == 0)
+            continue;
         remove_sphere_grid(m, pos + 3 * b, rho);
+    }
     if (m->alive == 0 || n == 0)
         return MER_OK; /* with no markers every bud is quiet */
     mer_result rc = ensure_scratch(m, err);
