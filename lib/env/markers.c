@@ -229,28 +229,39 @@ static void range(const mer_markers *m, const float *c, float radius, int lo[3],
     }
 }
 
+/* Drops the entries of cell c within r2 of center (flagging their markers dead),
+ * compacting the cell in place in index order. Returns how many. Most cells lose
+ * none: nothing is written before the first one goes. */
+static size_t remove_in_cell(mer_markers *m, size_t c, const float *center, float r2)
+{
+    entry *items = m->items;
+    uint32_t t = m->start[c], end = m->end[c];
+    while (t < end && dist2(items[t].p, center) > r2)
+        t++;
+    if (t == end)
+        return 0;
+    uint32_t kept = t;
+    for (; t < end; t++) {
+        if (dist2(items[t].p, center) <= r2)
+            m->dead[items[t].id] = 1;
+        else
+            items[kept++] = items[t];
+    }
+    m->end[c] = kept;
+    return end - kept;
+}
+
 static size_t remove_sphere_grid(mer_markers *m, const float *center, float radius)
 {
     int lo[3], hi[3];
     range(m, center, radius, lo, hi);
     float r2 = radius * radius;
-    size_t removed = 0;
-    for (int k = lo[2]; k <= hi[2]; k++)
-        for (int j = lo[1]; j <= hi[1]; j++)
-            for (int i = lo[0]; i <= hi[0]; i++) {
-                size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
-                uint32_t kept = m->start[c];
-                for (uint32_t t = m->start[c]; t < m->end[c]; t++) {
-                    const entry *e = &m->items[t];
-                    if (dist2(e->p, center) <= r2) {
-                        m->dead[e->id] = 1;
-                        removed++;
-                    } else {
-                        m->items[kept++] = *e;
-                    }
-                }
-                m->end[c] = kept;
-            }
+    size_t removed = 0, row = (size_t)m->dim[0], plane = row * (size_t)m->dim[1];
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++)
+                removed += remove_in_cell(m, (size_t)z * plane + (size_t)y * row + (size_t)x,
+                                          center, r2);
     m->alive -= removed;
     return removed;
 }
@@ -293,13 +304,14 @@ static inline int in_cone(const float *apex, const float *dir, const float *p, f
     float d[3] = {p[0] - apex[0], p[1] - apex[1], p[2] - apex[2]};
     float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     *d2_out = d2;
-    if (!(d2 > 0.0f) || d2 > r2)
-        return 0;
     float dot = d[0] * dir[0] + d[1] * dir[1] + d[2] * dir[2];
-    /* dot/|d| >= cos(θ/2), without a division; careful with the sign. */
+    /* dot/|d| >= cos(θ/2), without a division; careful with the sign. The tests
+     * are combined with & rather than short-circuited: few markers of a cell are
+     * in a cone, and a branch on each test is mispredicted half the time. */
+    int near = (d2 > 0.0f) & (d2 <= r2), ahead = dot >= 0.0f;
     if (cos_half >= 0.0f)
-        return dot >= 0.0f && dot * dot >= cos2 * d2;
-    return dot >= 0.0f || dot * dot <= cos2 * d2;
+        return near & ahead & (dot * dot >= cos2 * d2);
+    return near & (ahead | (dot * dot <= cos2 * d2));
 }
 
 int mer_in_cone(const float apex[3], const float dir[3], const float p[3], float r,
@@ -357,25 +369,63 @@ static mer_result claim(mer_markers *m, uint32_t t, uint32_t b, float d2, size_t
     return MER_OK;
 }
 
-/* Competition for bud b: every live marker in its perception volume is claimed;
- * any live marker in the cells around it makes it not quiet. */
-static mer_result compete(mer_markers *m, uint32_t b, const float *a, const float *db, float r,
-                          float cos_half, size_t *nt, uint8_t *quiet, mer_error *err)
+/* A bud's perception volume (P09 §4.1): the cone of half-angle θ/2 within r. */
+typedef struct cone {
+    float r, r2, cos_half, cos2, sin_half;
+} cone;
+
+/* How far along a unit axis e the perception volume reaches, in units of r, for
+ * cos ψ = e·dir: 1 when e lies inside the cone, else cos(ψ − θ/2) (the rim's
+ * nearest generator), and never below 0 (the apex). */
+static float reach(float cos_psi, const cone *k)
 {
-    float r2 = r * r, cos2 = cos_half * cos_half;
+    if (cos_psi >= k->cos_half)
+        return 1.0f;
+    float sin_psi = sqrtf(fmaxf(0.0f, 1.0f - cos_psi * cos_psi));
+    return fmaxf(0.0f, cos_psi * k->cos_half + sin_psi * k->sin_half);
+}
+
+/* Cell ranges covering the perception volume's bounding box: a 90° cone of
+ * length r fills about a fifth of the box of the ball of radius r, and the
+ * markers in the other cells could only fail in_cone. The box is widened by a
+ * thousandth of r against rounding; a `dir` too far from unit length for that
+ * gets the whole ball. */
+static void cone_range(const mer_markers *m, const float *a, const float *dir, const cone *k,
+                       int lo[3], int hi[3])
+{
+    float n2 = dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2];
+    int ball = !(fabsf(n2 - 1.0f) <= 1e-4f);
+    for (int x = 0; x < 3; x++) {
+        float up = ball ? 1.0f : reach(dir[x], k), down = ball ? 1.0f : reach(-dir[x], k);
+        lo[x] = cell_coord(m, a[x] - k->r * (down + 1e-3f), x);
+        hi[x] = cell_coord(m, a[x] + k->r * (up + 1e-3f), x);
+    }
+}
+
+/* Competition for bud b: every live marker in its perception volume is claimed,
+ * and makes it not quiet. Cells are visited in index order and a cell's markers
+ * in index order, so the claims' first-touched order is fixed. */
+static mer_result compete(mer_markers *m, uint32_t b, const float *a, const float *db,
+                          const cone *k, size_t *nt, uint8_t *quiet, mer_error *err)
+{
     int lo[3], hi[3];
-    range(m, a, r, lo, hi);
-    for (int k = lo[2]; k <= hi[2]; k++)
-        for (int j = lo[1]; j <= hi[1]; j++)
-            for (int i = lo[0]; i <= hi[0]; i++) {
-                size_t c = ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
-                for (uint32_t t = m->start[c]; t < m->end[c]; t++) {
-                    const entry *e = &m->items[t];
-                    if (quiet != NULL)
-                        quiet[b] = 0; /* a live marker in the neighbourhood */
+    cone_range(m, a, db, k, lo, hi);
+    /* Locals: claims write through m, which would otherwise make every entry
+     * reload the apex, the direction and the cell's bounds. */
+    const float apex[3] = {a[0], a[1], a[2]}, dir[3] = {db[0], db[1], db[2]};
+    const entry *items = m->items;
+    size_t row = (size_t)m->dim[0], plane = row * (size_t)m->dim[1];
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++) {
+                size_t c = (size_t)z * plane + (size_t)y * row + (size_t)x;
+                uint32_t t = m->start[c], end = m->end[c];
+                for (; t < end; t++) {
                     float d2;
-                    if (!in_cone(a, db, e->p, r2, cos_half, cos2, &d2))
+                    if (!in_cone(apex, dir, items[t].p, k->r2, k->cos_half, k->cos2, &d2))
                         continue;
+                    if (quiet != NULL)
+                        quiet[b] = 0;
                     mer_result rc = claim(m, t, b, d2, nt, err);
                     if (rc != MER_OK)
                         return rc;
@@ -425,25 +475,31 @@ mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, cons
         if (count != NULL)
             count[b] = 0;
         if (quiet != NULL)
-            quiet[b] = rho <= r;
+            quiet[b] = 1;
     }
     if (!ensure_grid(m))
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
     /* 1. Occupancy zones: markers within ρ of any bud are deleted from S. */
-    for (size_t b = 0; b < n && m->alive > 0; b++)
+    for (size_t b = 0; b < n && m->alive > 0; b++) {
+        /* A node's buds share its end: the zone of the first has emptied it. */
+        if (b > 0 && memcmp(pos + 3 * b, pos + 3 * (b - 1), 3 * sizeof *pos) == 0)
+            continue;
         remove_sphere_grid(m, pos + 3 * b, rho);
+    }
     if (m->alive == 0 || n == 0)
-        return MER_OK; /* quiet stays as set: with no markers every bud is quiet */
+        return MER_OK; /* with no markers every bud is quiet */
     mer_result rc = ensure_scratch(m, err);
     if (rc != MER_OK)
         return rc;
-    float cos_half = cosf(theta * 0.5f * MER_DEG2RAD);
+    cone k = {.r = r, .r2 = r * r, .cos_half = cosf(theta * 0.5f * MER_DEG2RAD)};
     if (theta >= 360.0f)
-        cos_half = -1.0f;
+        k.cos_half = -1.0f;
+    k.cos2 = k.cos_half * k.cos_half;
+    k.sin_half = sqrtf(fmaxf(0.0f, 1.0f - k.cos2));
     size_t nt = 0;
     /* 2. Competition: each perceived marker goes to the closest bud. */
     for (size_t b = 0; b < n; b++) {
-        rc = compete(m, (uint32_t)b, pos + 3 * b, dir + 3 * b, r, cos_half, &nt, quiet, err);
+        rc = compete(m, (uint32_t)b, pos + 3 * b, dir + 3 * b, &k, &nt, quiet, err);
         if (rc != MER_OK)
             return rc;
     }

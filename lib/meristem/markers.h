@@ -69,11 +69,12 @@ int mer_in_cone(const float apex[3], const float dir[3], const float p[3], float
  * of one or more buds is associated with the closest of them. Writes per bud:
  * q[i] = 1 if its set S(A) is non-empty, else 0; v[3i..] = the normalized sum of
  * the unit vectors towards its markers (0 when empty); count[i] (may be NULL) =
- * |S(A)|; quiet[i] (may be NULL) = 1 when, after the occupancy pass, no live marker
- * is left in the grid cells within r of the bud (and ρ <= r): such a bud can
- * neither see nor remove a marker until markers are added, so a caller may leave
- * it out of later rounds. O(n · markers per neighbourhood). MER_ERR_NOMEM leaves
- * outputs undefined. */
+ * |S(A)|; quiet[i] (may be NULL) = 1 when no live marker is left in its
+ * perception volume: its occupancy zone has just been emptied and markers only
+ * leave until more are added, so until then (or until it moves) such a bud can
+ * neither see nor remove a marker, and a caller may leave it out of later rounds.
+ * O(n · markers in the cells of a perception volume's bounding box). MER_ERR_NOMEM
+ * leaves outputs undefined. */
 mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, const float *dir,
                                 float rho, float r, float theta, float *q, float *v,
                                 uint32_t *count, uint8_t *quiet, mer_error *err);

@@ -119,28 +119,36 @@ static void test_tie_goes_to_first_bud(void **state)
     mer_markers_free(m);
 }
 
-/* A bud whose neighbourhood holds no live marker is reported quiet; one with a
- * marker anywhere in its cells (even outside its cone) is not. */
+/* A bud with no live marker in its perception volume is reported quiet, even
+ * with markers around it (behind it, or beyond r): they can never be its; one
+ * with a marker in its cone is not. */
 static void test_quiet_buds(void **state)
 {
     (void)state;
     mer_markers *m;
     assert_int_equal(mer_markers_new(BMIN, BMAX, 2.0f, &m, NULL), MER_OK);
-    const float pts[] = {0, 0, 1.0f, 8, 8, 8};
-    mer_markers_add(m, pts, 2, NULL);
+    const float pts[] = {0, 0, 1.0f, 8, 8, 8, 8, 2, 8};
+    mer_markers_add(m, pts, 3, NULL);
     /* bud 0 at the origin: its occupancy zone (ρ = 1.5) eats the first marker, the
-     * second is far: quiet. bud 1 at (8, 5, 8) pointing down: (8, 8, 8) is behind
-     * it but in its cells: not quiet. */
-    const float pos[6] = {0, 0, 0, 8, 5, 8}, dir[6] = {1, 0, 0, 0, -1, 0};
-    float q[2], v[6];
-    uint8_t quiet[2];
-    mer_markers_colonize(m, 2, pos, dir, 1.5f, 4.0f, 90.0f, q, v, NULL, quiet, NULL);
+     * others are far: quiet. bud 1 at (8, 5, 8) pointing up: (8, 8, 8) is in its
+     * cone, (8, 2, 8) behind it: not quiet. bud 2 there pointing down sees
+     * (8, 2, 8): not quiet either. */
+    const float pos[9] = {0, 0, 0, 8, 5, 8, 8, 5, 8}, dir[9] = {1, 0, 0, 0, 1, 0, 0, -1, 0};
+    float q[3], v[9];
+    uint8_t quiet[3];
+    mer_markers_colonize(m, 3, pos, dir, 1.5f, 4.0f, 90.0f, q, v, NULL, quiet, NULL);
     assert_int_equal(quiet[0], 1);
     assert_int_equal(quiet[1], 0);
+    assert_int_equal(quiet[2], 0);
+    /* the marker above goes (a zone of ρ = 3.5 around (8, 11, 8)): bud 1 has
+     * (8, 2, 8) behind it, in its cells, and is quiet now */
+    const float above[3] = {8, 11, 8};
+    assert_int_equal(mer_markers_remove_sphere(m, above, 3.5f), 1);
+    mer_markers_colonize(m, 3, pos, dir, 1.5f, 4.0f, 90.0f, q, v, NULL, quiet, NULL);
+    assert_int_equal(quiet[1], 1);
     assert_close(q[1], 0.0f);
-    /* ρ > r: never quiet (the occupancy zone reaches past the cells looked at) */
-    mer_markers_colonize(m, 2, pos, dir, 5.0f, 4.0f, 90.0f, q, v, NULL, quiet, NULL);
-    assert_int_equal(quiet[0], 0);
+    assert_int_equal(quiet[2], 0);
+    assert_close(q[2], 1.0f);
     mer_markers_free(m);
 }
 
