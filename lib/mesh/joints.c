@@ -422,6 +422,29 @@ static bool patch_closes(const merp_trimesh *m, uint32_t ring_first)
     return ok;
 }
 
+/* jt's patch into m (room for either polygonizer): by dual contouring, which
+ * keeps the branch bark ridge's crease sharp (G04 §3.2), or, where that patch
+ * does not close (plain DC makes a non-manifold edge where a cell face is
+ * crossed by two sheets), by marching tetrahedra. *ring_first: the first of
+ * the ring copies. MER_ERR_INVALID when neither closes. */
+static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_trimesh *m, uint32_t *ring_first,
+                                   mer_error *err)
+{
+    mer_result rc = MER_ERR_INVALID;
+    for (uint32_t sharp = 2; sharp-- > 0 && rc == MER_ERR_INVALID;) {
+        pt->sharp = sharp;
+        rc = merp_patch_build(pt, m, err);
+        if (rc != MER_OK)
+            continue;
+        *ring_first = m->vertex_count;
+        for (uint32_t s = 0; s < jt->cuts; s++)
+            *ring_first -= jt->sides[s];
+        if (!patch_closes(m, *ring_first))
+            rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
+    }
+    return rc;
+}
+
 /* Builds jt's patch into exact arrays of its own. MER_ERR_INVALID (and the
  * caller unplans the fork) when the patch does not close on its cuts. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
@@ -442,8 +465,12 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
         c->ring = jt->ring[s];
         c->sides = jt->sides[s];
     }
-    uint64_t vmax, tmax;
-    merp_patch_bound(&pt, &vmax, &tmax);
+    uint64_t vmax = 0, tmax = 0;
+    for (pt.sharp = 0; pt.sharp < 2; pt.sharp++) { /* room for either polygonizer */
+        uint64_t v, t;
+        merp_patch_bound(&pt, &v, &t);
+        vmax = v > vmax ? v : vmax, tmax = t > tmax ? t : tmax;
+    }
     merp_trimesh m = {0};
     m.positions = merp_malloc(vmax * 3 * sizeof(float));
     m.normals = merp_malloc(vmax * 3 * sizeof(float));
@@ -451,13 +478,9 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
     mer_result rc = MER_OK;
     if (m.positions == NULL || m.normals == NULL || m.triangles == NULL)
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a junction");
+    uint32_t ring_first = 0;
     if (rc == MER_OK)
-        rc = merp_patch_build(&pt, &m, err);
-    uint32_t ring_first = m.vertex_count;
-    for (uint32_t s = 0; s < jt->cuts; s++)
-        ring_first -= jt->sides[s];
-    if (rc == MER_OK && !patch_closes(&m, ring_first))
-        rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
+        rc = polygonize_patch(&pt, jt, &m, &ring_first, err);
     /* Exact arrays, with room for the seam's copies (at most one a vertex). */
     size_t room = 2 * (size_t)m.vertex_count;
     if (rc == MER_OK) {
