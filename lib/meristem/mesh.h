@@ -75,14 +75,16 @@
  * not in a patch gets a base disk, so the whole bark is closed (a 2-manifold
  * once vertices of equal position are welded; the UV seams and disks keep
  * their own vertices). Each bark vertex then carries b = F_b(p), the bounding
- * field's value (0 on tubes, up to 1 on the ridge), in `ridge` (glTF
- * `_RIDGE`); with a colour mode the colour is darkened by it. Patch UVs
+ * field's value (0 on tubes, up to 1 on the ridge and on a fresh bud scale
+ * scar: the larger of the laterals' F_b and the parent's scar's weighted
+ * F_b), in `ridge` (glTF `_RIDGE`); with a colour mode the colour is darkened by it. Patch UVs
  * continue the bark's of the nearest shaft (u by angle in that shaft's ring
  * frame, v by arc length), with seam vertices of their own. The bark ages with
  * the fork's oldest lateral, in years (steps, 1 in the season it appears; G04
  * Fig. 7): the lateral's scar ring round its base moves into the crotch as its
  * bark ridge, and where the fork also ends one season's shoot, the parent's bud
- * scale scar there fades (weight e^(−(y − 1)/3)).
+ * scale scar there fades with the years of the parent's next shoot (weight
+ * e^(−(y − 1)/3)).
  *
  * Colours. Optionally a COLOR_0 per vertex: by branch order (a fixed palette),
  * by light Q (the subtree's light at the last step, dark blue → yellow, scaled
@@ -161,7 +163,7 @@ typedef struct mer_mesh_part {
                                seen from outside */
     uint32_t line_index_count; /* twig line segments × 2 (see Twig lines); 0 without */
     uint32_t *line_indices;    /* relative to their chunk's first vertex, like indices */
-    float *ridge;              /* 1 per vertex with implicit junctions: b = F_b (Junctions) */
+    float *ridge;              /* 1 per vertex with implicit junctions: b (Junctions) */
 } mer_mesh_part;
 
 typedef struct mer_mesh {

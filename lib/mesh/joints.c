@@ -87,6 +87,14 @@ static float clear_of(const float n[3], const float m[3], float R, float rho)
     return s < 0.2f ? -1.0f : (R + rho) / s;
 }
 
+/* The years of a shoot made in step `born`: 1 in the season it appears (a
+ * node made in the last step has born = step − 1: the step count is raised
+ * after the model's step). */
+static float years_since(const merp_builder *b, uint32_t born)
+{
+    return b->step > born + 1 ? (float)(b->step - born) : 1.0f;
+}
+
 /* Plans the fork at P's tip into jt (cuts, field); false when it does not fit. */
 static bool plan_one(merp_builder *b, uint32_t P, const float *base_claim, merp_joint *jt)
 {
@@ -143,15 +151,14 @@ static bool plan_one(merp_builder *b, uint32_t P, const float *base_claim, merp_
     }
     float ridge_up[3];
     memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
-    /* The bark ages with the oldest lateral (G04 Fig. 7): years = 1 in the
-     * season it appears. The parent's bud scale scar exists only where J ends
-     * one season's shoot and C begins the next's. */
+    /* The bark ages with the oldest lateral (G04 Fig. 7). The parent's bud
+     * scale scar exists only where J ends one season's shoot and C begins the
+     * next's, and ages with C's shoot. */
     uint32_t born = b->nodes[jt->node[2]].born;
     for (uint32_t k = 1; k < f->laterals; k++)
         born = born < b->nodes[jt->node[2 + k]].born ? born : b->nodes[jt->node[2 + k]].born;
-    merp_junction_age(f, ridge_up, 1.0f + (float)(b->step > born ? b->step - born : 0));
-    if (b->nodes[C].born == p->born)
-        f->scar_weight = 0.0f;
+    merp_junction_age(f, ridge_up, years_since(b, born));
+    f->scar_weight = b->nodes[C].born == p->born ? 0.0f : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
     return true;
 }
 
@@ -322,6 +329,17 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
     }
 }
 
+/* b of the bark at p (mesh.h, Junctions): the laterals' F_b and the parent's
+ * bud scale scar, σ(y)·F_b of its band (G04 §3.2: the bounding field marks
+ * the PCM region's texture, Fig. 7: the scar fades). */
+static float bark_mark(const merp_junction *f, const float p[3])
+{
+    float b = merp_junction_ridge(f, p);
+    if (f->scar_weight > 0.0f && f->out.ra > 0.0f)
+        b = fmaxf(b, f->scar_weight * merp_bound_field(&f->scar, p));
+    return b;
+}
+
 /* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
  * rings shade as the tubes), shafts, ridge b = F_b, UVs (ring copies exactly
  * the ring's), then the seam split. */
@@ -341,7 +359,7 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, float h, uin
         }
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
-        jt->ridge[v] = merp_junction_ridge(&jt->field, p);
+        jt->ridge[v] = bark_mark(&jt->field, p);
         uint32_t s = nearest_shaft(jt, p);
         uint32_t r = v - ring_first, j = r;
         if (v >= ring_first) /* a ring copy: its cut and place on the ring */
@@ -404,6 +422,29 @@ static bool patch_closes(const merp_trimesh *m, uint32_t ring_first)
     return ok;
 }
 
+/* jt's patch into m (room for either polygonizer): by dual contouring, which
+ * keeps the branch bark ridge's crease sharp (G04 §3.2), or, where that patch
+ * does not close (plain DC makes a non-manifold edge where a cell face is
+ * crossed by two sheets), by marching tetrahedra. *ring_first: the first of
+ * the ring copies. MER_ERR_INVALID when neither closes. */
+static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_trimesh *m, uint32_t *ring_first,
+                                   mer_error *err)
+{
+    mer_result rc = MER_ERR_INVALID;
+    for (uint32_t sharp = 2; sharp-- > 0 && rc == MER_ERR_INVALID;) {
+        pt->sharp = sharp;
+        rc = merp_patch_build(pt, m, err);
+        if (rc != MER_OK)
+            continue;
+        *ring_first = m->vertex_count;
+        for (uint32_t s = 0; s < jt->cuts; s++)
+            *ring_first -= jt->sides[s];
+        if (!patch_closes(m, *ring_first))
+            rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
+    }
+    return rc;
+}
+
 /* Builds jt's patch into exact arrays of its own. MER_ERR_INVALID (and the
  * caller unplans the fork) when the patch does not close on its cuts. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
@@ -424,8 +465,12 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
         c->ring = jt->ring[s];
         c->sides = jt->sides[s];
     }
-    uint64_t vmax, tmax;
-    merp_patch_bound(&pt, &vmax, &tmax);
+    uint64_t vmax = 0, tmax = 0;
+    for (pt.sharp = 0; pt.sharp < 2; pt.sharp++) { /* room for either polygonizer */
+        uint64_t v, t;
+        merp_patch_bound(&pt, &v, &t);
+        vmax = v > vmax ? v : vmax, tmax = t > tmax ? t : tmax;
+    }
     merp_trimesh m = {0};
     m.positions = merp_malloc(vmax * 3 * sizeof(float));
     m.normals = merp_malloc(vmax * 3 * sizeof(float));
@@ -433,13 +478,9 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
     mer_result rc = MER_OK;
     if (m.positions == NULL || m.normals == NULL || m.triangles == NULL)
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a junction");
+    uint32_t ring_first = 0;
     if (rc == MER_OK)
-        rc = merp_patch_build(&pt, &m, err);
-    uint32_t ring_first = m.vertex_count;
-    for (uint32_t s = 0; s < jt->cuts; s++)
-        ring_first -= jt->sides[s];
-    if (rc == MER_OK && !patch_closes(&m, ring_first))
-        rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
+        rc = polygonize_patch(&pt, jt, &m, &ring_first, err);
     /* Exact arrays, with room for the seam's copies (at most one a vertex). */
     size_t room = 2 * (size_t)m.vertex_count;
     if (rc == MER_OK) {

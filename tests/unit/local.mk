@@ -262,7 +262,7 @@ tests_unit_test_dc_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_dc_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_patch
-tests_unit_test_patch_SOURCES = tests/unit/test_patch.c tests/unit/trimesh_check.h
+tests_unit_test_patch_SOURCES = tests/unit/test_patch.c tests/unit/trimesh_check.h tests/unit/fork_fixture.h
 tests_unit_test_patch_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_patch_LDADD = $(UNIT_LDADD)
 

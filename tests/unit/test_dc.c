@@ -61,25 +61,13 @@ static float cube_fn(const float p[3], const void *data)
     return MERP_ISO - (m - c->a);
 }
 
-typedef struct mesh_out {
-    merp_trimesh m;
-    uint64_t vmax, tmax;
-} mesh_out;
-
-static void alloc_out(mesh_out *o, uint64_t v, uint64_t t)
-{
-    o->vmax = v, o->tmax = t;
-    o->m = (merp_trimesh){0, 0, malloc(v * 3 * sizeof(float)), malloc(v * 3 * sizeof(float)),
-                          malloc(t * 3 * sizeof(uint32_t))};
-}
-
 static void dc(const merp_grid *g, merp_field_fn f, const void *data, mesh_out *o)
 {
     uint64_t v, t;
     merp_dc_bound(g, &v, &t);
-    alloc_out(o, v, t);
+    mesh_alloc(o, v, t);
     mer_error err;
-    assert_int_equal(merp_dc_polygonize(g, f, data, NULL, 0, &o->m, &err), MER_OK);
+    assert_int_equal(merp_dc_polygonize(g, f, data, NULL, 0, &o->m, NULL, &err), MER_OK);
     assert_true(o->m.vertex_count <= o->vmax && o->m.triangle_count <= o->tmax);
     assert_true(o->m.triangle_count > 100);
 }
@@ -88,26 +76,9 @@ static void mtet(const merp_grid *g, merp_field_fn f, const void *data, mesh_out
 {
     uint64_t v, t;
     merp_mtet_bound(g, &v, &t);
-    alloc_out(o, v, t);
+    mesh_alloc(o, v, t);
     mer_error err;
     assert_int_equal(merp_mtet_polygonize(g, f, data, &o->m, &err), MER_OK);
-}
-
-static void mesh_free(mesh_out *o)
-{
-    free(o->m.positions);
-    free(o->m.normals);
-    free(o->m.triangles);
-}
-
-static void assert_closed_genus0(const mesh_out *o)
-{
-    size_t twice, edges;
-    assert_int_equal(tm_open_edges(o->m.triangles, o->m.triangle_count, &twice, &edges), 0);
-    assert_int_equal(twice, 0);
-    long chi = (long)o->m.vertex_count - (long)edges + (long)o->m.triangle_count;
-    assert_int_equal(chi, 2);
-    assert_true(tm_volume(o->m.positions, o->m.triangles, o->m.triangle_count) > 0);
 }
 
 static void ball(void **state)

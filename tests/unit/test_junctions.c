@@ -5,6 +5,7 @@
  * output is deterministic, and the default (tubes) is unchanged. */
 #include "config.h"
 
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -124,6 +125,100 @@ static void same_bytes_and_default_unchanged(void **state)
     mer_scene_free(s);
 }
 
+/* The largest b (`_RIDGE`) of the bark vertices in three places of the fork
+ * at P's tip with lateral L (G04 Fig. 7): on the parent opposite the lateral
+ * at J's height (its bud scale scar), under the lateral's base, and in the
+ * crotch above it. */
+typedef struct fork_marks {
+    float scar, under, crotch;
+} fork_marks;
+
+static float dot3(const float a[3], const float b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static fork_marks marks_at(const mer_scene *s, uint32_t P, uint32_t L)
+{
+    mer_error err;
+    mer_node p, c, l;
+    assert_int_equal(mer_scene_node(s, P, &p, &err), MER_OK);
+    assert_int_equal(mer_scene_node(s, p.main_child, &c, &err), MER_OK);
+    assert_int_equal(mer_scene_node(s, L, &l, &err), MER_OK);
+    assert_true(p.alive && c.alive && l.alive && p.lateral_child[0] == L);
+    float J[3], e[3], n[3];
+    for (int k = 0; k < 3; k++)
+        J[k] = p.base[k] + p.length * p.dir[k];
+    /* e: across the parent towards the lateral; n: the lateral's upper side. */
+    float cs = dot3(l.dir, c.dir), rP = 0.5f * p.diameter, rL = 0.5f * l.diameter;
+    for (int k = 0; k < 3; k++)
+        e[k] = l.dir[k] - cs * c.dir[k];
+    float le = sqrtf(dot3(e, e)), sn = le;
+    for (int k = 0; k < 3; k++)
+        e[k] /= le, n[k] = -cs * e[k] + sn * c.dir[k];
+    mer_mesh *m = NULL;
+    const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+    fork_marks r = {0, 0, 0};
+    uint32_t seen[3] = {0, 0, 0};
+    for (uint32_t v = 0; v < m->bark.vertex_count; v++) {
+        float q[3];
+        for (int k = 0; k < 3; k++)
+            q[k] = m->bark.positions[3 * v + k] - J[k];
+        float up = dot3(q, c.dir), side = dot3(q, e), along = dot3(q, l.dir), above = dot3(q, n);
+        float b = m->bark.ridge[v], *slot = NULL;
+        int which = -1;
+        if (side < -0.8f * rP && fabsf(up) < 0.3f * rP)
+            which = 0, slot = &r.scar;
+        else if (along > 0.0f && along < rP + 2.0f * rL && above < -0.8f * rL)
+            which = 1, slot = &r.under;
+        else if (along > 0.0f && along < rP + 2.0f * rL && above > 0.8f * rL && side > 0.0f)
+            which = 2, slot = &r.crotch;
+        if (slot == NULL || dot3(q, q) > 9.0f * rP * rP)
+            continue;
+        seen[which]++;
+        *slot = b > *slot ? b : *slot;
+    }
+    assert_true(m->junctions > 0 && seen[0] > 0 && seen[1] > 0 && seen[2] > 0);
+    mer_mesh_free(m);
+    return r;
+}
+
+/* G04 Fig. 7 in the mesher: one fork at years 1, 4, 7, 10 (its lateral grew
+ * in the first of them; the fork also ends the parent's shoot, so it has a
+ * bud scale scar). The parent's scar fades (σ(y) = 1, 0.37, 0.14, 0.05), the
+ * lateral's scar ring leaves its underside, and its crotch keeps the ridge. */
+static void fork_ages(void **state)
+{
+    (void)state;
+    mer_scene *s = grown(5);
+    const uint32_t P = 25, L = 58;
+    mer_error err;
+    mer_node p, c, l;
+    assert_int_equal(mer_scene_node(s, P, &p, &err), MER_OK);
+    assert_int_equal(mer_scene_node(s, p.main_child, &c, &err), MER_OK);
+    assert_int_equal(mer_scene_node(s, L, &l, &err), MER_OK);
+    assert_int_equal(l.born + 1, mer_scene_step_index(s)); /* this season's */
+    assert_int_not_equal(c.born, p.born);
+    fork_marks y[4];
+    for (int a = 0; a < 4; a++) {
+        if (a > 0)
+            assert_int_equal(mer_scene_step(s, 3, NULL, NULL, NULL, NULL, &err), MER_OK);
+        y[a] = marks_at(s, P, L);
+        print_message("year %d: scar %.3f, under the lateral %.3f, crotch %.3f\n", 1 + 3 * a, (double)y[a].scar,
+                      (double)y[a].under, (double)y[a].crotch);
+    }
+    assert_true(y[0].scar > 0.5f && y[3].scar < 0.1f);
+    assert_true(y[0].under > 0.9f && y[3].under < 0.5f * y[0].under);
+    for (int a = 1; a < 4; a++) {
+        assert_true(y[a].scar < y[a - 1].scar);
+        assert_true(y[a].under <= y[a - 1].under + 0.02f);
+    }
+    for (int a = 0; a < 4; a++)
+        assert_true(y[a].crotch > 0.9f);
+    mer_scene_free(s);
+}
+
 static void bad_options(void **state)
 {
     (void)state;
@@ -144,6 +239,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(whole_tree_is_closed),
         cmocka_unit_test(same_bytes_and_default_unchanged),
+        cmocka_unit_test(fork_ages),
         cmocka_unit_test(bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

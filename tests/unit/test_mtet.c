@@ -28,40 +28,15 @@ static float contact_fn(const float p[3], const void *data)
     return merp_pcm_union(merp_seg_field(&s[0], p), merp_seg_field(&s[1], p), 0.15f);
 }
 
-typedef struct mesh_out {
-    merp_trimesh m;
-    uint64_t vmax, tmax;
-} mesh_out;
-
 static void polygonize(const merp_grid *g, merp_field_fn f, const void *data, mesh_out *o)
 {
-    merp_mtet_bound(g, &o->vmax, &o->tmax);
-    o->m.positions = malloc(o->vmax * 3 * sizeof(float));
-    o->m.normals = malloc(o->vmax * 3 * sizeof(float));
-    o->m.triangles = malloc(o->tmax * 3 * sizeof(uint32_t));
+    uint64_t v, t;
+    merp_mtet_bound(g, &v, &t);
+    mesh_alloc(o, v, t);
     mer_error err;
     assert_int_equal(merp_mtet_polygonize(g, f, data, &o->m, &err), MER_OK);
     assert_true(o->m.vertex_count <= o->vmax && o->m.triangle_count <= o->tmax);
     assert_true(o->m.triangle_count > 100);
-}
-
-static void mesh_free(mesh_out *o)
-{
-    free(o->m.positions);
-    free(o->m.normals);
-    free(o->m.triangles);
-}
-
-/* Closed, consistently wound, genus 0 (V − E + F = 2), positive volume. */
-static void assert_closed_genus0(const mesh_out *o)
-{
-    size_t twice, edges;
-    size_t open = tm_open_edges(o->m.triangles, o->m.triangle_count, &twice, &edges);
-    assert_int_equal(open, 0);
-    assert_int_equal(twice, 0);
-    long chi = (long)o->m.vertex_count - (long)edges + (long)o->m.triangle_count;
-    assert_int_equal(chi, 2);
-    assert_true(tm_volume(o->m.positions, o->m.triangles, o->m.triangle_count) > 0);
 }
 
 /* As assert_closed_genus0, enclosing `volume` within a fraction `tol`. */

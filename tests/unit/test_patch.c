@@ -14,8 +14,7 @@
 
 #include <cmocka.h>
 
-#include "core/vec.h"
-#include "mesh/implicit/implicit.h"
+#include "fork_fixture.h"
 #include "trimesh_check.h"
 
 enum { SIDES = 9, STUBS_V = 3 * (2 * SIDES + 1), STUBS_T = 3 * 3 * SIDES };
@@ -26,20 +25,6 @@ typedef struct soup {
     uint32_t vn, tn;
     uint32_t *tri;
 } soup;
-
-/* A ring of SIDES vertices of radius r in the plane (o, n), turned by `phase`,
- * listed clockwise or anticlockwise as `dir` says. */
-static void make_ring(float *ring, const float o[3], const float n[3], float r, float phase, int dir)
-{
-    float u[3], v[3];
-    v3_any_perp(n, u);
-    v3_cross(n, u, v);
-    for (int j = 0; j < SIDES; j++) {
-        float a = phase + (float)dir * MERP_TWO_PI * (float)j / SIDES;
-        for (int k = 0; k < 3; k++)
-            ring[3 * j + k] = o[k] + r * (cosf(a) * u[k] + sinf(a) * v[k]);
-    }
-}
 
 static uint32_t add_vertex(soup *s, const float p[3])
 {
@@ -111,61 +96,126 @@ static uint32_t weld(soup *s, uint32_t first)
     return used;
 }
 
-static void fork_patch(void **state)
+/* The fork's patch by `sharp`'s polygonizer into a soup with room for the
+ * stubs; fails the test when it is not built. */
+static soup *patch_soup(fork_fixture *f, merp_trimesh *m)
 {
-    (void)state;
-    const float s2 = 0.70710678f;
-    merp_junction j = {
-        .in = {{0, -2.5f, 0}, {0, 0, 0}, 0.5f, 0.5f},
-        .out = {{0, 0, 0}, {0, 2.5f, 0}, 0.45f, 0.45f},
-        .lateral = {{{0, 0, 0}, {3 * s2, 3 * s2, 0}, 0.3f, 0.3f}},
-        .laterals = 1,
-        .w = 0.15f,
-    };
-    const float up[3] = {0, 1, 0};
-    merp_junction_bound(&j, 0, up, 1.0f);
-    static float rings[3][SIDES * 3];
-    const float o[3][3] = {{0, -1.3f, 0}, {0, 1.3f, 0}, {2 * s2, 2 * s2, 0}};
-    const float n[3][3] = {{0, -1, 0}, {0, 1, 0}, {s2, s2, 0}};
-    const float r[3] = {0.5f, 0.45f, 0.3f};
-    merp_patch pt = {.j = &j, .cuts = 3, .grid = {{-0.8f, -1.4f, -0.8f}, 0.05f, {52, 66, 32}}};
-    for (int i = 0; i < 3; i++) {
-        make_ring(rings[i], o[i], n[i], r[i], 0.3f * (float)i, i == 1 ? -1 : 1);
-        pt.cut[i] = (merp_cut){{o[i][0], o[i][1], o[i][2]}, {n[i][0], n[i][1], n[i][2]}, 1.5f * r[i],
-                               rings[i], SIDES};
-    }
     uint64_t vmax, tmax;
-    merp_patch_bound(&pt, &vmax, &tmax);
+    merp_patch_bound(&f->pt, &vmax, &tmax);
     soup *s = calloc(1, sizeof *s);
     s->pos = malloc((vmax + STUBS_V) * 3 * sizeof(float));
     s->tri = malloc((tmax + STUBS_T) * 3 * sizeof(uint32_t));
-    merp_trimesh m = {0, 0, s->pos, malloc(vmax * 3 * sizeof(float)), s->tri};
+    *m = (merp_trimesh){0, 0, s->pos, malloc(vmax * 3 * sizeof(float)), s->tri};
     mer_error err;
-    if (merp_patch_build(&pt, &m, &err) != MER_OK)
+    if (merp_patch_build(&f->pt, m, &err) != MER_OK)
         fail_msg("%s", err.message);
-    s->vn = m.vertex_count, s->tn = m.triangle_count;
-    /* Alone, the patch is open exactly along its three rings. */
+    s->vn = m->vertex_count, s->tn = m->triangle_count;
+    return s;
+}
+
+static void soup_free(soup *s, merp_trimesh *m)
+{
+    free(m->normals);
+    free(s->pos);
+    free(s->tri);
+    free(s);
+}
+
+/* Alone, the patch is open exactly along its three rings; with a stub on
+ * each, closed, consistently wound, genus 0. */
+static void assert_stitched(fork_fixture *f, uint32_t sharp)
+{
+    f->pt.sharp = sharp;
+    merp_trimesh m;
+    soup *s = patch_soup(f, &m);
     size_t twice, edges;
     assert_int_equal(tm_open_edges(s->tri, s->tn, &twice, &edges), 3 * SIDES);
     assert_int_equal(twice, 0);
     uint32_t patch_vertices = s->vn;
     for (int i = 0; i < 3; i++)
-        add_stub(s, rings[i], o[i], n[i]);
+        add_stub(s, f->rings[i], f->o[i], f->n[i]);
     uint32_t used = weld(s, patch_vertices);
     assert_int_equal(tm_open_edges(s->tri, s->tn, &twice, &edges), 0);
     assert_int_equal(twice, 0);
     assert_int_equal((long)used - (long)edges + (long)s->tn, 2);
     assert_true(tm_volume(s->pos, s->tri, s->tn) > 0);
-    free(m.normals);
-    free(s->pos);
-    free(s->tri);
-    free(s);
+    soup_free(s, &m);
+}
+
+static const float no_shift[3] = {0, 0, 0}, off_grid[3] = {-0.0123f, -0.0077f, -0.0131f};
+
+static void fork_patch(void **state)
+{
+    (void)state;
+    static fork_fixture f;
+    fork_fixture_init(&f, SIDES, 0.05f, no_shift);
+    assert_stitched(&f, 0);
+    fork_fixture_init(&f, SIDES, 0.05f, off_grid);
+    assert_stitched(&f, 0);
+    assert_stitched(&f, 1);
+}
+
+/* The signed gap A' − L' between the parent's and the lateral's solids
+ * deformed by PCM (implicit.h): 0 on the branch bark ridge's crease. */
+static float crease_gap(const merp_junction *j, const float p[3])
+{
+    float A = fmaxf(merp_seg_field(&j->in, p), merp_seg_field(&j->out, p)), L = merp_seg_field(&j->lateral[0], p);
+    return A + merp_pcm_delta(MERP_ISO - L, j->w) - (L + merp_pcm_delta(MERP_ISO - A, j->w));
+}
+
+/* How many of m's vertices where F_b = 1 (the crease is PCM's) lie within
+ * h / 20 of the crease (|A' − L'| over its gradient). */
+static uint32_t on_crease(const merp_junction *j, const merp_trimesh *m, float h)
+{
+    uint32_t n = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        const float *p = m->positions + 3 * (size_t)v;
+        if (merp_junction_ridge(j, p) < 0.999f)
+            continue;
+        float g = crease_gap(j, p), grad = 0.0f, e = 1e-3f * h;
+        for (int k = 0; k < 3; k++) {
+            float a[3] = {p[0], p[1], p[2]}, b[3] = {p[0], p[1], p[2]};
+            a[k] += e, b[k] -= e;
+            float d = (crease_gap(j, a) - crease_gap(j, b)) / (2.0f * e);
+            grad += d * d;
+        }
+        n += fabsf(g) < 0.05f * h * sqrtf(grad);
+    }
+    return n;
+}
+
+/* The crease of a first-year fork (the lateral's scar ring: F_b = 1 all
+ * round its base, about 2π·0.3 / h = 38 cells long) through dual
+ * contouring: a vertex on it in most cells it crosses (27 within h / 20
+ * here), where marching tetrahedra's vertices, on grid edges, meet it only
+ * where an edge happens to cross it (16). */
+static void sharp_ridge(void **state)
+{
+    (void)state;
+    static fork_fixture f;
+    const float h = 0.05f;
+    fork_fixture_init(&f, SIDES, h, off_grid);
+    const float up[3] = {0, 1, 0};
+    merp_junction_age(&f.j, up, 1.0f); /* the scar ring: a crease all round the lateral */
+    f.j.scar_weight = 0.0f;
+    uint32_t n[2];
+    for (uint32_t sharp = 0; sharp < 2; sharp++) {
+        f.pt.sharp = sharp;
+        merp_trimesh m;
+        soup *s = patch_soup(&f, &m);
+        n[sharp] = on_crease(&f.j, &m, h);
+        soup_free(s, &m);
+    }
+    print_message("vertices on the ridge's crease: mtet %u, DC %u\n", n[0], n[1]);
+    assert_true(n[1] >= 20);
+    assert_true(2 * n[1] >= 3 * n[0]);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(fork_patch),
+        cmocka_unit_test(sharp_ridge),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,7 @@
 /* Checks on a triangle mesh shared by the implicit-surface tests: closed
  * 2-manifold with consistent winding (every directed edge once, its reverse
- * once), Euler characteristic, enclosed volume. */
+ * once), Euler characteristic, enclosed volume; with implicit.h, a
+ * polygonizer's output and its closed genus-0 check. */
 #ifndef MERISTEM_TESTS_TRIMESH_CHECK_H
 #define MERISTEM_TESTS_TRIMESH_CHECK_H
 
@@ -63,5 +64,39 @@ static double tm_volume(const float *pos, const uint32_t *tri, uint32_t triangle
     }
     return v;
 }
+
+#ifdef MERISTEM_MESH_IMPLICIT_H
+/* A polygonizer's output with the bounds it was sized by (for the tests that
+ * include implicit.h and cmocka). */
+typedef struct mesh_out {
+    merp_trimesh m;
+    uint64_t vmax, tmax;
+} mesh_out;
+
+static inline void mesh_alloc(mesh_out *o, uint64_t vertices, uint64_t triangles)
+{
+    o->vmax = vertices, o->tmax = triangles;
+    o->m = (merp_trimesh){0, 0, malloc(vertices * 3 * sizeof(float)), malloc(vertices * 3 * sizeof(float)),
+                          malloc(triangles * 3 * sizeof(uint32_t))};
+}
+
+static inline void mesh_free(mesh_out *o)
+{
+    free(o->m.positions);
+    free(o->m.normals);
+    free(o->m.triangles);
+}
+
+/* Closed, consistently wound, genus 0 (V − E + F = 2), positive volume. */
+static inline void assert_closed_genus0(const mesh_out *o)
+{
+    size_t twice, edges;
+    assert_int_equal(tm_open_edges(o->m.triangles, o->m.triangle_count, &twice, &edges), 0);
+    assert_int_equal(twice, 0);
+    long chi = (long)o->m.vertex_count - (long)edges + (long)o->m.triangle_count;
+    assert_int_equal(chi, 2);
+    assert_true(tm_volume(o->m.positions, o->m.triangles, o->m.triangle_count) > 0);
+}
+#endif
 
 #endif

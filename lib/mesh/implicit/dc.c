@@ -73,6 +73,7 @@ typedef struct dc {
     merp_walk *w;
     uint32_t *cell_v; /* per cell: vertex + 1, 0 when none */
     merp_trimesh *out;
+    uint32_t *cells; /* per vertex: its cell, or NULL */
 } dc;
 
 static void corner_sample(const uint32_t cell[3], uint8_t c, uint32_t s[3])
@@ -121,6 +122,8 @@ static void cell_vertex(dc *d, const uint32_t cell[3], const float cf[8], uint8_
     merp_walk_normal(d->w, x, d->w->f(x, d->w->data), fallback, o->normals + 3 * (size_t)v);
     uint32_t idx = cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]);
     d->cell_v[idx] = v + 1;
+    if (d->cells != NULL)
+        d->cells[v] = idx;
 }
 
 static uint32_t vertex_of(const dc *d, uint32_t i, uint32_t j, uint32_t k)
@@ -182,18 +185,13 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
 }
 
 mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
-                              uint32_t nseeds, merp_trimesh *out, mer_error *err)
+                              uint32_t nseeds, merp_trimesh *out, uint32_t *cells, mer_error *err)
 {
     merp_walk w;
-    if (merp_walk_init(&w, g, f, data, err) != MER_OK)
+    dc d = {&w, NULL, out, cells};
+    if (merp_walk_begin(&w, g, f, data, seeds, nseeds, (size_t)g->n[0] * g->n[1] * g->n[2], &d.cell_v, out,
+                        err) != MER_OK)
         return MER_ERR_NOMEM;
-    dc d = {&w, merp_calloc((size_t)g->n[0] * g->n[1] * g->n[2], sizeof(uint32_t)), out};
-    if (d.cell_v == NULL) {
-        merp_walk_free(&w);
-        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
-    }
-    merp_walk_start(&w, seeds, nseeds);
-    out->vertex_count = out->triangle_count = 0;
     uint32_t cell[3];
     float cf[8];
     uint8_t mask;

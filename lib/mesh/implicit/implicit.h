@@ -171,10 +171,12 @@ void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles);
  * consistently wound. With `seeds` NULL every cell is looked at; else only
  * the surface reached from the seeds (as merp_mtet_polygonize_seeded).
  * Normals are −∇f at the vertices (one side's, on a crease). `out` holds
- * merp_dc_bound's counts. Errors: MER_ERR_NOMEM. Cost: O(crossed cells)
- * evaluations (each crossing is solved in each of its cells). */
+ * merp_dc_bound's counts; `cells` (NULL, or room for as many vertices) gets
+ * each vertex's cell, i + n[0]·(j + n[1]·k). Errors: MER_ERR_NOMEM. Cost:
+ * O(crossed cells) evaluations (each crossing is solved in each of its
+ * cells). */
 mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
-                              uint32_t nseeds, merp_trimesh *out, mer_error *err);
+                              uint32_t nseeds, merp_trimesh *out, uint32_t *cells, mer_error *err);
 
 /* ------------------------------------------------------------ junction.c */
 
@@ -253,14 +255,18 @@ typedef struct merp_cut {
 
 #define MERP_PATCH_CUTS 4 /* the parent in, out, and two laterals */
 
-/* A junction's patch: its field, the cuts, and the grid it is polygonized on
+/* A junction's patch: its field, the cuts, the grid it is polygonized on
  * (which must hold the surface between the cuts; the segments must reach
- * past their cuts, so the surface there is the plain tube). */
+ * past their cuts, so the surface there is the plain tube), and the
+ * polygonizer: marching tetrahedra (the crease rounded off within a cell)
+ * or, with `sharp`, dual contouring (a vertex on the ridge's crease in every
+ * cell it crosses). */
 typedef struct merp_patch {
     const merp_junction *j;
     merp_cut cut[MERP_PATCH_CUTS];
     uint32_t cuts;
     merp_grid grid;
+    uint32_t sharp; /* 1: dual contouring; 0: marching tetrahedra */
 } merp_patch;
 
 /* The most vertices and triangles merp_patch_build writes: the polygonizer's
@@ -272,8 +278,11 @@ void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triang
  * loop to that cut's ring: F_g is clipped by the cuts' half-spaces, the flat
  * caps the clip makes are dropped, and each loop left in a cut plane is
  * zipped to a copy of the ring (appended to `out`, positions exactly the
- * ring's), walking both by angle about n. The result's only open edges are
- * the rings' (so a tube that shares the ring closes it), wound outwards.
+ * ring's), walking both by angle about n. With dual contouring, the vertex
+ * of each cell the cap crosses is moved onto its cut plane (it lies on the
+ * crease between cap and tube, up to the QEF's regularisation), so each loop
+ * lies in its plane. The result's only open edges are the rings' (so a tube
+ * that shares the ring closes it), wound outwards.
  * `out` holds merp_patch_bound's counts; unused polygonizer vertices are
  * dropped. Errors: MER_ERR_NOMEM; MER_ERR_INVALID when a cut leaves no single
  * loop (the grid or cuts do not fit the junction). Cost: the polygonizer's,

@@ -168,16 +168,10 @@ static mer_result march(const merp_grid *g, merp_field_fn f, const void *data, c
                         uint32_t nseeds, merp_trimesh *out, mer_error *err)
 {
     merp_walk w;
-    if (merp_walk_init(&w, g, f, data, err) != MER_OK)
-        return MER_ERR_NOMEM;
     mtet m = {g, f, data, &w, NULL, out};
-    m.edge_v = merp_calloc((size_t)w.sx * w.sy * (g->n[2] + 1) * 7, sizeof(uint32_t));
-    if (m.edge_v == NULL) {
-        merp_walk_free(&w);
-        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
-    }
-    merp_walk_start(&w, seeds, nseeds);
-    out->vertex_count = out->triangle_count = 0;
+    size_t edges = (size_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1) * 7;
+    if (merp_walk_begin(&w, g, f, data, seeds, nseeds, edges, &m.edge_v, out, err) != MER_OK)
+        return MER_ERR_NOMEM;
     uint32_t cell[3];
     float cf[8];
     uint8_t mask;

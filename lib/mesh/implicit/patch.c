@@ -51,7 +51,10 @@ static float clipped_field(const float p[3], const void *data)
 
 void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
 {
-    merp_mtet_bound(&pt->grid, vertices, triangles);
+    if (pt->sharp)
+        merp_dc_bound(&pt->grid, vertices, triangles);
+    else
+        merp_mtet_bound(&pt->grid, vertices, triangles);
     for (uint32_t i = 0; i < pt->cuts; i++) {
         *vertices += pt->cut[i].sides;
         /* A stitch is a triangle per loop vertex and per ring vertex; the
@@ -237,19 +240,11 @@ static mer_result take_loop(const merp_trimesh *m, const int8_t *on_cut, uint32_
     return MER_OK;
 }
 
-static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, float kappa, mer_error *err)
+/* Marks each vertex of m with the cut whose plane it lies in (marching
+ * tetrahedra's vertices are solved onto it), -1 for none. */
+static void mark_cuts(const merp_trimesh *m, const merp_patch *pt, float kappa, int8_t *on_cut)
 {
-    size_t n = m->vertex_count, all = n + 2;
-    for (uint32_t i = 0; i < pt->cuts; i++)
-        all += pt->cut[i].sides;
-    int8_t *on_cut = merp_malloc(n + 1);
-    uint32_t *next = merp_malloc(all * sizeof *next), *L = merp_malloc(all * sizeof *L);
-    uint32_t *order = merp_malloc(all * sizeof *order);
-    float *scratch = merp_malloc(2 * all * sizeof *scratch);
-    mer_result rc = MER_OK;
-    if (on_cut == NULL || next == NULL || L == NULL || order == NULL || scratch == NULL)
-        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
-    for (uint32_t v = 0; v < n && rc == MER_OK; v++) {
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
         on_cut[v] = -1;
         for (uint32_t i = 0; i < pt->cuts; i++) {
             float dist;
@@ -257,6 +252,63 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, float kappa,
                 on_cut[v] = (int8_t)i;
         }
     }
+}
+
+/* The cut whose cap crosses cell c of dual contouring: one of its corners
+ * is inside the clipped solid and another outside it only because it lies
+ * beyond that cut (F_g ≥ c there). -1 for none. */
+static int cap_of_cell(const clipped *cl, uint32_t c)
+{
+    const merp_grid *g = &cl->pt->grid;
+    uint32_t ijk[3] = {c % g->n[0], c / g->n[0] % g->n[1], c / (g->n[0] * g->n[1])};
+    bool inside = false;
+    int cap = -1;
+    for (uint8_t k = 0; k < 8; k++) {
+        float p[3];
+        for (int a = 0; a < 3; a++)
+            p[a] = g->origin[a] + (float)(ijk[a] + (k >> a & 1)) * g->h;
+        float f = merp_junction_field(p, cl->pt->j), clip = f;
+        int by = -1;
+        for (uint32_t i = 0; i < cl->pt->cuts; i++) {
+            float dist;
+            if (in_reach(&cl->pt->cut[i], p, &dist) && MERP_ISO - cl->kappa * dist < clip)
+                clip = MERP_ISO - cl->kappa * dist, by = (int)i;
+        }
+        inside |= clip >= MERP_ISO;
+        if (clip < MERP_ISO && f >= MERP_ISO)
+            cap = by;
+    }
+    return inside ? cap : -1;
+}
+
+/* Moves the vertex of each cell a cap crosses onto that cap's plane and
+ * marks it with its cut (-1 for the others). */
+static void snap_cuts(merp_trimesh *m, const clipped *cl, const uint32_t *cells, int8_t *on_cut)
+{
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        int i = cap_of_cell(cl, cells[v]);
+        on_cut[v] = (int8_t)i;
+        if (i < 0)
+            continue;
+        const merp_cut *c = &cl->pt->cut[i];
+        float *p = m->positions + 3 * (size_t)v, dist = cut_distance(c, p);
+        for (int k = 0; k < 3; k++)
+            p[k] -= dist * c->n[k];
+    }
+}
+
+/* Drops the caps marked in on_cut and zips each cut's loop to its ring. */
+static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int8_t *on_cut, mer_error *err)
+{
+    size_t all = m->vertex_count + 2;
+    for (uint32_t i = 0; i < pt->cuts; i++)
+        all += pt->cut[i].sides;
+    uint32_t *next = merp_malloc(all * sizeof *next), *L = merp_malloc(all * sizeof *L);
+    uint32_t *order = merp_malloc(all * sizeof *order);
+    float *scratch = merp_malloc(2 * all * sizeof *scratch);
+    mer_result rc = MER_OK;
+    if (next == NULL || L == NULL || order == NULL || scratch == NULL)
+        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
     if (rc == MER_OK) {
         drop_caps(m, on_cut);
         rc = boundary_next(m, on_cut, next, err);
@@ -273,7 +325,7 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, float kappa,
             rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction patch has a loop on no cut");
     if (rc == MER_OK)
         compact(m, next);
-    merp_free(on_cut), merp_free(next), merp_free(L), merp_free(order), merp_free(scratch);
+    merp_free(next), merp_free(L), merp_free(order), merp_free(scratch);
     return rc;
 }
 
@@ -288,7 +340,24 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
     for (uint32_t i = 0; i <= pt->cuts; i++)
         for (int k = 0; k < 3; k++)
             seeds[i][k] = i == 0 ? J[k] : 0.5f * (J[k] + pt->cut[i - 1].o[k]);
-    mer_result rc = merp_mtet_polygonize_seeded(&pt->grid, clipped_field, &cl, (const float(*)[3])seeds,
-                                                1 + pt->cuts, out, err);
-    return rc == MER_OK ? stitch_all(out, pt, cl.kappa, err) : rc;
+    uint64_t vmax, tmax;
+    merp_patch_bound(pt, &vmax, &tmax);
+    int8_t *on_cut = merp_malloc((size_t)vmax);
+    uint32_t *cells = pt->sharp ? merp_malloc((size_t)vmax * sizeof *cells) : NULL;
+    if (on_cut == NULL || (pt->sharp && cells == NULL)) {
+        merp_free(on_cut), merp_free(cells);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
+    }
+    const float(*s)[3] = (const float(*)[3])seeds;
+    mer_result rc = pt->sharp ? merp_dc_polygonize(&pt->grid, clipped_field, &cl, s, 1 + pt->cuts, out, cells, err)
+                              : merp_mtet_polygonize_seeded(&pt->grid, clipped_field, &cl, s, 1 + pt->cuts, out, err);
+    if (rc == MER_OK) {
+        if (pt->sharp)
+            snap_cuts(out, &cl, cells, on_cut);
+        else
+            mark_cuts(out, pt, cl.kappa, on_cut);
+        rc = stitch_all(out, pt, on_cut, err);
+    }
+    merp_free(on_cut), merp_free(cells);
+    return rc;
 }

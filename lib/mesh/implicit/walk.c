@@ -51,6 +51,22 @@ void merp_walk_free(merp_walk *w)
     w->value = NULL, w->known = w->seen = w->queue = NULL;
 }
 
+mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
+                           const float (*seeds)[3], uint32_t nseeds, size_t scratch_count, uint32_t **scratch,
+                           merp_trimesh *out, mer_error *err)
+{
+    if (merp_walk_init(w, g, f, data, err) != MER_OK)
+        return MER_ERR_NOMEM;
+    *scratch = merp_calloc(scratch_count ? scratch_count : 1, sizeof(uint32_t));
+    if (*scratch == NULL) {
+        merp_walk_free(w);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
+    }
+    merp_walk_start(w, seeds, nseeds);
+    out->vertex_count = out->triangle_count = 0;
+    return MER_OK;
+}
+
 float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
 {
     uint32_t s = merp_walk_sample(w, i, j, k);

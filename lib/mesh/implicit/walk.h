@@ -6,6 +6,7 @@
 #define MERISTEM_MESH_IMPLICIT_WALK_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "mesh/implicit/implicit.h"
@@ -31,6 +32,14 @@ extern const uint8_t merp_walk_face[6];
 mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
                           mer_error *err);
 void merp_walk_free(merp_walk *w);
+
+/* The polygonizers' prologue: merp_walk_init, `scratch_count` zeroed words
+ * of scratch into *scratch (merp_free'd by the caller), the walk started from
+ * `seeds` (merp_walk_start) and `out` emptied. Errors: MER_ERR_NOMEM, with
+ * nothing left allocated. */
+mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
+                           const float (*seeds)[3], uint32_t nseeds, size_t scratch_count, uint32_t **scratch,
+                           merp_trimesh *out, mer_error *err);
 
 static inline uint32_t merp_walk_sample(const merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
 {
