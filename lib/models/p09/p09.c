@@ -97,9 +97,25 @@ static mer_result p09_load(merp_bytes_in *in, uint32_t nodes, merp_model **out, 
     return MER_OK;
 }
 
+/* Maps the pages of the per-node arrays for the nodes [from, to), about to be
+ * written for the first time: one call per array, not a fault per page. */
+static void map_nodes(merp_model *m, uint32_t from, uint32_t to)
+{
+    size_t f1 = from, t1 = to, f3 = 3 * (size_t)from, t3 = 3 * (size_t)to;
+    merp_prefault(m->nbuds, f1 * sizeof *m->nbuds, t1 * sizeof *m->nbuds);
+    merp_prefault(m->nint, f1 * sizeof *m->nint, t1 * sizeof *m->nint);
+    merp_prefault(m->vin, f1 * sizeof *m->vin, t1 * sizeof *m->vin);
+    merp_prefault(m->qb, f3 * sizeof *m->qb, t3 * sizeof *m->qb);
+    merp_prefault(m->vb, f3 * sizeof *m->vb, t3 * sizeof *m->vb);
+    merp_prefault(m->quiet, f3 * sizeof *m->quiet, t3 * sizeof *m->quiet);
+    merp_prefault(m->mark, f1, t1);
+    merp_prefault(m->ax, f1 * sizeof *m->ax, t1 * sizeof *m->ax);
+}
+
 /* Gives the nodes made since the last round (by the model's shoots, new plants)
- * their starting per-node state. */
-static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *err)
+ * their starting per-node state; under the priority model it sizes the axis
+ * records too. */
+static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority, mer_error *err)
 {
     if (sk->cap > m->cap) {
         size_t c1 = sk->cap, c3 = 3 * (size_t)sk->cap;
@@ -109,6 +125,12 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *er
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for nodes");
         m->cap = sk->cap;
     }
+    if (priority && m->ax_cap < sk->n) {
+        if (!MERP_RESIZE(m->ax, sk->cap))
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the axes");
+        m->ax_cap = sk->cap;
+    }
+    map_nodes(m, m->n, sk->n);
     for (uint32_t i = m->n; i < sk->n; i++) {
         for (int k = 0; k < 3; k++) {
             m->qb[3 * i + k] = 0.0f;
@@ -124,25 +146,35 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *er
     return MER_OK;
 }
 
+/* How many nodes ahead of a pass over the nodes their children's values are
+ * asked of the memory: a lateral child was grown steps later, far away. */
+#define AHEAD 16
+
+static void fetch_children(const merp_model *m, const merp_skeleton *sk, uint32_t i)
+{
+    for (uint32_t k = 0; k < 3; k++) {
+        uint32_t c = sk->child[3 * i + k];
+        if (c != MER_NO_NODE) {
+            __builtin_prefetch(sk->q + c);
+            __builtin_prefetch(m->nbuds + c);
+            __builtin_prefetch(m->nint + c);
+        }
+    }
+}
+
 /* Basipetal pass: light Q of the buds that may grow, the number of living
  * (dormant) buds, and the internode count, per subtree. The priority model sorts
  * branches by Q per living bud (P09 Fig. 8b: 2.1/3), so shaded buds count. Under
  * the priority model it also leaves each node's axis record (m->ax), read while
  * its children's values are at hand. */
-static mer_result basipetal(merp_model *m, const merp_world *w, mer_error *err)
+static void basipetal(merp_model *m, const merp_world *w)
 {
     merp_skeleton *sk = w->sk;
     uint32_t bpn = w->p->buds_per_node;
-    merp_p09_axnode *ax = NULL;
-    if (w->p->fate == MER_FATE_PRIORITY) {
-        if (m->ax_cap < sk->n) {
-            if (!MERP_RESIZE(m->ax, sk->cap))
-                return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the axes");
-            m->ax_cap = sk->cap;
-        }
-        ax = m->ax;
-    }
+    merp_p09_axnode *ax = w->p->fate == MER_FATE_PRIORITY ? m->ax : NULL;
     for (uint32_t i = sk->n; i-- > 0;) {
+        if (i >= AHEAD)
+            fetch_children(m, sk, i - AHEAD);
         if (!sk->alive[i])
             continue;
         float q = 0.0f, qk[3];
@@ -179,7 +211,6 @@ static mer_result basipetal(merp_model *m, const merp_world *w, mer_error *err)
             }
         }
     }
-    return MER_OK;
 }
 
 /* The buds left listed by merp_p09_directions grow their shoots. */
@@ -210,23 +241,21 @@ static mer_result round_(merp_model *m, const merp_world *w, int syllepsis, mer_
     /* No shedding while growth is constrained to one bud: the other buds' Q is
      * held at 0 then, which says nothing about their light. */
     int shed = !syllepsis && w->p->shed_threshold > 0.0f && w->sk->con_node == MER_NO_NODE;
-    mer_result rc = p09_sync(m, w->sk, err);
+    mer_result rc = p09_sync(m, w->sk, w->p->fate == MER_FATE_PRIORITY, err);
     /* Shedding lifts shadows before the shoots grow: V cannot wait for it. */
     if (rc == MER_OK)
         rc = merp_p09_environment(m, w, syllepsis, !shed, err);
     if (rc != MER_OK)
         return rc;
-    rc = basipetal(m, w, err);
-    if (rc == MER_OK && shed) {
+    basipetal(m, w);
+    if (shed) {
         uint32_t shed_count;
         rc = merp_p09_shed(m, w, &shed_count, err);
         if (rc != MER_OK)
             return rc;
         if (shed_count > 0)
-            rc = basipetal(m, w, err);
+            basipetal(m, w);
     }
-    if (rc != MER_OK)
-        return rc;
     if (w->p->fate == MER_FATE_PRIORITY)
         rc = merp_p09_allocate_priority(m, w, err);
     else
