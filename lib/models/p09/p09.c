@@ -279,20 +279,6 @@ static mer_result p09_step(merp_model *m, const merp_world *w, mer_error *err)
     return rc;
 }
 
-/* P09 reads its parameters from the world at each step and derives its per-node
- * state anew in each round: nothing to do on a parameter change or an edit. */
-static void p09_set_params(merp_model *m, const mer_params *p)
-{
-    (void)m;
-    (void)p;
-}
-
-static void p09_nodes_changed(merp_model *m, const merp_world *w)
-{
-    (void)m;
-    (void)w;
-}
-
 /* Its state is a cache of the last round: the scene hash has never included it. */
 static uint64_t p09_hash(const merp_model *m, uint64_t h)
 {
@@ -306,9 +292,10 @@ const merp_model_ops merp_p09_ops = {
     .state_version = 1,
     .validate = merp_p09_validate,
     .create = p09_create,
-    .set_params = p09_set_params,
+    /* P09 reads its parameters from the world at each step and derives its
+     * per-node state anew in each round: nothing to do on a parameter change
+     * (set_params) or an edit (nodes_changed). */
     .step = p09_step,
-    .nodes_changed = p09_nodes_changed,
     .hash = p09_hash,
     .free = p09_free,
     .clone = p09_clone,
