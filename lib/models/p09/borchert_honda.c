@@ -9,29 +9,14 @@
 
 #include "models/p09/p09.h"
 
-/* How many nodes ahead of the pass their children's light is asked for: a
- * lateral child was grown steps later, far away. */
-#define AHEAD 16
-
-static void fetch_children(const merp_model *m, const merp_skeleton *sk, uint32_t i)
-{
-    for (uint32_t k = 0; k < 3; k++) {
-        uint32_t c = sk->child[3 * i + k];
-        if (c != MER_NO_NODE) {
-            __builtin_prefetch(sk->q + c);
-            __builtin_prefetch(m->vin + c, 1);
-        }
-    }
-}
-
 void merp_p09_allocate_bh(merp_model *m, const merp_world *w)
 {
     assert(m != NULL && w != NULL && m->n == w->sk->n);
     const merp_skeleton *sk = w->sk;
     float lambda = mer_params_lambda_at(w->p, w->step);
     for (uint32_t i = 0; i < sk->n; i++) {
-        if (i + AHEAD < sk->n)
-            fetch_children(m, sk, i + AHEAD);
+        if (i + MERP_P09_AHEAD < sk->n)
+            merp_p09_fetch_children(m, sk, i + MERP_P09_AHEAD, 1);
         if (!sk->alive[i])
             continue;
         if (sk->parent[i] == MER_NO_NODE)

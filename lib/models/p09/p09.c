@@ -146,22 +146,6 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority,
     return MER_OK;
 }
 
-/* How many nodes ahead of a pass over the nodes their children's values are
- * asked of the memory: a lateral child was grown steps later, far away. */
-#define AHEAD 16
-
-static void fetch_children(const merp_model *m, const merp_skeleton *sk, uint32_t i)
-{
-    for (uint32_t k = 0; k < 3; k++) {
-        uint32_t c = sk->child[3 * i + k];
-        if (c != MER_NO_NODE) {
-            __builtin_prefetch(sk->q + c);
-            __builtin_prefetch(m->nbuds + c);
-            __builtin_prefetch(m->nint + c);
-        }
-    }
-}
-
 /* Basipetal pass: light Q of the buds that may grow, the number of living
  * (dormant) buds, and the internode count, per subtree. The priority model sorts
  * branches by Q per living bud (P09 Fig. 8b: 2.1/3), so shaded buds count. Under
@@ -173,8 +157,12 @@ static void basipetal(merp_model *m, const merp_world *w)
     uint32_t bpn = w->p->buds_per_node;
     merp_p09_axnode *ax = w->p->fate == MER_FATE_PRIORITY ? m->ax : NULL;
     for (uint32_t i = sk->n; i-- > 0;) {
-        if (i >= AHEAD)
-            fetch_children(m, sk, i - AHEAD);
+        if (i >= MERP_P09_AHEAD) {
+            uint32_t j = i - MERP_P09_AHEAD;
+            merp_p09_fetch_children(m, sk, j, 0);
+            if (ax != NULL) /* a record may straddle two cache lines */
+                __builtin_prefetch((const char *)(ax + j) + sizeof *ax - 1, 1);
+        }
         if (!sk->alive[i])
             continue;
         float q = 0.0f, qk[3];
