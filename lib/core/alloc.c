@@ -7,6 +7,10 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
 
 #include "core/alloc.h"
 
@@ -68,4 +72,25 @@ void *merp_realloc(void *ptr, size_t size)
 void merp_free(void *ptr)
 {
     use_free(ptr);
+}
+
+void merp_prefault(void *ptr, size_t from, size_t to)
+{
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+    /* Under a virtual machine a page fault costs several times the page: a
+     * growing node array maps its pages in one call per pass. Only the C
+     * library's blocks: every page the range touches then belongs to the block
+     * or to the library's heap, both mapped and writable. */
+    if (ptr == NULL || to <= from || use_malloc != malloc)
+        return;
+    size_t page = (size_t)sysconf(_SC_PAGESIZE);
+    uintptr_t lo = (uintptr_t)ptr + from, hi = (uintptr_t)ptr + to;
+    lo -= lo % page;
+    hi += (page - hi % page) % page;
+    (void)madvise((void *)lo, hi - lo, MADV_POPULATE_WRITE);
+#else
+    (void)ptr;
+    (void)from;
+    (void)to;
+#endif
 }

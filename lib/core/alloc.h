@@ -14,6 +14,11 @@ void *merp_malloc(size_t size);
 void *merp_calloc(size_t count, size_t size);
 void *merp_realloc(void *ptr, size_t size);
 void merp_free(void *ptr);
+/* Maps now the pages holding bytes [from, to) of the block `ptr` (from the
+ * allocation functions above), which the caller is about to write: one call
+ * instead of a page fault per page. Contents are unchanged; it does nothing where
+ * the system cannot or a caller's allocator is in use. O(pages). */
+void merp_prefault(void *ptr, size_t from, size_t to);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,9 @@
 
 #include "skeleton/skeleton.h"
 
+/* How many nodes ahead of the basipetal sum a parent's d^n is asked for. */
+#define AHEAD 16
+
 float merp_pipe_leaf(const merp_skeleton *sk, const mer_params *p)
 {
     return powf(p->leaf_diameter, sk->pipe_n);
@@ -35,6 +38,9 @@ void merp_pipe_update(merp_skeleton *sk, const mer_params *p)
         if (sk->alive[i])
             sk->dn[i] = 0.0f;
     for (uint32_t i = sk->n; i-- > 0;) {
+        /* a node's parent may lie far below it: ask for its sum early */
+        if (i >= AHEAD && sk->parent[i - AHEAD] != MER_NO_NODE)
+            __builtin_prefetch(sk->dn + sk->parent[i - AHEAD], 1);
         uint32_t up = sk->parent[i];
         if (sk->alive[i]) {
             if (sk->child[3 * i] == MER_NO_NODE)

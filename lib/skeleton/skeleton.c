@@ -101,12 +101,31 @@ static mer_result reserve(merp_skeleton *sk, uint32_t want, mer_error *err)
     return MER_OK;
 }
 
+/* Nodes whose pages are mapped at once, ahead of the new nodes. */
+#define MAP_AHEAD 16384u
+
+/* Maps the pages of the next MAP_AHEAD nodes of every array: a tree of a million
+ * nodes would otherwise take a page fault every 1,024 nodes in each of them. */
+static void map_ahead(merp_skeleton *sk)
+{
+    uint32_t from = sk->mapped > sk->n ? sk->mapped : sk->n;
+    uint32_t to = sk->cap - from > MAP_AHEAD ? from + MAP_AHEAD : sk->cap;
+    void *arrays[] = {sk->parent, sk->child, sk->bud,  sk->slot, sk->alive, sk->plant, sk->order,
+                      sk->born,   sk->pos,   sk->dir,  sk->side, sk->len,   sk->q,     sk->dn};
+    size_t size[] = {4, 12, 3, 1, 1, 4, 4, 4, 12, 12, 12, 4, 4, 4};
+    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
+        merp_prefault(arrays[a], size[a] * from, size[a] * to);
+    sk->mapped = to;
+}
+
 mer_result merp_skel_node_new(merp_skeleton *sk, uint32_t step, uint32_t *id, mer_error *err)
 {
     assert(sk != NULL && id != NULL);
     mer_result rc = reserve(sk, sk->n + 1, err);
     if (rc != MER_OK)
         return rc;
+    if (sk->n >= sk->mapped)
+        map_ahead(sk);
     *id = sk->n++;
     merp_skel_node_renew(sk, *id, step);
     return MER_OK;

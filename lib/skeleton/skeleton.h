@@ -23,6 +23,7 @@ typedef struct merp_skeleton {
     /* Nodes (metamers), indexed by id; ids are never reused. Slot k of a node: 0 is
      * the main continuation / terminal bud, 1 and 2 the lateral ones. */
     uint32_t n, cap;
+    uint32_t mapped;   /* the pages of nodes [0, mapped) are mapped (merp_prefault) */
     uint32_t *parent;
     uint32_t *child;   /* 3 per node: main, lateral 1, lateral 2 (MER_NO_NODE) */
     uint8_t *bud;      /* 3 per node: mer_bud_state of terminal, lateral 1, lateral 2 */

@@ -15,6 +15,8 @@ void merp_p09_allocate_bh(merp_model *m, const merp_world *w)
     const merp_skeleton *sk = w->sk;
     float lambda = mer_params_lambda_at(w->p, w->step);
     for (uint32_t i = 0; i < sk->n; i++) {
+        if (i + MERP_P09_AHEAD < sk->n)
+            merp_p09_fetch_children(m, sk, i + MERP_P09_AHEAD, 1);
         if (!sk->alive[i])
             continue;
         if (sk->parent[i] == MER_NO_NODE)

@@ -97,9 +97,25 @@ static mer_result p09_load(merp_bytes_in *in, uint32_t nodes, merp_model **out, 
     return MER_OK;
 }
 
+/* Maps the pages of the per-node arrays for the nodes [from, to), about to be
+ * written for the first time: one call per array, not a fault per page. */
+static void map_nodes(merp_model *m, uint32_t from, uint32_t to)
+{
+    size_t f1 = from, t1 = to, f3 = 3 * (size_t)from, t3 = 3 * (size_t)to;
+    merp_prefault(m->nbuds, f1 * sizeof *m->nbuds, t1 * sizeof *m->nbuds);
+    merp_prefault(m->nint, f1 * sizeof *m->nint, t1 * sizeof *m->nint);
+    merp_prefault(m->vin, f1 * sizeof *m->vin, t1 * sizeof *m->vin);
+    merp_prefault(m->qb, f3 * sizeof *m->qb, t3 * sizeof *m->qb);
+    merp_prefault(m->vb, f3 * sizeof *m->vb, t3 * sizeof *m->vb);
+    merp_prefault(m->quiet, f3 * sizeof *m->quiet, t3 * sizeof *m->quiet);
+    merp_prefault(m->mark, f1, t1);
+    merp_prefault(m->ax, f1 * sizeof *m->ax, t1 * sizeof *m->ax);
+}
+
 /* Gives the nodes made since the last round (by the model's shoots, new plants)
- * their starting per-node state. */
-static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *err)
+ * their starting per-node state; under the priority model it sizes the axis
+ * records too. */
+static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority, mer_error *err)
 {
     if (sk->cap > m->cap) {
         size_t c1 = sk->cap, c3 = 3 * (size_t)sk->cap;
@@ -109,6 +125,12 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *er
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for nodes");
         m->cap = sk->cap;
     }
+    if (priority && m->ax_cap < sk->n) {
+        if (!MERP_RESIZE(m->ax, sk->cap))
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the axes");
+        m->ax_cap = sk->cap;
+    }
+    map_nodes(m, m->n, sk->n);
     for (uint32_t i = m->n; i < sk->n; i++) {
         for (int k = 0; k < 3; k++) {
             m->qb[3 * i + k] = 0.0f;
@@ -129,20 +151,18 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, mer_error *er
  * branches by Q per living bud (P09 Fig. 8b: 2.1/3), so shaded buds count. Under
  * the priority model it also leaves each node's axis record (m->ax), read while
  * its children's values are at hand. */
-static mer_result basipetal(merp_model *m, const merp_world *w, mer_error *err)
+static void basipetal(merp_model *m, const merp_world *w)
 {
     merp_skeleton *sk = w->sk;
     uint32_t bpn = w->p->buds_per_node;
-    merp_p09_axnode *ax = NULL;
-    if (w->p->fate == MER_FATE_PRIORITY) {
-        if (m->ax_cap < sk->n) {
-            if (!MERP_RESIZE(m->ax, sk->cap))
-                return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the axes");
-            m->ax_cap = sk->cap;
-        }
-        ax = m->ax;
-    }
+    merp_p09_axnode *ax = w->p->fate == MER_FATE_PRIORITY ? m->ax : NULL;
     for (uint32_t i = sk->n; i-- > 0;) {
+        if (i >= MERP_P09_AHEAD) {
+            uint32_t j = i - MERP_P09_AHEAD;
+            merp_p09_fetch_children(m, sk, j, 0);
+            if (ax != NULL) /* a record may straddle two cache lines */
+                __builtin_prefetch((const char *)(ax + j) + sizeof *ax - 1, 1);
+        }
         if (!sk->alive[i])
             continue;
         float q = 0.0f, qk[3];
@@ -179,7 +199,6 @@ static mer_result basipetal(merp_model *m, const merp_world *w, mer_error *err)
             }
         }
     }
-    return MER_OK;
 }
 
 /* The buds left listed by merp_p09_directions grow their shoots. */
@@ -210,23 +229,21 @@ static mer_result round_(merp_model *m, const merp_world *w, int syllepsis, mer_
     /* No shedding while growth is constrained to one bud: the other buds' Q is
      * held at 0 then, which says nothing about their light. */
     int shed = !syllepsis && w->p->shed_threshold > 0.0f && w->sk->con_node == MER_NO_NODE;
-    mer_result rc = p09_sync(m, w->sk, err);
+    mer_result rc = p09_sync(m, w->sk, w->p->fate == MER_FATE_PRIORITY, err);
     /* Shedding lifts shadows before the shoots grow: V cannot wait for it. */
     if (rc == MER_OK)
         rc = merp_p09_environment(m, w, syllepsis, !shed, err);
     if (rc != MER_OK)
         return rc;
-    rc = basipetal(m, w, err);
-    if (rc == MER_OK && shed) {
+    basipetal(m, w);
+    if (shed) {
         uint32_t shed_count;
         rc = merp_p09_shed(m, w, &shed_count, err);
         if (rc != MER_OK)
             return rc;
         if (shed_count > 0)
-            rc = basipetal(m, w, err);
+            basipetal(m, w);
     }
-    if (rc != MER_OK)
-        return rc;
     if (w->p->fate == MER_FATE_PRIORITY)
         rc = merp_p09_allocate_priority(m, w, err);
     else
@@ -250,20 +267,6 @@ static mer_result p09_step(merp_model *m, const merp_world *w, mer_error *err)
     return rc;
 }
 
-/* P09 reads its parameters from the world at each step and derives its per-node
- * state anew in each round: nothing to do on a parameter change or an edit. */
-static void p09_set_params(merp_model *m, const mer_params *p)
-{
-    (void)m;
-    (void)p;
-}
-
-static void p09_nodes_changed(merp_model *m, const merp_world *w)
-{
-    (void)m;
-    (void)w;
-}
-
 /* Its state is a cache of the last round: the scene hash has never included it. */
 static uint64_t p09_hash(const merp_model *m, uint64_t h)
 {
@@ -277,9 +280,10 @@ const merp_model_ops merp_p09_ops = {
     .state_version = 1,
     .validate = merp_p09_validate,
     .create = p09_create,
-    .set_params = p09_set_params,
+    /* P09 reads its parameters from the world at each step and derives its
+     * per-node state anew in each round: nothing to do on a parameter change
+     * (set_params) or an edit (nodes_changed). */
     .step = p09_step,
-    .nodes_changed = p09_nodes_changed,
     .hash = p09_hash,
     .free = p09_free,
     .clone = p09_clone,

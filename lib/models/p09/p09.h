@@ -67,6 +67,31 @@ struct merp_model {
     size_t pcap;
 };
 
+/* How many nodes ahead of a pass over the nodes (basipetal, Borchert-Honda) the
+ * values of a node's children are asked of the memory. */
+#define MERP_P09_AHEAD 16
+
+/* Prefetches what such a pass reads of node i's children: their light Q, and
+ * their bud and internode counts (basipetal) or their resource (acropetal, to
+ * be written). A lateral child was grown steps after its parent, far from it in
+ * memory: asked ahead, the misses overlap instead of being waited on in turn. */
+static inline void merp_p09_fetch_children(const merp_model *m, const merp_skeleton *sk,
+                                           uint32_t i, int acropetal)
+{
+    for (uint32_t k = 0; k < 3; k++) {
+        uint32_t c = sk->child[3 * i + k];
+        if (c == MER_NO_NODE)
+            continue;
+        __builtin_prefetch(sk->q + c);
+        if (acropetal) {
+            __builtin_prefetch(m->vin + c, 1);
+        } else {
+            __builtin_prefetch(m->nbuds + c);
+            __builtin_prefetch(m->nint + c);
+        }
+    }
+}
+
 /* environment.c */
 /* Q of every bud that may grow this round, and V too unless `defer_v` lets it
  * wait (shadow propagation only) until merp_p09_directions, which must run
