@@ -111,6 +111,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/leaves.c \
 	lib/mesh/color.c \
 	lib/mesh/joints.c \
+	lib/mesh/joints_close.c \
 	lib/mesh/implicit/implicit.h \
 	lib/mesh/implicit/segment.c \
 	lib/mesh/implicit/blend.c \

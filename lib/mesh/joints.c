@@ -354,52 +354,6 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, float h, uin
         split_seam(jt, scratch);
 }
 
-static int pos_cmp(const void *x, const void *y)
-{
-    return memcmp(x, y, 3 * sizeof(float));
-}
-
-typedef struct dedge {
-    uint32_t a, b;
-} dedge;
-
-static int dedge_cmp(const void *x, const void *y)
-{
-    const dedge *p = x, *q = y;
-    if (p->a != q->a)
-        return p->a < q->a ? -1 : 1;
-    return p->b < q->b ? -1 : p->b > q->b;
-}
-
-/* Whether patch m (ring copies from ring_first on) can close the bark: no two
- * vertices at one position, no directed edge twice, and open only along its
- * rings. A patch that fails leaves its fork as tubes, so the bark stays a
- * 2-manifold whatever the polygonizer met there. */
-static bool patch_closes(const merp_trimesh *m, uint32_t ring_first)
-{
-    size_t n = m->vertex_count, e = 3 * (size_t)m->triangle_count;
-    float *p = merp_malloc((n ? n : 1) * 3 * sizeof *p);
-    dedge *d = merp_malloc((e ? e : 1) * sizeof *d);
-    bool ok = p != NULL && d != NULL;
-    if (ok) {
-        memcpy(p, m->positions, n * 3 * sizeof *p);
-        qsort(p, n, 3 * sizeof *p, pos_cmp);
-        for (size_t i = 1; i < n && ok; i++)
-            ok = pos_cmp(p + 3 * (i - 1), p + 3 * i) != 0;
-        for (size_t t = 0; t < m->triangle_count; t++)
-            for (int k = 0; k < 3; k++)
-                d[3 * t + k] = (dedge){m->triangles[3 * t + k], m->triangles[3 * t + (k + 1) % 3]};
-        qsort(d, e, sizeof *d, dedge_cmp);
-    }
-    for (size_t i = 0; i < e && ok; i++) {
-        dedge r = {d[i].b, d[i].a};
-        ok = (i == 0 || dedge_cmp(&d[i - 1], &d[i]) != 0) && d[i].a != d[i].b &&
-             (bsearch(&r, d, e, sizeof *d, dedge_cmp) != NULL || (d[i].a >= ring_first && d[i].b >= ring_first));
-    }
-    merp_free(p), merp_free(d);
-    return ok;
-}
-
 /* Builds jt's patch into exact arrays of its own. MER_ERR_INVALID (and the
  * caller unplans the fork) when the patch does not close on its cuts. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
@@ -434,7 +388,7 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
     uint32_t ring_first = m.vertex_count;
     for (uint32_t s = 0; s < jt->cuts; s++)
         ring_first -= jt->sides[s];
-    if (rc == MER_OK && !patch_closes(&m, ring_first))
+    if (rc == MER_OK && !merp_patch_closes(&m, ring_first))
         rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
     /* Exact arrays, with room for the seam's copies (at most one a vertex). */
     size_t room = 2 * (size_t)m.vertex_count;

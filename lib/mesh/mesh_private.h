@@ -160,6 +160,15 @@ void merp_mesh_joints_size(const merp_builder *b, uint64_t *vertices, uint64_t *
 mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err);
 void merp_mesh_joints_free(merp_builder *b);
 
+/* --------------------------------------------------------- joints_close.c */
+
+/* Whether patch m (ring copies from ring_first on) can close the bark: no two
+ * vertices at one position, no directed edge twice, and open only along its
+ * rings. A patch that fails leaves its fork as tubes, so the bark stays a
+ * 2-manifold whatever the polygonizer met there. False also when out of
+ * memory. Cost O(vertices + triangles). */
+bool merp_patch_closes(const merp_trimesh *m, uint32_t ring_first);
+
 /* -------------------------------------------------------------- leaves.c */
 
 /* Exactly the leaf cards merp_mesh_leaves writes (4 vertices, 6 indices each). */
