@@ -119,6 +119,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/implicit/bounded.c \
 	lib/mesh/implicit/mtet.c \
 	lib/mesh/implicit/junction.c \
+	lib/mesh/implicit/gradient.c \
 	lib/mesh/implicit/patch.c \
 	lib/mesh/implicit/walk.h \
 	lib/mesh/implicit/walk.c \

@@ -321,20 +321,17 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
 /* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
  * rings shade as the tubes), shafts, ridge b = F_b, UVs (ring copies exactly
  * the ring's), then the seam split. */
-static void patch_attributes(const merp_builder *b, merp_joint *jt, float h, uint32_t *scratch)
+static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *scratch)
 {
     merp_trimesh *m = &jt->mesh;
     uint32_t ring_first = m->vertex_count;
     for (uint32_t s = 0; s < jt->cuts; s++)
         ring_first -= jt->sides[s];
-    const float e = 0.05f * h;
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
-        for (int k = 0; k < 3; k++) {
-            float a[3] = {p[0], p[1], p[2]}, c[3] = {p[0], p[1], p[2]};
-            a[k] += e, c[k] -= e;
-            nr[k] = merp_junction_field(c, &jt->field) - merp_junction_field(a, &jt->field);
-        }
+        merp_junction_gradient(&jt->field, p, nr);
+        for (int k = 0; k < 3; k++)
+            nr[k] = -nr[k];
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
         jt->ridge[v] = merp_junction_ridge(&jt->field, p);
@@ -378,10 +375,10 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
     merp_patch_bound(&pt, &vmax, &tmax);
     merp_trimesh m = {0};
     m.positions = merp_malloc(vmax * 3 * sizeof(float));
-    m.normals = merp_malloc(vmax * 3 * sizeof(float));
+    /* No normals: patch_attributes takes them from the unclipped field. */
     m.triangles = merp_malloc(tmax * 3 * sizeof(uint32_t));
     mer_result rc = MER_OK;
-    if (m.positions == NULL || m.normals == NULL || m.triangles == NULL)
+    if (m.positions == NULL || m.triangles == NULL)
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a junction");
     if (rc == MER_OK)
         rc = merp_patch_build(&pt, &m, err);
@@ -407,7 +404,7 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
         } else {
             memcpy(jt->mesh.positions, m.positions, (size_t)m.vertex_count * 3 * sizeof(float));
             memcpy(jt->mesh.triangles, m.triangles, (size_t)m.triangle_count * 3 * sizeof(uint32_t));
-            patch_attributes(b, jt, h, scratch);
+            patch_attributes(b, jt, scratch);
             if (jt->mesh.vertex_count > MER_MESH_CHUNK_VERTICES)
                 rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction has too many vertices");
         }

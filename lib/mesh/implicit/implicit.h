@@ -115,7 +115,9 @@ typedef struct merp_grid {
 } merp_grid;
 
 /* A triangle mesh the polygonizer writes: positions and unit normals (3 floats
- * a vertex), triangles (3 indices), counter-clockwise seen from outside. */
+ * a vertex), triangles (3 indices), counter-clockwise seen from outside.
+ * marching tetrahedra and merp_patch_build leave the normals out when
+ * `normals` is NULL (a caller that shades from another field). */
 typedef struct merp_trimesh {
     uint32_t vertex_count, triangle_count;
     float *positions, *normals;
@@ -228,6 +230,12 @@ float merp_junction_scar_weight(float years);
 
 /* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
 float merp_junction_field(const float p[3], const void *data);
+
+/* F_g(p) of the junction, as merp_junction_field, and its gradient ∇F_g into
+ * g, in closed form (gradient.c): one pass over the primitives, for normals.
+ * Where F_g is not differentiable (a max's tie, a crease) g is one side's.
+ * Cost O(1), about two field evaluations. */
+float merp_junction_gradient(const merp_junction *j, const float p[3], float g[3]);
 
 /* F_b(p) of the junction: b, the ridge's weight at p. */
 float merp_junction_ridge(const merp_junction *j, const float p[3]);

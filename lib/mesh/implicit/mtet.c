@@ -66,7 +66,8 @@ static uint32_t edge_vertex(mtet *m, const uint32_t cell[3], uint8_t c1, uint8_t
     merp_trimesh *o = m->out;
     uint32_t v = o->vertex_count++;
     memcpy(o->positions + 3 * (size_t)v, p, sizeof p);
-    merp_walk_normal(m->w, p, fp, dir, o->normals + 3 * (size_t)v);
+    if (o->normals != NULL) /* a caller may shade from another field */
+        merp_walk_normal(m->w, p, fp, dir, o->normals + 3 * (size_t)v);
     *slot = v + 1;
     return v;
 }
