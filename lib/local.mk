@@ -9,6 +9,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/core/hash.h \
 	lib/core/perlin.h \
 	lib/core/perlin.c \
+	lib/core/parallel.h \
+	lib/core/parallel.c \
 	lib/core/vec.h \
 	lib/result.c \
 	lib/rng.c \

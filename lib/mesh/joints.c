@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "core/alloc.h"
+#include "core/parallel.h"
 #include "mesh_private.h"
 
 #define JUNCTION_DIAMETER_FRACTION 0.2f /* junction_diameter 0: this × the thickest */
@@ -423,20 +424,49 @@ static void free_patch(merp_joint *jt)
     jt->shaft = NULL;
 }
 
+/* The patches to build: each item writes only its joint and its result. */
+typedef struct patch_run {
+    merp_builder *b;
+    mer_result *rc;
+} patch_run;
+
+static void patch_item(void *ctx, uint32_t i)
+{
+    patch_run *r = ctx;
+    mer_error e;
+    r->rc[i] = build_patch(r->b, &r->b->joints[i], &e);
+    if (r->rc[i] != MER_OK)
+        free_patch(&r->b->joints[i]);
+}
+
+/* Every patch, on opt.threads threads: patches are pure functions of their
+ * joint and each lands in its joint's own arrays, so the bytes are the same
+ * whatever the thread count and the order they finish in; failures are
+ * then handled in joint order. */
+static mer_result build_patches(merp_builder *b, mer_error *err)
+{
+    patch_run r = {b, merp_malloc((b->joint_count ? b->joint_count : 1) * sizeof *r.rc)};
+    if (r.rc == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the junctions");
+    merp_parallel_for(b->joint_count, b->opt.threads, patch_item, &r);
+    mer_result rc = MER_OK;
+    for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
+        if (r.rc[i] == MER_ERR_INVALID)
+            unplan(b, &b->joints[i]); /* this fork stays tubes */
+        else if (r.rc[i] != MER_OK)
+            rc = mer_error_set(err, r.rc[i], NULL, "out of memory for a junction");
+    }
+    merp_free(r.rc);
+    return rc;
+}
+
 mer_result merp_mesh_joints(merp_builder *b, mer_error *err)
 {
     mer_result rc = plan(b, err);
     if (rc == MER_OK)
         rc = walk_axes(b, true, err);
-    /* Patches are pure functions of their joint: any order gives the same bytes. */
-    for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
-        rc = build_patch(b, &b->joints[i], err);
-        if (rc == MER_ERR_INVALID) {
-            free_patch(&b->joints[i]);
-            unplan(b, &b->joints[i]);
-            rc = MER_OK;
-        }
-    }
+    if (rc == MER_OK)
+        rc = build_patches(b, err);
     if (rc == MER_OK)
         rc = walk_axes(b, false, err);
     return rc;

@@ -20,6 +20,8 @@
 
 enum merp_axis_end { MERP_END_TIP, MERP_END_CUT };
 
+#define MERP_MESH_THREADS_MAX 64 /* mer_mesh_options.threads at most */
+
 /* One generalized cylinder: an axis followed along its main continuations. */
 typedef struct merp_axis {
     uint32_t first;   /* id of its first internode */
