@@ -9,6 +9,8 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/core/hash.h \
 	lib/core/perlin.h \
 	lib/core/perlin.c \
+	lib/core/parallel.h \
+	lib/core/parallel.c \
 	lib/core/vec.h \
 	lib/result.c \
 	lib/rng.c \
@@ -113,6 +115,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/leaves.c \
 	lib/mesh/color.c \
 	lib/mesh/joints.c \
+	lib/mesh/joints_close.c \
 	lib/mesh/implicit/implicit.h \
 	lib/mesh/implicit/segment.c \
 	lib/mesh/implicit/blend.c \
@@ -120,6 +123,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/implicit/bounded.c \
 	lib/mesh/implicit/mtet.c \
 	lib/mesh/implicit/junction.c \
+	lib/mesh/implicit/gradient.c \
 	lib/mesh/implicit/patch.c \
 	lib/mesh/implicit/walk.h \
 	lib/mesh/implicit/walk.c \

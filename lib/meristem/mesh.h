@@ -130,6 +130,9 @@ typedef struct mer_mesh_options {
     uint32_t junctions;  /* mer_junction_mode; 0: tubes */
     float junction_diameter; /* implicit junctions where the parent is at least this
                                 thick; 0: a fifth of the thickest internode */
+    uint32_t threads;    /* implicit junction patches on up to this many threads
+                            (started and joined within the call; the bytes do not
+                            depend on it); 0 or 1: the caller's only, at most 64 */
 } mer_mesh_options;
 
 #define MER_MESH_DETAIL_MAX 5

@@ -44,6 +44,9 @@ static mer_result resolve_options(const mer_mesh_options *in, const mer_params *
         return mer_error_set(err, MER_ERR_RANGE, "junction_diameter",
                              "junction diameter must be from 0 to 1000, got %g",
                              (double)out->junction_diameter);
+    if (out->threads > MERP_MESH_THREADS_MAX)
+        return mer_error_set(err, MER_ERR_RANGE, "threads", "threads must be from 0 to %d, got %u",
+                             MERP_MESH_THREADS_MAX, out->threads);
     if (out->leaf_size == 0.0f)
         out->leaf_size = 0.8f * p->internode_length;
     if (out->leaf_age == 0)

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "core/alloc.h"
+#include "core/parallel.h"
 #include "mesh_private.h"
 
 #define JUNCTION_DIAMETER_FRACTION 0.2f /* junction_diameter 0: this × the thickest */
@@ -343,20 +344,17 @@ static float bark_mark(const merp_junction *f, const float p[3])
 /* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
  * rings shade as the tubes), shafts, ridge b = F_b, UVs (ring copies exactly
  * the ring's), then the seam split. */
-static void patch_attributes(const merp_builder *b, merp_joint *jt, float h, uint32_t *scratch)
+static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *scratch)
 {
     merp_trimesh *m = &jt->mesh;
     uint32_t ring_first = m->vertex_count;
     for (uint32_t s = 0; s < jt->cuts; s++)
         ring_first -= jt->sides[s];
-    const float e = 0.05f * h;
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
-        for (int k = 0; k < 3; k++) {
-            float a[3] = {p[0], p[1], p[2]}, c[3] = {p[0], p[1], p[2]};
-            a[k] += e, c[k] -= e;
-            nr[k] = merp_junction_field(c, &jt->field) - merp_junction_field(a, &jt->field);
-        }
+        merp_junction_gradient(&jt->field, p, nr);
+        for (int k = 0; k < 3; k++)
+            nr[k] = -nr[k];
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
         jt->ridge[v] = bark_mark(&jt->field, p);
@@ -376,52 +374,6 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, float h, uin
         split_seam(jt, scratch);
 }
 
-static int pos_cmp(const void *x, const void *y)
-{
-    return memcmp(x, y, 3 * sizeof(float));
-}
-
-typedef struct dedge {
-    uint32_t a, b;
-} dedge;
-
-static int dedge_cmp(const void *x, const void *y)
-{
-    const dedge *p = x, *q = y;
-    if (p->a != q->a)
-        return p->a < q->a ? -1 : 1;
-    return p->b < q->b ? -1 : p->b > q->b;
-}
-
-/* Whether patch m (ring copies from ring_first on) can close the bark: no two
- * vertices at one position, no directed edge twice, and open only along its
- * rings. A patch that fails leaves its fork as tubes, so the bark stays a
- * 2-manifold whatever the polygonizer met there. */
-static bool patch_closes(const merp_trimesh *m, uint32_t ring_first)
-{
-    size_t n = m->vertex_count, e = 3 * (size_t)m->triangle_count;
-    float *p = merp_malloc((n ? n : 1) * 3 * sizeof *p);
-    dedge *d = merp_malloc((e ? e : 1) * sizeof *d);
-    bool ok = p != NULL && d != NULL;
-    if (ok) {
-        memcpy(p, m->positions, n * 3 * sizeof *p);
-        qsort(p, n, 3 * sizeof *p, pos_cmp);
-        for (size_t i = 1; i < n && ok; i++)
-            ok = pos_cmp(p + 3 * (i - 1), p + 3 * i) != 0;
-        for (size_t t = 0; t < m->triangle_count; t++)
-            for (int k = 0; k < 3; k++)
-                d[3 * t + k] = (dedge){m->triangles[3 * t + k], m->triangles[3 * t + (k + 1) % 3]};
-        qsort(d, e, sizeof *d, dedge_cmp);
-    }
-    for (size_t i = 0; i < e && ok; i++) {
-        dedge r = {d[i].b, d[i].a};
-        ok = (i == 0 || dedge_cmp(&d[i - 1], &d[i]) != 0) && d[i].a != d[i].b &&
-             (bsearch(&r, d, e, sizeof *d, dedge_cmp) != NULL || (d[i].a >= ring_first && d[i].b >= ring_first));
-    }
-    merp_free(p), merp_free(d);
-    return ok;
-}
-
 /* jt's patch into m (room for either polygonizer): by dual contouring, which
  * keeps the branch bark ridge's crease sharp (G04 §3.2), or, where that patch
  * does not close (plain DC makes a non-manifold edge where a cell face is
@@ -439,7 +391,7 @@ static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_tr
         *ring_first = m->vertex_count;
         for (uint32_t s = 0; s < jt->cuts; s++)
             *ring_first -= jt->sides[s];
-        if (!patch_closes(m, *ring_first))
+        if (!merp_patch_closes(m, *ring_first))
             rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
     }
     return rc;
@@ -473,10 +425,10 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
     }
     merp_trimesh m = {0};
     m.positions = merp_malloc(vmax * 3 * sizeof(float));
-    m.normals = merp_malloc(vmax * 3 * sizeof(float));
+    /* No normals: patch_attributes takes them from the unclipped field. */
     m.triangles = merp_malloc(tmax * 3 * sizeof(uint32_t));
     mer_result rc = MER_OK;
-    if (m.positions == NULL || m.normals == NULL || m.triangles == NULL)
+    if (m.positions == NULL || m.triangles == NULL)
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a junction");
     uint32_t ring_first = 0;
     if (rc == MER_OK)
@@ -498,7 +450,7 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
         } else {
             memcpy(jt->mesh.positions, m.positions, (size_t)m.vertex_count * 3 * sizeof(float));
             memcpy(jt->mesh.triangles, m.triangles, (size_t)m.triangle_count * 3 * sizeof(uint32_t));
-            patch_attributes(b, jt, h, scratch);
+            patch_attributes(b, jt, scratch);
             if (jt->mesh.vertex_count > MER_MESH_CHUNK_VERTICES)
                 rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction has too many vertices");
         }
@@ -517,20 +469,49 @@ static void free_patch(merp_joint *jt)
     jt->shaft = NULL;
 }
 
+/* The patches to build: each item writes only its joint and its result. */
+typedef struct patch_run {
+    merp_builder *b;
+    mer_result *rc;
+} patch_run;
+
+static void patch_item(void *ctx, uint32_t i)
+{
+    patch_run *r = ctx;
+    mer_error e;
+    r->rc[i] = build_patch(r->b, &r->b->joints[i], &e);
+    if (r->rc[i] != MER_OK)
+        free_patch(&r->b->joints[i]);
+}
+
+/* Every patch, on opt.threads threads: patches are pure functions of their
+ * joint and each lands in its joint's own arrays, so the bytes are the same
+ * whatever the thread count and the order they finish in; failures are
+ * then handled in joint order. */
+static mer_result build_patches(merp_builder *b, mer_error *err)
+{
+    patch_run r = {b, merp_malloc((b->joint_count ? b->joint_count : 1) * sizeof *r.rc)};
+    if (r.rc == NULL)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the junctions");
+    merp_parallel_for(b->joint_count, b->opt.threads, patch_item, &r);
+    mer_result rc = MER_OK;
+    for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
+        if (r.rc[i] == MER_ERR_INVALID)
+            unplan(b, &b->joints[i]); /* this fork stays tubes */
+        else if (r.rc[i] != MER_OK)
+            rc = mer_error_set(err, r.rc[i], NULL, "out of memory for a junction");
+    }
+    merp_free(r.rc);
+    return rc;
+}
+
 mer_result merp_mesh_joints(merp_builder *b, mer_error *err)
 {
     mer_result rc = plan(b, err);
     if (rc == MER_OK)
         rc = walk_axes(b, true, err);
-    /* Patches are pure functions of their joint: any order gives the same bytes. */
-    for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
-        rc = build_patch(b, &b->joints[i], err);
-        if (rc == MER_ERR_INVALID) {
-            free_patch(&b->joints[i]);
-            unplan(b, &b->joints[i]);
-            rc = MER_OK;
-        }
-    }
+    if (rc == MER_OK)
+        rc = build_patches(b, err);
     if (rc == MER_OK)
         rc = walk_axes(b, false, err);
     return rc;

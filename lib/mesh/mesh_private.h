@@ -20,6 +20,8 @@
 
 enum merp_axis_end { MERP_END_TIP, MERP_END_CUT };
 
+#define MERP_MESH_THREADS_MAX 64 /* mer_mesh_options.threads at most */
+
 /* One generalized cylinder: an axis followed along its main continuations. */
 typedef struct merp_axis {
     uint32_t first;   /* id of its first internode */
@@ -159,6 +161,15 @@ void merp_mesh_joints_size(const merp_builder *b, uint64_t *vertices, uint64_t *
 /* Writes every patch into the bark (a group each, after the thicker axes). */
 mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err);
 void merp_mesh_joints_free(merp_builder *b);
+
+/* --------------------------------------------------------- joints_close.c */
+
+/* Whether patch m (ring copies from ring_first on) can close the bark: no two
+ * vertices at one position, no directed edge twice, and open only along its
+ * rings. A patch that fails leaves its fork as tubes, so the bark stays a
+ * 2-manifold whatever the polygonizer met there. False also when out of
+ * memory. Cost O(vertices + triangles). */
+bool merp_patch_closes(const merp_trimesh *m, uint32_t ring_first);
 
 /* -------------------------------------------------------------- leaves.c */
 

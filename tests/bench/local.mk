@@ -12,7 +12,8 @@
 #    modules: derivation and turtle seconds, peak memory and bytes per module;
 #    then the model's step of the same size onto the skeleton (a process each).
 #  - bench_mesh: meshing and GLB encoding of a 10,000- and a 700,000-internode tree,
-#    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs).
+#    and the brush client's compact snapshot of the first (detail 2, meshopt, no UVs);
+#    then both trees with implicit junctions (issue 18), their patches on 1 and 2 threads.
 #  - bench_patch: one implicit junction's patch (issue 18) at a few grid
 #    spacings: best and median milliseconds per patch, vertices, triangles.
 # `make table1`: see below.
@@ -55,7 +56,10 @@ bench: tests/bench/bench$(EXEEXT) tests/bench/bench_mesh$(EXEEXT) tests/bench/be
 	@./tests/bench/bench_mesh$(EXEEXT) 10000
 	@./tests/bench/bench_mesh$(EXEEXT) 10000 2 compact
 	@./tests/bench/bench_mesh$(EXEEXT) 700000
-	@./tests/bench/bench_mesh$(EXEEXT) 10000 3 implicit
+	@./tests/bench/bench_mesh$(EXEEXT) 10000 3 implicit 1
+	@./tests/bench/bench_mesh$(EXEEXT) 10000 3 implicit 2
+	@./tests/bench/bench_mesh$(EXEEXT) 700000 3 implicit 1
+	@./tests/bench/bench_mesh$(EXEEXT) 700000 3 implicit 2
 	@./tests/bench/bench_lsystem$(EXEEXT) --header
 	@./tests/bench/bench_lsystem$(EXEEXT) string $(BENCH_RUNS)
 	@./tests/bench/bench_lsystem$(EXEEXT) step $(BENCH_RUNS)

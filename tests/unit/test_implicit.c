@@ -226,6 +226,38 @@ static void ageing(void **state)
     assert_true(scar > 0.0f);
 }
 
+/* merp_junction_gradient: F_g as merp_junction_field gives it, and ∇F_g as
+ * central differences see it, over a box about an aged fork (scar, ring and
+ * ridge all present), except at the few points a crease or a max's switch
+ * lies between the differences' samples. */
+static void gradient_matches_differences(void **state)
+{
+    (void)state;
+    const float years[2] = {1, 4}, e = 1e-3f;
+    for (int y = 0; y < 2; y++) {
+        merp_junction j = aged_fork(years[y]);
+        int n = 0, off = 0;
+        for (int a = 0; a < 24; a++)
+            for (int b = 0; b < 24; b++)
+                for (int c = 0; c < 6; c++) {
+                    const float p[3] = {-0.8f + 2.4f * (float)a / 23.0f, -1.0f + 2.6f * (float)b / 23.0f,
+                                        -0.6f + 1.2f * (float)c / 5.0f};
+                    float g[3], f = merp_junction_gradient(&j, p, g), len = 0.0f, err = 0.0f;
+                    assert_float_equal(f, merp_junction_field(p, &j), 1e-6f);
+                    for (int k = 0; k < 3; k++) {
+                        float hi[3] = {p[0], p[1], p[2]}, lo[3] = {p[0], p[1], p[2]};
+                        hi[k] += e, lo[k] -= e;
+                        float d = (merp_junction_field(hi, &j) - merp_junction_field(lo, &j)) / (2.0f * e);
+                        len += d * d, err += (d - g[k]) * (d - g[k]);
+                    }
+                    n++;
+                    off += sqrtf(err) > 0.02f * sqrtf(len) + 0.01f;
+                }
+        print_message("year %.0f: %d of %d points off\n", (double)years[y], off, n);
+        assert_true(off * 50 < n);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -237,6 +269,7 @@ int main(void)
         cmocka_unit_test(fb_gradient_vanishes_at_ends),
         cmocka_unit_test(gbb_reduces),
         cmocka_unit_test(ageing),
+        cmocka_unit_test(gradient_matches_differences),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -219,6 +219,33 @@ static void fork_ages(void **state)
     mer_scene_free(s);
 }
 
+/* Patches built on 1, 2, 3 and 8 threads give the same GLB, byte for byte
+ * (patches land in their fork's own arrays and are written in fork order). */
+static void same_bytes_whatever_the_threads(void **state)
+{
+    (void)state;
+    mer_scene *s = grown(12);
+    mer_error err;
+    const uint32_t threads[4] = {1, 2, 3, 8};
+    uint8_t *glb[4] = {0};
+    size_t size[4];
+    for (int i = 0; i < 4; i++) {
+        const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT, .threads = threads[i]};
+        mer_mesh *m = NULL;
+        assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+        assert_true(m->junctions > 2);
+        assert_int_equal(mer_gltf_write_tree(m, NULL, NULL, &glb[i], &size[i], &err), MER_OK);
+        mer_mesh_free(m);
+    }
+    for (int i = 1; i < 4; i++) {
+        assert_int_equal(size[i], size[0]);
+        assert_memory_equal(glb[i], glb[0], size[0]);
+    }
+    for (int i = 0; i < 4; i++)
+        mer_gltf_free(glb[i]);
+    mer_scene_free(s);
+}
+
 static void bad_options(void **state)
 {
     (void)state;
@@ -231,6 +258,9 @@ static void bad_options(void **state)
     o = (mer_mesh_options){.junctions = 1, .junction_diameter = -1.0f};
     assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_ERR_RANGE);
     assert_string_equal(err.field, "junction_diameter");
+    o = (mer_mesh_options){.junctions = 1, .threads = 65};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_ERR_RANGE);
+    assert_string_equal(err.field, "threads");
     mer_scene_free(s);
 }
 
@@ -240,6 +270,7 @@ int main(void)
         cmocka_unit_test(whole_tree_is_closed),
         cmocka_unit_test(same_bytes_and_default_unchanged),
         cmocka_unit_test(fork_ages),
+        cmocka_unit_test(same_bytes_whatever_the_threads),
         cmocka_unit_test(bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -12,7 +12,8 @@ float merp_bound_field(const merp_bound *bnd, const float p[3])
 {
     assert(bnd->r_in >= 0.0f && bnd->r_out > bnd->r_in);
     merp_seg s = {{bnd->a[0], bnd->a[1], bnd->a[2]}, {bnd->b[0], bnd->b[1], bnd->b[2]}, 1.0f, 1.0f};
-    float d2 = merp_seg_distance2(&s, p, NULL);
+    float t;
+    float d2 = merp_seg_d2(&s, p, &t);
     if (d2 >= bnd->r_out * bnd->r_out)
         return 0.0f; /* beyond the support: most points, no square root */
     float sn = (sqrtf(d2) - bnd->r_in) / (bnd->r_out - bnd->r_in);

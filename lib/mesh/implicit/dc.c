@@ -115,11 +115,13 @@ static void cell_vertex(dc *d, const uint32_t cell[3], const float cf[8], uint8_
     merp_trimesh *o = d->out;
     uint32_t v = o->vertex_count++;
     memcpy(o->positions + 3 * (size_t)v, x, sizeof x);
-    float fallback[3] = {x[0] - q.mass[0] / (float)q.count, x[1] - q.mass[1] / (float)q.count,
-                         x[2] - q.mass[2] / (float)q.count};
-    if (!v3_normalize(fallback))
-        fallback[0] = 1.0f;
-    merp_walk_normal(d->w, x, d->w->f(x, d->w->data), fallback, o->normals + 3 * (size_t)v);
+    if (o->normals != NULL) { /* a caller may shade from another field */
+        float fallback[3] = {x[0] - q.mass[0] / (float)q.count, x[1] - q.mass[1] / (float)q.count,
+                             x[2] - q.mass[2] / (float)q.count};
+        if (!v3_normalize(fallback))
+            fallback[0] = 1.0f;
+        merp_walk_normal(d->w, x, d->w->f(x, d->w->data), fallback, o->normals + 3 * (size_t)v);
+    }
     uint32_t idx = cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]);
     d->cell_v[idx] = v + 1;
     if (d->cells != NULL)

@@ -9,6 +9,7 @@
 #ifndef MERISTEM_MESH_IMPLICIT_H
 #define MERISTEM_MESH_IMPLICIT_H
 
+#include <assert.h>
 #include <stdint.h>
 
 #include <meristem/result.h>
@@ -40,8 +41,41 @@ float merp_seg_distance(const merp_seg *s, const float p[3], float *t);
 /* Its square, without the square root (what the fields compare). */
 float merp_seg_distance2(const merp_seg *s, const float p[3], float *t);
 
+/* x_c for c = 1/2: g(x_c) = (1 − x_c²)³ = c (test_implicit checks the iso). */
+#define MERP_SEG_XC 0.45420201894740647f
+
+/* The squared distance from p to s and the parameter of the closest point
+ * into *t. Inline, as every field evaluation of a patch takes a few. */
+static inline float merp_seg_d2(const merp_seg *s, const float p[3], float *t)
+{
+    float ab[3], ap[3];
+    for (int k = 0; k < 3; k++)
+        ab[k] = s->b[k] - s->a[k], ap[k] = p[k] - s->a[k];
+    float len2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], u = 0.0f;
+    if (len2 > 0.0f) {
+        u = (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / len2;
+        u = u < 0.0f ? 0.0f : u > 1.0f ? 1.0f : u;
+    }
+    float q[3];
+    for (int k = 0; k < 3; k++)
+        q[k] = ap[k] - u * ab[k];
+    *t = u;
+    return q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+}
+
 /* f(p) of the tapered capsule s (see above), in [0, 1]. Requires ra, rb > 0. */
-float merp_seg_field(const merp_seg *s, const float p[3]);
+static inline float merp_seg_field(const merp_seg *s, const float p[3])
+{
+    assert(s->ra > 0.0f && s->rb > 0.0f);
+    float t;
+    float d2 = merp_seg_d2(s, p, &t);
+    float R = ((1.0f - t) * s->ra + t * s->rb) / MERP_SEG_XC;
+    float x2 = d2 / (R * R);
+    if (x2 >= 1.0f)
+        return 0.0f;
+    float u = 1.0f - x2;
+    return u * u * u;
+}
 
 /* The largest distance from the segment at which s's field is not 0. */
 float merp_seg_support(const merp_seg *s);
@@ -115,7 +149,9 @@ typedef struct merp_grid {
 } merp_grid;
 
 /* A triangle mesh the polygonizer writes: positions and unit normals (3 floats
- * a vertex), triangles (3 indices), counter-clockwise seen from outside. */
+ * a vertex), triangles (3 indices), counter-clockwise seen from outside.
+ * marching tetrahedra and merp_patch_build leave the normals out when
+ * `normals` is NULL (a caller that shades from another field). */
 typedef struct merp_trimesh {
     uint32_t vertex_count, triangle_count;
     float *positions, *normals;
@@ -230,6 +266,12 @@ float merp_junction_scar_weight(float years);
 
 /* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
 float merp_junction_field(const float p[3], const void *data);
+
+/* F_g(p) of the junction, as merp_junction_field, and its gradient ∇F_g into
+ * g, in closed form (gradient.c): one pass over the primitives, for normals.
+ * Where F_g is not differentiable (a max's tie, a crease) g is one side's.
+ * Cost O(1), about two field evaluations. */
+float merp_junction_gradient(const merp_junction *j, const float p[3], float g[3]);
 
 /* F_b(p) of the junction: b, the ridge's weight at p. */
 float merp_junction_ridge(const merp_junction *j, const float p[3]);

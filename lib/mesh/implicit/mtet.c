@@ -26,6 +26,8 @@ typedef struct mtet {
     const void *data;
     merp_walk *w;
     uint32_t *edge_v;  /* per sample × 7 directions: vertex + 1, 0 when none yet */
+    uint32_t *cleared; /* a bit per sample: its 7 edge_v slots are cleared (on first
+                          use: a walk touches few samples of its grid) */
     merp_trimesh *out;
 } mtet;
 
@@ -51,6 +53,10 @@ static uint32_t edge_vertex(mtet *m, const uint32_t cell[3], uint8_t c1, uint8_t
     uint32_t i1 = cell[0] + (c1 & 1), j1 = cell[1] + (c1 >> 1 & 1), k1 = cell[2] + (c1 >> 2 & 1);
     uint32_t i2 = cell[0] + (c2 & 1), j2 = cell[1] + (c2 >> 1 & 1), k2 = cell[2] + (c2 >> 2 & 1);
     uint32_t s1 = merp_walk_sample(m->w, i1, j1, k1), s2 = merp_walk_sample(m->w, i2, j2, k2);
+    if (!(m->cleared[s1 >> 5] >> (s1 & 31) & 1u)) {
+        memset(m->edge_v + (size_t)s1 * 7, 0, 7 * sizeof *m->edge_v);
+        m->cleared[s1 >> 5] |= 1u << (s1 & 31);
+    }
     uint32_t *slot = &m->edge_v[(size_t)s1 * 7 + (uint32_t)(c1 ^ c2) - 1];
     if (*slot != 0)
         return *slot - 1;
@@ -66,7 +72,8 @@ static uint32_t edge_vertex(mtet *m, const uint32_t cell[3], uint8_t c1, uint8_t
     merp_trimesh *o = m->out;
     uint32_t v = o->vertex_count++;
     memcpy(o->positions + 3 * (size_t)v, p, sizeof p);
-    merp_walk_normal(m->w, p, fp, dir, o->normals + 3 * (size_t)v);
+    if (o->normals != NULL) /* a caller may shade from another field */
+        merp_walk_normal(m->w, p, fp, dir, o->normals + 3 * (size_t)v);
     *slot = v + 1;
     return v;
 }
@@ -168,17 +175,26 @@ static mer_result march(const merp_grid *g, merp_field_fn f, const void *data, c
                         uint32_t nseeds, merp_trimesh *out, mer_error *err)
 {
     merp_walk w;
-    mtet m = {g, f, data, &w, NULL, out};
-    size_t edges = (size_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1) * 7;
-    if (merp_walk_begin(&w, g, f, data, seeds, nseeds, edges, &m.edge_v, out, err) != MER_OK)
+    if (merp_walk_init(&w, g, f, data, err) != MER_OK)
         return MER_ERR_NOMEM;
+    mtet m = {g, f, data, &w, NULL, NULL, out};
+    size_t samples = (size_t)w.sx * w.sy * (g->n[2] + 1);
+    m.edge_v = merp_malloc(samples * 7 * sizeof(uint32_t));
+    m.cleared = merp_calloc(samples / 32 + 1, sizeof(uint32_t));
+    if (m.edge_v == NULL || m.cleared == NULL) {
+        merp_walk_free(&w);
+        merp_free(m.edge_v), merp_free(m.cleared);
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
+    }
+    merp_walk_start(&w, seeds, nseeds);
+    out->vertex_count = out->triangle_count = 0;
     uint32_t cell[3];
     float cf[8];
     uint8_t mask;
     while (merp_walk_next(&w, cell, cf, &mask))
         cell_march(&m, cell, cf);
     merp_walk_free(&w);
-    merp_free(m.edge_v);
+    merp_free(m.edge_v), merp_free(m.cleared);
     return MER_OK;
 }
 

@@ -167,11 +167,12 @@ static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, 
     uint32_t base = m->vertex_count;
     for (uint32_t j = 0; j < c->sides; j++) {
         const float *p = c->ring + 3 * (size_t)j;
-        float *q = m->positions + 3 * (size_t)(base + j), *nr = m->normals + 3 * (size_t)(base + j);
-        memcpy(q, p, 3 * sizeof(float));
-        for (int k = 0; k < 3; k++)
+        memcpy(m->positions + 3 * (size_t)(base + j), p, 3 * sizeof(float));
+        float *nr = m->normals != NULL ? m->normals + 3 * (size_t)(base + j) : NULL;
+        for (int k = 0; nr != NULL && k < 3; k++)
             nr[k] = p[k] - c->o[k];
-        v3_normalize(nr);
+        if (nr != NULL)
+            v3_normalize(nr);
         phi[j] = wrap_2pi(sgn * (angle_about(c, u, v, p) - a0));
         order[j] = j;
     }
@@ -208,7 +209,8 @@ static void compact(merp_trimesh *m, uint32_t *remap)
         if (remap[v] == UINT32_MAX)
             continue;
         memmove(m->positions + 3 * (size_t)n, m->positions + 3 * (size_t)v, 3 * sizeof(float));
-        memmove(m->normals + 3 * (size_t)n, m->normals + 3 * (size_t)v, 3 * sizeof(float));
+        if (m->normals != NULL)
+            memmove(m->normals + 3 * (size_t)n, m->normals + 3 * (size_t)v, 3 * sizeof(float));
         remap[v] = n++;
     }
     for (size_t k = 0; k < 3 * (size_t)m->triangle_count; k++)
