@@ -31,7 +31,7 @@ static void p09_free(merp_model *m)
         return;
     void *arrays[] = {m->nbuds, m->nint, m->vin,    m->qb,    m->vb,   m->quiet, m->mark,
                       m->cell,  m->bkey, m->bpos,   m->bdir,  m->bq,   m->bv,    m->bquiet,
-                      m->bcell, m->pq,   m->pv,     m->pbuds, m->prank, m->pscr, m->ptarget, m->ax};
+                      m->pq,   m->pv,     m->pbuds, m->prank, m->pscr, m->ptarget, m->ax};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
         merp_free(arrays[i]);
     merp_free(m);

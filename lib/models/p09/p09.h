@@ -55,7 +55,6 @@ struct merp_model {
     uint32_t *bkey;    /* 3·node + slot */
     float *bpos, *bdir, *bq, *bv;
     uint8_t *bquiet;
-    uint32_t *bcell;   /* under shadow propagation, while V waits: the bud's voxel */
     size_t bn, bcap;
     int v_deferred;    /* bv is not computed yet (merp_p09_directions) */
     /* per-round scratch under the priority model: each node's axis record, [0, n) */
