@@ -4,10 +4,8 @@
 // draws the presets:
 //   junctions-tree.png   a whole tree with implicit junctions;
 //   junctions-fork.png   the page's fork close-up of that tree (?fork=thickest);
-//   junctions-years.png  one fork when its lateral is 2, 4, 7 and 10 years old (G04
-//                        Fig. 7 shows years 1, 4, 7, 10; in its first season a P09
-//                        lateral is one internode ending in a cone, which gets no
-//                        patch), a 2×2 montage.
+//   junctions-years.png  one fork when its lateral is 1, 4, 7 and 10 years old (the
+//                        years of G04 Fig. 7), a 2×2 montage.
 // usage: node junctions.js OUT
 // The engine is deterministic, so "the same fork, older" is the same preset and seed
 // stepped further: one session per year, each drawn at ?fork=LATERAL.
@@ -17,11 +15,12 @@ const { chromium } = require('playwright-core');
 const { startDaemon, api } = require('../support/daemon.js');
 
 const TREE = { preset: 'fig7-bh-0.54', seed: 1, steps: 12 };
-/** The fork of the years: a lateral of a main branch whose fork is a patch from its
- * second season to its tenth; it is `age` seasons old (the skeleton's age, steps since
- * the step that grew it) after `born` + age steps. */
-const FORK = { preset: 'fig7-bh-0.54', seed: 1, lateral: 78, born: 4 };
-const YEARS = [2, 4, 7, 10];
+/** The fork of the years (the one test_junctions' fork_ages follows): a lateral whose
+ * fork is a patch from its first season to its tenth and also ends its parent's shoot,
+ * so it has a bud scale scar; it is `age` seasons old (steps since the step that grew
+ * it) after `born` + age steps. */
+const FORK = { preset: 'fig7-bh-0.54', seed: 7, lateral: 58, born: 4 };
+const YEARS = [1, 4, 7, 10];
 
 /** Grows a new session of `preset` to `steps` steps; resolves to its summary. */
 async function grow(url, preset, seed, steps) {
@@ -95,7 +94,7 @@ async function montage(page, images, size, file) {
       if (!st || st.lateral !== FORK.lateral || st.age !== year || st.ridgePoints === 0) {
         throw new Error(`year ${year}: the fork of lateral ${FORK.lateral} is not a junction patch of that age: ${JSON.stringify(st)}`);
       }
-      images.push({ png: await page.screenshot(), label: `${year} years` });
+      images.push({ png: await page.screenshot(), label: year === 1 ? '1 year' : `${year} years` });
     }
     await montage(page, images, size, path.join(out, 'junctions-years.png'));
   } finally {
