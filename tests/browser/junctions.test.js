@@ -98,6 +98,14 @@ test('the junctions toggle asks for implicit junctions, the close-up looks at a 
   // The key C: the fork nearest the tree under the pointer. The pointer goes to the
   // base of another thick lateral, where the tree in front is that fork.
   await page.click('#frame');
+  // Right after a programmatic move the view's matrices are those of the new view, not
+  // of the last frame drawn: the orbit target projects to the canvas's centre.
+  const centre = await page.evaluate(() => {
+    const v = window.meristem.viewer, r = v.renderer.domElement.getBoundingClientRect();
+    const s = v.screenOf(v.controls.target);
+    return { dx: s.x - (r.left + r.width / 2), dy: s.y - (r.top + r.height / 2) };
+  });
+  assert.ok(Math.hypot(centre.dx, centre.dy) < 1, `the target at the centre just after framing (${centre.dx}, ${centre.dy})`);
   const other = await page.evaluate(({ first, from }) => window.meristem.session.skeleton().then((sk) => {
     const v = window.meristem.viewer;
     for (const n of sk.byId.values()) {

@@ -238,6 +238,9 @@ export class Viewer {
     this.camera.far = dist * 20;
     this.camera.updateProjectionMatrix();
     this.controls.update();
+    // OrbitControls turns the camera after reading its world matrix: bring the matrix
+    // up to date now, so picking and screenOf see this view before the next frame does.
+    this.camera.updateMatrixWorld();
     this.setGrid(Math.max(size.x, size.z) * 1.6 + 10);
     this.framed = true;
     this.requestRender();
@@ -262,6 +265,7 @@ export class Viewer {
     this.camera.far = dist * 400;
     this.camera.updateProjectionMatrix();
     this.controls.update();
+    this.camera.updateMatrixWorld();
     this.requestRender();
   }
 
