@@ -18,7 +18,8 @@ typedef struct merd_origin {
     uint64_t seed;
 } merd_origin;
 
-/* Meshes `scene` with `mesh` options and encodes it with `gltf` options into
+/* Meshes `scene` with `mesh` options (implicit junctions on as many threads as
+ * the machine has cores when `mesh` asks for none) and encodes it with `gltf` options into
  * *bytes (*size; caller frees with mer_gltf_free). `*triangles` (may be NULL)
  * gets the mesh's triangle count, also on an encoding failure. MER_OK, or the
  * library's failure with `err` filled. Costs a full mesh build. */
