@@ -23,6 +23,9 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/env/env.h \
 	lib/env/env.c \
 	lib/env/markers.c \
+	lib/env/markers_grid.h \
+	lib/env/markers_near.h \
+	lib/env/markers_near.c \
 	lib/env/shadow.c \
 	lib/env/shadow_batch.c \
 	lib/env/solid.c \

@@ -14,50 +14,12 @@
 #include "core/bytes.h"
 #include "core/vec.h"
 #include "env/env.h"
+#include "env/markers_grid.h"
 
 #define NONE UINT32_MAX
 
-/* The bud that holds a marker so far in the competition, and its distance². */
-typedef struct claim_t {
-    uint32_t bud;
-    float d2;
-} claim_t;
-
-/* A marker as filed in the grid: its position (copied, so a cell's markers are
- * contiguous in memory) and its index. */
-typedef struct entry {
-    float p[3];
-    uint32_t id;
-} entry;
-
 /* Marker indices fit in 31 bits. */
 #define MARKERS_MAX UINT32_C(0x7fffffff)
-
-struct mer_markers {
-    float bmin[3];
-    float cell, inv_cell;
-    int dim[3];
-    size_t ncells;
-    /* markers, by index */
-    float *p;          /* 3 per marker */
-    uint8_t *dead;
-    size_t n, cap, alive;
-    /* CSR grid over live markers; stale when `dirty`. Cell c's live markers are
-     * items[start[c], end[c]): removals compact the cell in place (keeping index
-     * order), so that queries never step over the dead markers of a crown's
-     * consumed inside. */
-    uint32_t *start;   /* ncells + 1 */
-    uint32_t *end;     /* ncells */
-    entry *items;      /* live markers in cell order, positions copied for locality */
-    size_t items_cap;
-    int dirty;
-    /* colonization scratch, per grid entry (items): a cell's markers are
-     * neighbours in memory, where claims for them land too */
-    claim_t *best;
-    size_t scratch_cap;
-    uint32_t *touched;
-    size_t touched_cap;
-};
 
 mer_result mer_markers_new(const float bmin[3], const float bmax[3], float cell,
                            mer_markers **out, mer_error *err)
@@ -114,23 +76,10 @@ void mer_markers_free(mer_markers *m)
     merp_free(m->items);
     merp_free(m->best);
     merp_free(m->touched);
+    merp_free(m->stamp);
+    merp_free(m->bits);
+    merp_free(m->near_cells);
     merp_free(m);
-}
-
-static int cell_coord(const mer_markers *m, float x, int a)
-{
-    float f = (x - m->bmin[a]) * m->inv_cell;
-    if (!(f >= 0.0f))
-        return 0;
-    if (f >= (float)m->dim[a])
-        return m->dim[a] - 1;
-    return (int)f;
-}
-
-static size_t cell_of(const mer_markers *m, const float *p)
-{
-    int i = cell_coord(m, p[0], 0), j = cell_coord(m, p[1], 1), k = cell_coord(m, p[2], 2);
-    return ((size_t)k * (size_t)m->dim[1] + (size_t)j) * (size_t)m->dim[0] + (size_t)i;
 }
 
 mer_result mer_markers_add(mer_markers *m, const float *xyz, size_t count, mer_error *err)
@@ -181,7 +130,7 @@ static int rebuild(mer_markers *m)
 {
     if (m->alive > m->items_cap) {
         size_t cap = m->alive + m->alive / 2 + 16;
-        entry *it = merp_realloc(m->items, cap * sizeof *it);
+        merp_marker_entry *it = merp_realloc(m->items, cap * sizeof *it);
         if (it == NULL)
             return 0;
         m->items = it;
@@ -190,13 +139,13 @@ static int rebuild(mer_markers *m)
     memset(m->start, 0, (m->ncells + 1) * sizeof *m->start);
     for (size_t i = 0; i < m->n; i++)
         if (!m->dead[i])
-            m->start[cell_of(m, m->p + 3 * i) + 1]++;
+            m->start[merp_markers_cell(m, m->p + 3 * i) + 1]++;
     for (size_t c = 0; c < m->ncells; c++)
         m->start[c + 1] += m->start[c];
     /* Fill using start[c] as a cursor, then shift back. */
     for (size_t i = 0; i < m->n; i++)
         if (!m->dead[i]) {
-            entry *e = &m->items[m->start[cell_of(m, m->p + 3 * i)]++];
+            merp_marker_entry *e = &m->items[m->start[merp_markers_cell(m, m->p + 3 * i)]++];
             memcpy(e->p, m->p + 3 * i, sizeof e->p);
             e->id = (uint32_t)i;
         }
@@ -209,7 +158,7 @@ static int rebuild(mer_markers *m)
     return 1;
 }
 
-static int ensure_grid(mer_markers *m)
+int merp_markers_ensure_grid(mer_markers *m)
 {
     return m->dirty ? rebuild(m) : 1;
 }
@@ -224,8 +173,8 @@ static float dist2(const float *a, const float *b)
 static void range(const mer_markers *m, const float *c, float radius, int lo[3], int hi[3])
 {
     for (int a = 0; a < 3; a++) {
-        lo[a] = cell_coord(m, c[a] - radius, a);
-        hi[a] = cell_coord(m, c[a] + radius, a);
+        lo[a] = merp_markers_coord(m, c[a] - radius, a);
+        hi[a] = merp_markers_coord(m, c[a] + radius, a);
     }
 }
 
@@ -234,7 +183,7 @@ static void range(const mer_markers *m, const float *c, float radius, int lo[3],
  * none: nothing is written before the first one goes. */
 static size_t remove_in_cell(mer_markers *m, size_t c, const float *center, float r2)
 {
-    entry *items = m->items;
+    merp_marker_entry *items = m->items;
     uint32_t t = m->start[c], end = m->end[c];
     while (t < end && dist2(items[t].p, center) > r2)
         t++;
@@ -268,7 +217,7 @@ static size_t remove_sphere_grid(mer_markers *m, const float *center, float radi
 
 size_t mer_markers_remove_sphere(mer_markers *m, const float center[3], float radius)
 {
-    if (!ensure_grid(m)) {
+    if (!merp_markers_ensure_grid(m)) {
         /* No memory for the grid: fall back to a linear scan. */
         float r2 = radius * radius;
         size_t removed = 0;
@@ -328,7 +277,7 @@ static mer_result ensure_scratch(mer_markers *m, mer_error *err)
     size_t need = m->start[m->ncells];
     if (need <= m->scratch_cap)
         return MER_OK;
-    claim_t *best = merp_realloc(m->best, need * sizeof *best);
+    merp_claim *best = merp_realloc(m->best, need * sizeof *best);
     if (best == NULL)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for colonization");
     m->best = best;
@@ -344,7 +293,7 @@ static mer_result ensure_scratch(mer_markers *m, mer_error *err)
 static mer_result claim(mer_markers *m, uint32_t t, uint32_t b, float d2, size_t *nt,
                         mer_error *err)
 {
-    claim_t *c = &m->best[t];
+    merp_claim *c = &m->best[t];
     if (c->bud != NONE) {
         if (d2 < c->d2) {
             c->bud = b;
@@ -397,8 +346,8 @@ static void cone_range(const mer_markers *m, const float *a, const float *dir, c
     int ball = !(fabsf(n2 - 1.0f) <= 1e-4f);
     for (int x = 0; x < 3; x++) {
         float up = ball ? 1.0f : reach(dir[x], k), down = ball ? 1.0f : reach(-dir[x], k);
-        lo[x] = cell_coord(m, a[x] - k->r * (down + 1e-3f), x);
-        hi[x] = cell_coord(m, a[x] + k->r * (up + 1e-3f), x);
+        lo[x] = merp_markers_coord(m, a[x] - k->r * (down + 1e-3f), x);
+        hi[x] = merp_markers_coord(m, a[x] + k->r * (up + 1e-3f), x);
     }
 }
 
@@ -413,7 +362,7 @@ static mer_result compete(mer_markers *m, uint32_t b, const float *a, const floa
     /* Locals: claims write through m, which would otherwise make every entry
      * reload the apex, the direction and the cell's bounds. */
     const float apex[3] = {a[0], a[1], a[2]}, dir[3] = {db[0], db[1], db[2]};
-    const entry *items = m->items;
+    const merp_marker_entry *items = m->items;
     size_t row = (size_t)m->dim[0], plane = row * (size_t)m->dim[1];
     for (int z = lo[2]; z <= hi[2]; z++)
         for (int y = lo[1]; y <= hi[1]; y++)
@@ -477,7 +426,7 @@ mer_result mer_markers_colonize(mer_markers *m, size_t n, const float *pos, cons
         if (quiet != NULL)
             quiet[b] = 1;
     }
-    if (!ensure_grid(m))
+    if (!merp_markers_ensure_grid(m))
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the marker grid");
     /* 1. Occupancy zones: markers within ρ of any bud are deleted from S. */
     for (size_t b = 0; b < n && m->alive > 0; b++) {
@@ -523,6 +472,13 @@ mer_result merp_markers_clone(const mer_markers *m, mer_markers **out, mer_error
     c->items = NULL;
     c->best = NULL;
     c->touched = NULL;
+    /* markers_near.c's scratch starts afresh */
+    c->stamp = NULL;
+    c->epoch = 0;
+    c->bits = NULL;
+    c->bits_cap = 0;
+    c->near_cells = NULL;
+    c->near_cap = 0;
     /* The grid and the scratch too: what the next query sees stays exactly as it was. */
     int ok = MERP_DUP(c->p, m->p, 3 * m->cap) && MERP_DUP(c->dead, m->dead, m->cap) &&
              MERP_DUP(c->start, m->start, m->ncells + 1) &&

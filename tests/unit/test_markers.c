@@ -1,4 +1,5 @@
-/* Unit tests for lib/env/markers.c: occupancy, cone membership, competition, Q and V. */
+/* Unit tests for lib/env/markers.c: occupancy, cone membership, competition, Q and V;
+ * and markers_near.c: the markers near a set of points. */
 #include "config.h"
 
 #include <math.h>
@@ -10,6 +11,9 @@
 #include <cmocka.h>
 
 #include <meristem/markers.h>
+
+#include "core/alloc.h"
+#include "env/markers_near.h"
 
 #define assert_close(a, b) assert_true(fabsf((a) - (b)) < 1e-4f)
 
@@ -207,6 +211,71 @@ static void test_new_rejects_bad_grids(void **state)
     assert_int_equal(mer_markers_new(BMIN, BMAX, 0.001f, &m, &err), MER_ERR_LIMIT);
 }
 
+/* The index of the marker at p among the n at pts, or -1. */
+static int index_of(const float *pts, int n, const float *p)
+{
+    for (int i = 0; i < n; i++)
+        if (pts[3 * i] == p[0] && pts[3 * i + 1] == p[1] && pts[3 * i + 2] == p[2])
+            return i;
+    return -1;
+}
+
+static void test_markers_near(void **state)
+{
+    (void)state;
+    mer_markers *m;
+    assert_int_equal(mer_markers_new(BMIN, BMAX, 3.0f, &m, NULL), MER_OK);
+    /* A lattice of 13³ markers 1.5 apart, added from the far corner back so that
+     * index order is not cell order, and one far outside the grid. */
+    enum { SIDE = 13, N = SIDE * SIDE * SIDE + 1 };
+    static float pts[3 * N];
+    for (int i = 0; i < N - 1; i++) {
+        pts[3 * i] = 9.0f - 1.5f * (float)(i % SIDE);
+        pts[3 * i + 1] = 9.0f - 1.5f * (float)(i / SIDE % SIDE);
+        pts[3 * i + 2] = 9.0f - 1.5f * (float)(i / (SIDE * SIDE));
+    }
+    pts[3 * (N - 1)] = 50.0f;
+    pts[3 * (N - 1) + 1] = 1.0f;
+    pts[3 * (N - 1) + 2] = 0.0f;
+    assert_int_equal(mer_markers_add(m, pts, N, NULL), MER_OK);
+    const float gone[3] = {0, 0, 0};
+    assert_int_equal(mer_markers_remove_sphere(m, gone, 0.0f), 1);
+    const float q[6] = {0.2f, 0.1f, 0.0f, 49.0f, 1.0f, 0.0f};
+    float *xyz = NULL;
+    size_t cap = 0, count = 0, again = 0;
+    for (int round = 0; round < 2; round++) {
+        assert_int_equal(merp_markers_near(m, q, 2, 2.5f, &xyz, &cap, &count, NULL), MER_OK);
+        assert_true(count > 0 && count < N - 100);
+        int last = -1, within = 0;
+        for (size_t j = 0; j < count; j++) {
+            int i = index_of(pts, N, xyz + 3 * j);
+            assert_true(i > last); /* index order, each once */
+            last = i;
+            assert_false(pts[3 * i] == 0.0f && pts[3 * i + 1] == 0.0f && pts[3 * i + 2] == 0.0f);
+        }
+        /* every live marker within the radius of a point is listed */
+        for (int i = 0; i < N; i++) {
+            const float *p = pts + 3 * i;
+            for (int k = 0; k < 2; k++) {
+                float dx = p[0] - q[3 * k], dy = p[1] - q[3 * k + 1], dz = p[2] - q[3 * k + 2];
+                if (dx * dx + dy * dy + dz * dz > 2.5f * 2.5f || (p[0] == 0 && p[1] == 0 && p[2] == 0))
+                    continue;
+                within++;
+                int listed = 0;
+                for (size_t j = 0; j < count; j++)
+                    listed |= index_of(pts, N, xyz + 3 * j) == i;
+                assert_true(listed);
+            }
+        }
+        assert_true(within > 10);
+        if (round == 1)
+            assert_int_equal(count, again); /* the scratch was left clean */
+        again = count;
+    }
+    merp_free(xyz);
+    mer_markers_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -217,6 +286,7 @@ int main(void)
         cmocka_unit_test(test_quiet_buds),
         cmocka_unit_test(test_remove_sphere_and_predicate),
         cmocka_unit_test(test_new_rejects_bad_grids),
+        cmocka_unit_test(test_markers_near),
     };
     return cmocka_run_group_tests_name("markers", tests, NULL, NULL);
 }

@@ -2,7 +2,8 @@
  * influences the closest tree node within the radius of influence d_i, and is
  * removed once a node is within the kill distance d_k. The closest node is found
  * through a uniform grid of the node ends (counting sort into cells, in id order),
- * so a point looks at the nodes of a few cells, not at every node. */
+ * so a point looks at the nodes of a few cells, not at every node; and only the
+ * points the marker grid files near a node end are looked at, not every point. */
 #include "config.h"
 
 #include <assert.h>
@@ -10,6 +11,7 @@
 #include <string.h>
 
 #include "core/array.h"
+#include "env/markers_near.h"
 #include "models/runions/runions.h"
 
 #define NONE UINT32_MAX
@@ -146,16 +148,25 @@ static int closest(const merp_model *m, const grid *g, const float p[3], float d
     return 0;
 }
 
-mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, float d_i, float d_k,
-                                  float *pts, size_t n, size_t *killed, mer_error *err)
+mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, mer_markers *mk,
+                                  float d_i, float d_k, size_t *npts, size_t *killed,
+                                  mer_error *err)
 {
-    assert(m != NULL && sk != NULL && killed != NULL && m->node_cap >= sk->n);
-    assert(d_k > 0.0f && d_k < d_i && (n == 0 || pts != NULL));
+    assert(m != NULL && sk != NULL && mk != NULL && npts != NULL && killed != NULL);
+    assert(m->node_cap >= sk->n && d_k > 0.0f && d_k < d_i);
+    *npts = *killed = 0;
     grid g;
     grid_shape(sk, d_i, &g);
     mer_result rc = grid_build(m, sk, &g, err);
     if (rc != MER_OK)
         return rc;
+    /* Only a point within d_i of a node can be killed or associated; the
+     * margin covers the rounding of closest()'s squared distances. */
+    size_t n;
+    rc = merp_markers_near(mk, m->gp, g.n, d_i * 1.001f, &m->pts, &m->pts_cap, &n, err);
+    if (rc != MER_OK)
+        return rc;
+    float *pts = m->pts;
     memset(m->sum, 0, 3 * (size_t)sk->n * sizeof *m->sum);
     memset(m->count, 0, (size_t)sk->n * sizeof *m->count);
     size_t k = 0;
@@ -179,6 +190,7 @@ mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, float 
             m->sum[3 * best + a] += (p[a] - end[a]) * inv;
         m->count[best]++;
     }
+    *npts = n;
     *killed = k;
     return MER_OK;
 }

@@ -136,21 +136,12 @@ static mer_result runions_step(merp_model *m, const merp_world *w, mer_error *er
     merp_skeleton *sk = w->sk;
     mer_markers *mk = w->env->markers;
     uint32_t n = sk->n;
-    size_t npts = mer_markers_count(mk);
     mer_result rc = ensure_nodes(m, n, err);
-    if (rc == MER_OK && npts > m->pts_cap) {
-        if (!MERP_RESIZE(m->pts, 3 * npts))
-            rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for attraction points");
-        else
-            m->pts_cap = npts;
-    }
     if (rc == MER_OK)
         rc = mark_eligible(m, sk, err);
-    if (rc != MER_OK)
-        return rc;
-    mer_markers_positions(mk, m->pts, npts);
-    size_t killed;
-    rc = merp_runions_associate(m, sk, w->p->d_i, w->p->d_k, m->pts, npts, &killed, err);
+    size_t npts, killed;
+    if (rc == MER_OK)
+        rc = merp_runions_associate(m, sk, mk, w->p->d_i, w->p->d_k, &npts, &killed, err);
     if (rc != MER_OK)
         return rc;
     /* A point is removed where it lies: a sphere of radius 0 around it. */

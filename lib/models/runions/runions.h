@@ -35,8 +35,9 @@
  *  - Under the brush constraint only the constrained node and its subtree grow.
  *
  * Closest-node queries go through a uniform grid of the node ends with cells of
- * edge d_i (associate.c): a step costs O(nodes + points · nodes per 27 cells),
- * not O(points · nodes). */
+ * edge d_i, and only the markers near the tree are read, from the marker grid
+ * (associate.c): a step costs O(nodes + points near the tree · nodes per 27
+ * cells), not O(points · nodes), nor O(points). */
 #ifndef MERISTEM_RUNIONS_H
 #define MERISTEM_RUNIONS_H
 
@@ -59,16 +60,19 @@ struct merp_model {
     uint32_t *gid;     /* node id per grid entry */
     float *gp;         /* 3 per grid entry: the node's end */
     size_t grid_cap;
-    /* the live markers' positions, and the killed ones compacted to the front */
+    /* the positions of the live markers near the tree, the killed ones first */
     float *pts;
     size_t pts_cap;
 };
 
-/* associate.c: steps 1 and 2 of the header for the `n` points at `pts`: fills
- * m->sum and m->count for the nodes m->ok marks, and moves the points within
- * d_k of any live node to the front of `pts`; returns how many were moved
- * there. Needs m's per-node arrays sized for the skeleton. MER_ERR_NOMEM. */
-mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, float d_i, float d_k,
-                                  float *pts, size_t n, size_t *killed, mer_error *err);
+/* associate.c: steps 1 and 2 of the header for the live markers of `mk`: fills
+ * m->sum and m->count for the nodes m->ok marks, and copies the markers within
+ * d_i of a live node's end (and some farther, which no node takes) into m->pts,
+ * in index order, `*npts` of them, those within d_k of any live node moved to
+ * the front: `*killed` of them. Needs m's per-node arrays sized for the
+ * skeleton. MER_ERR_NOMEM. */
+mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, mer_markers *mk,
+                                  float d_i, float d_k, size_t *npts, size_t *killed,
+                                  mer_error *err);
 
 #endif
