@@ -73,7 +73,7 @@ SUITE_TESTS = \
 	tests/conformance/validate.test.js
 # Files the suite reads besides its scripts (check-dist.sh looks for them too).
 SUITE_SUPPORT = tests/support/run-node.sh tests/support/daemon.js tests/support/chromium.js \
-	tests/support/render-glb.js tests/golden/golden.json
+	tests/support/gltf.js tests/support/render-glb.js tests/golden/golden.json
 
 if DIST_SUITE
 # distcheck's build of the tarball (AM_DISTCHECK_CONFIGURE_FLAGS gives it
@@ -109,6 +109,7 @@ EXTRA_DIST += \
 	tests/support/run-node.sh \
 	tests/support/daemon.js \
 	tests/support/chromium.js \
+	tests/support/gltf.js \
 	tests/api/health.test.js \
 	tests/api/static.test.js \
 	tests/api/cli.test.js \

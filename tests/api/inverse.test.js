@@ -10,7 +10,7 @@ const fs = require('node:fs');
 const os = require('node:os');
 const path = require('node:path');
 const http = require('node:http');
-const validator = require('gltf-validator');
+const { validates } = require('../support/gltf.js');
 const { startDaemon, api, sessionState, assertRestored } = require('../support/daemon.js');
 
 const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
@@ -35,13 +35,6 @@ function getText(base, p) {
         text: Buffer.concat(chunks).toString('utf8') }));
     }).on('error', reject);
   });
-}
-
-async function validates(bytes) {
-  const report = await validator.validateBytes(new Uint8Array(bytes), { maxIssues: 100 });
-  const messages = report.issues.messages.map((m) => `${m.code} ${m.pointer || ''}: ${m.message}`);
-  assert.equal(report.issues.numErrors, 0, messages.join('\n'));
-  assert.equal(report.issues.numWarnings, 0, messages.join('\n'));
 }
 
 // A trunk that reaches its height in the first half of the tree's life.

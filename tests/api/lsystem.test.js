@@ -8,7 +8,7 @@ const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const os = require('node:os');
 const path = require('node:path');
-const validator = require('gltf-validator');
+const { validates } = require('../support/gltf.js');
 const { startDaemon, api, sessionState, assertRestored } = require('../support/daemon.js');
 
 const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
@@ -35,13 +35,6 @@ async function glbOf(base, id) {
   const r = await api(base, 'GET', `/v1/sessions/${id}/snapshot.glb`);
   assert.equal(r.status, 200);
   return r.raw;
-}
-
-async function validates(bytes) {
-  const report = await validator.validateBytes(new Uint8Array(bytes), { maxIssues: 100 });
-  const messages = report.issues.messages.map((m) => `${m.code} ${m.pointer || ''}: ${m.message}`);
-  assert.equal(report.issues.numErrors, 0, messages.join('\n'));
-  assert.equal(report.issues.numWarnings, 0, messages.join('\n'));
 }
 
 test('an L-system session: create, step, a refused source, prune, bend; restored after kill -9', async (t) => {

@@ -9,7 +9,7 @@ const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const os = require('node:os');
 const path = require('node:path');
-const validator = require('gltf-validator');
+const { validates } = require('../support/gltf.js');
 const { startDaemon, api, sessionState, assertRestored } = require('../support/daemon.js');
 
 const artifact = (name, bytes) => fs.writeFileSync(path.join(process.env.MER_ARTIFACTS, name), bytes);
@@ -18,12 +18,6 @@ const SOW = {
   scene: { sow: { area: [[-20, -20], [20, 20]], count: 8, min_distance: 9, seed: 4,
     presets: ['fig4-colonization', 'runions-2007', 'default', 'abop-1.24b'] } },
 };
-
-async function validates(bytes) {
-  const report = await validator.validateBytes(new Uint8Array(bytes), { maxIssues: 100 });
-  const messages = report.issues.messages.map((m) => `${m.code} ${m.pointer || ''}: ${m.message}`);
-  assert.equal(report.issues.numErrors, 0, messages.join('\n'));
-}
 
 async function glbOf(base, id) {
   const r = await api(base, 'GET', `/v1/sessions/${id}/snapshot.glb`);
