@@ -222,6 +222,19 @@ void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3
     mer_shadow_direction(e->shadow, pos, dir, e->p.theta, e->p.shadow_dir, v);
 }
 
+float merp_env_cone(const merp_env *e)
+{
+    assert(e != NULL);
+    return merp_shadow_cone(e->p.theta);
+}
+
+void merp_env_direction_cell(const merp_env *e, uint32_t cell, const float dir[3], float cone,
+                             float v[3])
+{
+    assert(e != NULL && e->shadow != NULL);
+    merp_shadow_direction_cell(e->shadow, cell, dir, cone, e->p.shadow_dir, v);
+}
+
 void merp_env_direction_ahead(const merp_env *e, uint32_t cell)
 {
     assert(e != NULL && e->shadow != NULL);

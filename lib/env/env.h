@@ -117,6 +117,12 @@ static inline void merp_light_prefetch(const merp_light *l, uint32_t cell)
 #endif
 }
 void merp_env_direction(const merp_env *e, const float pos[3], const float dir[3], float v[3]);
+/* merp_env_direction of a bud in voxel `cell` (merp_env_cell of its place), bit
+ * for bit, the perception cone's cos(θ/2) given (merp_env_cone): a walk over many
+ * buds computes neither the voxel nor the cone again. O(26). */
+float merp_env_cone(const merp_env *e);
+void merp_env_direction_cell(const merp_env *e, uint32_t cell, const float dir[3], float cone,
+                             float v[3]);
 /* Asks the memory ahead for what merp_env_direction of a bud in voxel `cell`
  * reads: nine rows of the grid, far apart. */
 void merp_env_direction_ahead(const merp_env *e, uint32_t cell);
@@ -157,6 +163,11 @@ merp_light merp_shadow_light_view(const mer_shadow *sh, float c);
 /* Asks the memory for the 3 × 3 rows about voxel `cell` that
  * mer_shadow_direction reads. */
 void merp_shadow_prefetch_around(const mer_shadow *sh, uint32_t cell);
+/* cos(θ/2) of a perception cone of θ degrees (−1 from 360°), and
+ * mer_shadow_direction of a bud in voxel `cell` under that cone. */
+float merp_shadow_cone(float theta);
+void merp_shadow_direction_cell(const mer_shadow *sh, uint32_t cell, const float dir[3],
+                                float cos_half, uint32_t mode, float out[3]);
 void merp_shadow_light_cells(const mer_shadow *sh, const uint32_t *cells, size_t n, float c,
                              float *q);
 size_t merp_shadow_cells(const mer_shadow *sh);

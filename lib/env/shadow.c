@@ -372,12 +372,16 @@ static const nb neighbours[26] = {
     {1, 1, 1, {0.577350269f, 0.577350269f, 0.577350269f}},
 };
 
-void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float dir[3],
-                          float theta, uint32_t mode, float out[3])
+float merp_shadow_cone(float theta)
+{
+    return theta >= 360.0f ? -1.0f : cosf(theta * 0.5f * 0.017453292519943295f);
+}
+
+/* V of a bud in voxel c (mer_shadow_direction), the cone's cos(θ/2) given. */
+static void direction_at(const mer_shadow *sh, const int c[3], const float dir[3],
+                         float cos_half, uint32_t mode, float out[3])
 {
     out[0] = out[1] = out[2] = 0.0f;
-    int c[3];
-    mer_shadow_voxel_of(sh, p, c);
     if (mode == MER_SHADOW_DIR_GRADIENT) {
         float g[3] = {
             0.5f * (value_raw(sh, c[0] + 1, c[1], c[2]) - value_raw(sh, c[0] - 1, c[1], c[2])),
@@ -390,7 +394,6 @@ void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float di
                 out[a] = -g[a] / len;
         return;
     }
-    float cos_half = theta >= 360.0f ? -1.0f : cosf(theta * 0.5f * 0.017453292519943295f);
     int interior = c[0] > 0 && c[1] > 0 && c[2] > 0 && c[0] < sh->dim[0] - 1 &&
                    c[1] < sh->dim[1] - 1 && c[2] < sh->dim[2] - 1;
     const uint32_t *centre = sh->s + idx(sh, c[0], c[1], c[2]);
@@ -419,6 +422,22 @@ void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float di
     }
     if (found >= 0)
         memcpy(out, neighbours[found].u, 3 * sizeof *out);
+}
+
+void mer_shadow_direction(const mer_shadow *sh, const float p[3], const float dir[3],
+                          float theta, uint32_t mode, float out[3])
+{
+    int c[3];
+    mer_shadow_voxel_of(sh, p, c);
+    direction_at(sh, c, dir, merp_shadow_cone(theta), mode, out);
+}
+
+void merp_shadow_direction_cell(const mer_shadow *sh, uint32_t cell, const float dir[3],
+                                float cos_half, uint32_t mode, float out[3])
+{
+    merp_shadow_cast v = merp_shadow_cast_of(sh, cell, 0);
+    int c[3] = {v.i, v.j, v.k};
+    direction_at(sh, c, dir, cos_half, mode, out);
 }
 
 void merp_shadow_prefetch_around(const mer_shadow *sh, uint32_t cell)

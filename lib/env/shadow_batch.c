@@ -14,8 +14,9 @@
 #include "core/array.h"
 #include "env/env.h"
 
-#define RADIX_BITS 11
-#define RADIX (1u << RADIX_BITS)
+/* The widest digit of the radix sort: 2¹² counts stay in the L1 cache, and a grid
+ * of up to 2²⁴ voxels (256³) is sorted in two passes. */
+#define RADIX_BITS_MAX 12
 
 void merp_env_batch_begin(merp_env *e)
 {
@@ -39,18 +40,25 @@ void merp_env_batch_cast(merp_env *e, const float p[3], int sign)
     e->pend[e->npend++] = (uint64_t)merp_shadow_cell(e->shadow, p) << 1 | (sign < 0);
 }
 
-/* LSD radix sort of the keys by voxel (the sign bit is left unsorted). */
+/* LSD radix sort of the keys by voxel (the sign bit is left unsorted), in as
+ * few passes of digits as wide as the grid's voxel count needs. */
 static uint64_t *sort_keys(uint64_t *a, uint64_t *tmp, size_t n, size_t cells)
 {
-    for (unsigned shift = 1; ((cells - 1) >> (shift - 1)) != 0; shift += RADIX_BITS) {
-        size_t count[RADIX + 1];
-        memset(count, 0, sizeof count);
+    unsigned bits = 0;
+    while (bits < 64 && ((uint64_t)(cells - 1) >> bits) != 0)
+        bits++;
+    unsigned passes = (bits + RADIX_BITS_MAX - 1) / RADIX_BITS_MAX;
+    unsigned width = passes ? (bits + passes - 1) / passes : 0;
+    const uint64_t mask = ((uint64_t)1 << width) - 1;
+    size_t count[(1u << RADIX_BITS_MAX) + 1];
+    for (unsigned p = 0, shift = 1; p < passes; p++, shift += width) {
+        memset(count, 0, ((mask + 2) * sizeof *count));
         for (size_t t = 0; t < n; t++)
-            count[(a[t] >> shift & (RADIX - 1)) + 1]++;
-        for (unsigned d = 0; d < RADIX; d++)
+            count[(a[t] >> shift & mask) + 1]++;
+        for (uint64_t d = 0; d < mask; d++)
             count[d + 1] += count[d];
         for (size_t t = 0; t < n; t++)
-            tmp[count[a[t] >> shift & (RADIX - 1)]++] = a[t];
+            tmp[count[a[t] >> shift & mask]++] = a[t];
         uint64_t *x = a;
         a = tmp;
         tmp = x;

@@ -205,14 +205,13 @@ void merp_p09_directions(merp_model *m, const merp_world *w)
     /* V read from the grid now, for the few that grow; the voxels (m->cell) are
      * this round's, and each bud's 26 neighbours lie in nine rows far apart:
      * asked for a few buds ahead. */
+    const float cone = m->v_deferred ? merp_env_cone(w->env) : 0.0f;
     for (size_t b = 0; m->v_deferred && b < g; b++) {
         uint32_t key = m->bkey[b];
         if (b + DIRECTION_AHEAD < g)
             merp_env_direction_ahead(w->env, m->cell[m->bkey[b + DIRECTION_AHEAD] / 3]);
-        float pos[3];
-        merp_skel_node_end(w->sk, key / 3, pos);
         merp_skel_bud_dir(w->sk, key / 3, key % 3, m->bdir + 3 * b);
-        merp_env_direction(w->env, pos, m->bdir + 3 * b, m->bv + 3 * b);
+        merp_env_direction_cell(w->env, m->cell[key / 3], m->bdir + 3 * b, cone, m->bv + 3 * b);
     }
     m->v_deferred = 0;
 }
