@@ -14,7 +14,11 @@
 #define JUNCTION_DIAMETER_FRACTION 0.2f /* junction_diameter 0: this × the thickest */
 #define LATERAL_RATIO 0.25f  /* a lateral in a patch: at least this × its parent's diameter */
 #define SUPPORT_SEEN 0.8f    /* another primitive's field counts within this × its support */
-#define CUT_ROOM 0.85f       /* cuts take at most this fraction of an internode */
+#define MAX_SPAN 64u         /* a patch's shaft crosses at most this many internodes */
+#define CUT_GAP 0.1f         /* two patches' cuts in one internode: this × its radius apart */
+#define STRAIGHT 0.5f        /* a shaft's axis stays within this × its radius of one line ... */
+#define STRAIGHT_COS 0.9f    /* ... and its cut's internode within 25° of it */
+#define EXTEND 3.0f          /* a shaft's segment reaches this many cells past its cut */
 #define REACH 1.15f          /* a cut acts within this × its shaft's radius (+ h) */
 #define SHELL 1.6f           /* the surface stays within this × a shaft's radius of its axis */
 #define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
@@ -58,9 +62,9 @@ static void segment_of(const merp_builder *b, uint32_t id, merp_seg *s)
  * tube, and the patch's cost). */
 static float cell_of(const merp_builder *b, const merp_joint *jt)
 {
-    float h = radius_of(b, jt->node[MERP_CUT_IN]) / CELLS_PER_RADIUS;
+    float h = radius_of(b, jt->start[MERP_CUT_IN]) / CELLS_PER_RADIUS;
     for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
-        h = fminf(h, radius_of(b, jt->node[s]) / CELLS_PER_LATERAL_RADIUS);
+        h = fminf(h, radius_of(b, jt->start[s]) / CELLS_PER_LATERAL_RADIUS);
     return h;
 }
 
@@ -96,14 +100,155 @@ static float years_since(const merp_builder *b, uint32_t born)
     return b->step > born + 1 ? (float)(b->step - born) : 1.0f;
 }
 
-/* Plans the fork at P's tip into jt (cuts, field); false when it does not fit. */
-static bool plan_one(merp_builder *b, uint32_t P, const float *base_claim, merp_joint *jt)
+/* What the patches planned so far cover, by node id: an internode is
+ * claimed from its base up to lo[id] (a patch's out or lateral shaft ends
+ * in it) and from hi[id] up to its tip (an in shaft begins in it); a node
+ * inside a patch has lo = its length, hi = 0. */
+typedef struct claims {
+    float *lo, *hi;
+} claims;
+
+/* The centre of the cut at `at` along internode id. */
+static void point_on(const mer_node *n, float at, float o[3])
+{
+    for (int k = 0; k < 3; k++)
+        o[k] = n->base[k] + at * n->dir[k];
+}
+
+/* Cut s of jt: `need` along its shaft's axis from J, forwards from J at the
+ * base of `first` or, `back`, backwards from J at its tip; across as many
+ * internodes as that takes (short internodes of a thick axis), none of them
+ * claimed by another patch, none a living tip's cone. Sets node[s], at[s];
+ * with `mark`, claims what the shaft covers. False when it does not fit. */
+static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back, float need, bool mark,
+                   merp_joint *jt, uint32_t s)
+{
+    float arc = 0.0f;
+    uint32_t id = first;
+    for (uint32_t passed = 0;; passed++) {
+        if (!usable(b, id) || passed > MAX_SPAN)
+            return false;
+        const mer_node *n = &b->nodes[id];
+        float len = n->length, gap = CUT_GAP * radius_of(b, id);
+        if (arc + len > need) {
+            float at = back ? len - (need - arc) : need - arc;
+            bool taken = back ? at <= cl->lo[id] + gap || cl->hi[id] < len : cl->lo[id] > 0.0f || at >= cl->hi[id] - gap;
+            if (taken)
+                return false;
+            if (mark && back)
+                cl->hi[id] = at;
+            else if (mark)
+                cl->lo[id] = at;
+            jt->node[s] = id, jt->at[s] = at;
+            return true;
+        }
+        if (cl->lo[id] > 0.0f || cl->hi[id] < len)
+            return false;
+        if (mark)
+            cl->lo[id] = len, cl->hi[id] = 0.0f;
+        arc += len;
+        uint32_t next = back ? n->parent : n->main_child;
+        if (back && (next == MER_NO_NODE || b->nodes[next].main_child != id))
+            return false;
+        id = next;
+    }
+}
+
+/* Whether the axis from J to cut s is straight enough to be one segment of
+ * the field: every internode boundary between them within STRAIGHT × r of
+ * the line from J to the cut's centre (inside the shaft's tube), and the
+ * cut's internode, whose tube goes on from the cut ring, along it. */
+static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first, uint32_t s, const float J[3],
+                     float r)
+{
+    const float *dir = b->nodes[jt->node[s]].dir, *u = jt->n[s];
+    float D = jt->d[s];
+    if (D <= 0.0f || fabsf(v3_dot(u, dir)) < STRAIGHT_COS)
+        return false;
+    for (uint32_t id = first; id != jt->node[s];) {
+        const mer_node *n = &b->nodes[id];
+        float q[3], e[3];
+        if (s == MERP_CUT_IN)
+            memcpy(q, n->base, sizeof q);
+        else
+            merp_tip_of(n, q);
+        for (int k = 0; k < 3; k++)
+            q[k] -= J[k];
+        v3_cross(q, u, e);
+        if (v3_len(e) > STRAIGHT * r * D)
+            return false;
+        id = s == MERP_CUT_IN ? n->parent : n->main_child;
+    }
+    return true;
+}
+
+/* Shaft s's segment of the field: the straight line from its start at J
+ * through its cut's centre, reaching EXTEND cells past it (so the surface
+ * at the cut is the plain tube), its radius r0 at J and the tube's at the cut. */
+static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t s, const float J[3], float r0,
+                          float h, merp_seg *g)
+{
+    const mer_node *n = &b->nodes[jt->node[s]];
+    float f = n->length > 0.0f ? jt->at[s] / n->length : 0.0f;
+    float r_cut = radius_of(b, jt->node[s]) + f * (end_radius(b, jt->node[s]) - radius_of(b, jt->node[s]));
+    float D = jt->d[s], E = D + EXTEND * h;
+    float r_far = fmaxf(r0 + (r_cut - r0) * E / D, 0.5f * r_cut), Q[3];
+    for (int k = 0; k < 3; k++)
+        Q[k] = J[k] + jt->n[s][k] * E;
+    if (s == MERP_CUT_IN) {
+        memcpy(g->a, Q, sizeof g->a), memcpy(g->b, J, sizeof g->b);
+        g->ra = r_far, g->rb = r0;
+    } else {
+        memcpy(g->a, J, sizeof g->a), memcpy(g->b, Q, sizeof g->b);
+        g->ra = r0, g->rb = r_far;
+    }
+}
+
+/* Places jt's cuts (see follow), `need` each from J, and with them its
+ * field's shafts; with `mark`, claims them. False when one does not fit. */
+static bool place_cuts(const merp_builder *b, claims *cl, const uint32_t *first, const float *need, float h,
+                       bool mark, merp_joint *jt)
+{
+    merp_junction *f = &jt->field;
+    float J[3];
+    memcpy(J, f->in.b, sizeof J);
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        bool back = s == MERP_CUT_IN;
+        if (!follow(b, cl, first[s], back, need[s], mark, jt, s))
+            return false;
+        point_on(&b->nodes[jt->node[s]], jt->at[s], jt->o[s]);
+        /* The cut plane is square to the shaft's segment, and so is the
+         * tube's cut ring (tube.c), which is then a cross-section of the
+         * segment's capsule however the axis bends beyond it. */
+        const float *from = s < MERP_CUT_LATERAL ? J : b->nodes[first[s]].base;
+        for (int k = 0; k < 3; k++)
+            jt->n[s][k] = jt->o[s][k] - from[k];
+        jt->d[s] = v3_len(jt->n[s]);
+        if (!v3_normalize(jt->n[s]))
+            return false;
+        if (!mark && !straight(b, jt, first[s], s, from, radius_of(b, first[s])))
+            return false;
+    }
+    if (!mark) {
+        merp_seg *g[MERP_PATCH_CUTS] = {&f->in, &f->out, &f->lateral[0], &f->lateral[1]};
+        for (uint32_t s = 0; s < jt->cuts; s++) {
+            const float *from = s < MERP_CUT_LATERAL ? J : b->nodes[first[s]].base;
+            shaft_segment(b, jt, s, from, s == MERP_CUT_IN ? end_radius(b, first[s]) : radius_of(b, first[s]), h,
+                          g[s]);
+        }
+    }
+    return true;
+}
+
+/* Plans the fork at P's tip into jt (cuts, field); false when it does not
+ * fit between the patches planned so far. */
+static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
 {
     const mer_node *p = &b->nodes[P];
     uint32_t C = p->main_child;
     if (!usable(b, P) || !usable(b, C))
         return false;
-    *jt = (merp_joint){.node = {P, C}, .cuts = 2};
+    *jt = (merp_joint){.start = {P, C}, .cuts = 2};
     merp_junction *f = &jt->field;
     segment_of(b, P, &f->in);
     segment_of(b, C, &f->out);
@@ -119,67 +264,116 @@ static bool plan_one(merp_builder *b, uint32_t P, const float *base_claim, merp_
         if (a == NULL || merp_mesh_is_twig(b, a) || v3_len(gap) > 1e-4f * (1.0f + v3_len(f->in.b)))
             continue;
         segment_of(b, L, &f->lateral[f->laterals]);
-        jt->node[jt->cuts++] = L;
+        jt->start[jt->cuts++] = L;
         f->laterals++;
     }
     if (f->laterals == 0)
         return false;
     float h = cell_of(b, jt);
     /* Each shaft's direction away from J, and its primitives' supports. */
-    float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS];
+    float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS], need[MERP_PATCH_CUTS];
+    uint32_t first[MERP_PATCH_CUTS];
     for (int i = 0; i < 3; i++)
         dir[MERP_CUT_IN][i] = -p->dir[i];
     for (uint32_t s = 1; s < jt->cuts; s++)
-        memcpy(dir[s], b->nodes[jt->node[s]].dir, sizeof dir[s]);
+        memcpy(dir[s], b->nodes[jt->start[s]].dir, sizeof dir[s]);
     for (uint32_t s = 0; s < jt->cuts; s++) {
         const merp_seg *g = s == 0 ? &f->in : s == 1 ? &f->out : &f->lateral[s - 2];
         R[s] = SUPPORT_SEEN * merp_seg_support(g);
+        first[s] = jt->start[s];
     }
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        float r = radius_of(b, jt->node[s]), rho = REACH * r + h, d = r;
+        float r = radius_of(b, jt->start[s]), rho = REACH * r + h, d = r;
         for (uint32_t o = 0; o < jt->cuts; o++) {
             if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
                 continue;
-            float need = clear_of(dir[s], dir[o], R[o], rho);
-            if (need < 0.0f)
+            float c = clear_of(dir[s], dir[o], R[o], rho);
+            if (c < 0.0f)
                 return false;
-            d = fmaxf(d, need);
+            d = fmaxf(d, c);
         }
-        jt->d[s] = d + 2.0f * h;
-        float room = CUT_ROOM * b->nodes[jt->node[s]].length - (s == 0 ? base_claim[P] : 0.0f);
-        if (jt->d[s] > room)
-            return false;
+        need[s] = d + 2.0f * h;
     }
+    if (!place_cuts(b, cl, first, need, h, false, jt))
+        return false;
+    place_cuts(b, cl, first, need, h, true, jt);
     float ridge_up[3];
     memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
     /* The bark ages with the oldest lateral (G04 Fig. 7). The parent's bud
      * scale scar exists only where J ends one season's shoot and C begins the
      * next's, and ages with C's shoot. */
-    uint32_t born = b->nodes[jt->node[2]].born;
+    uint32_t born = b->nodes[first[2]].born;
     for (uint32_t k = 1; k < f->laterals; k++)
-        born = born < b->nodes[jt->node[2 + k]].born ? born : b->nodes[jt->node[2 + k]].born;
+        born = born < b->nodes[first[2 + k]].born ? born : b->nodes[first[2 + k]].born;
     merp_junction_age(f, ridge_up, years_since(b, born));
     f->scar_weight = b->nodes[C].born == p->born ? 0.0f : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
     return true;
 }
 
+/* A fork that may get a patch, and its thickest lateral's diameter. */
+typedef struct candidate {
+    float key;
+    uint32_t id;
+} candidate;
+
+static int candidate_cmp(const void *x, const void *y)
+{
+    const candidate *a = x, *b = y;
+    if (a->key != b->key)
+        return a->key > b->key ? -1 : 1;
+    return (a->id > b->id) - (a->id < b->id);
+}
+
+/* The forks at least `threshold` thick with a lateral of LATERAL_RATIO,
+ * thickest lateral first (ties by id): where patches compete for the short
+ * internodes of an axis, the thickest branches get them. *count is set. */
+static candidate *candidates(const merp_builder *b, float threshold, uint32_t *count)
+{
+    uint32_t n = 0;
+    candidate *c = merp_malloc((b->node_count ? b->node_count : 1) * sizeof *c);
+    if (c == NULL)
+        return NULL;
+    for (uint32_t id = 0; id < b->node_count; id++) {
+        const mer_node *p = &b->nodes[id];
+        if (!p->alive || p->diameter < threshold)
+            continue;
+        float key = 0.0f;
+        for (int k = 0; k < 2; k++) {
+            uint32_t L = p->lateral_child[k];
+            if (L != MER_NO_NODE && b->nodes[L].alive && b->nodes[L].diameter >= LATERAL_RATIO * p->diameter)
+                key = fmaxf(key, b->nodes[L].diameter);
+        }
+        if (key > 0.0f)
+            c[n++] = (candidate){key, id};
+    }
+    qsort(c, n, sizeof *c, candidate_cmp);
+    *count = n;
+    return c;
+}
+
 static mer_result plan(merp_builder *b, mer_error *err)
 {
-    size_t n = b->node_count;
-    b->joint_at = merp_malloc((n ? n : 1) * sizeof *b->joint_at);
-    b->lateral_in = merp_malloc((n ? n : 1) * sizeof *b->lateral_in);
-    float *base_claim = merp_calloc(n ? n : 1, sizeof *base_claim);
-    uint32_t cap = 0;
-    mer_result rc = MER_OK;
-    if (b->joint_at == NULL || b->lateral_in == NULL || base_claim == NULL)
-        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
-    for (size_t i = 0; i < n && rc == MER_OK; i++)
-        b->joint_at[i] = b->lateral_in[i] = UINT32_MAX;
+    size_t n = b->node_count, m = n ? n : 1;
+    b->joint_at = merp_malloc(m * sizeof *b->joint_at);
+    b->lateral_in = merp_malloc(m * sizeof *b->lateral_in);
+    b->cut_end = merp_malloc(m * sizeof *b->cut_end);
+    b->cut_begin = merp_malloc(m * sizeof *b->cut_begin);
+    claims cl = {merp_malloc(m * sizeof *cl.lo), merp_malloc(m * sizeof *cl.hi)};
     float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
                                                       : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
+    uint32_t cap = 0, count = 0;
+    candidate *c = candidates(b, threshold, &count);
+    mer_result rc = MER_OK;
+    if (!b->joint_at || !b->lateral_in || !b->cut_end || !b->cut_begin || !cl.lo || !cl.hi || !c)
+        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
+    for (size_t i = 0; i < n && rc == MER_OK; i++) {
+        b->joint_at[i] = b->lateral_in[i] = b->cut_end[i] = b->cut_begin[i] = UINT32_MAX;
+        cl.lo[i] = 0.0f, cl.hi[i] = INFINITY;
+    }
     merp_joint jt;
-    for (uint32_t id = 0; id < n && rc == MER_OK; id++) {
-        if (!b->nodes[id].alive || b->nodes[id].diameter < threshold || !plan_one(b, id, base_claim, &jt))
+    for (uint32_t i = 0; i < count && rc == MER_OK; i++) {
+        uint32_t id = c[i].id;
+        if (!plan_one(b, &cl, id, &jt))
             continue;
         if (b->joint_count == cap) {
             cap = cap ? 2 * cap : 16;
@@ -193,14 +387,15 @@ static mer_result plan(merp_builder *b, mer_error *err)
         jt.ok = true;
         b->joints[b->joint_count] = jt;
         b->joint_at[id] = b->joint_count;
+        b->cut_begin[jt.node[MERP_CUT_IN]] = b->joint_count;
         for (uint32_t s = 1; s < jt.cuts; s++) {
-            base_claim[jt.node[s]] = jt.d[s];
+            b->cut_end[jt.node[s]] = b->joint_count * MERP_PATCH_CUTS + s;
             if (s >= MERP_CUT_LATERAL)
-                b->lateral_in[jt.node[s]] = b->joint_count * MERP_PATCH_CUTS + s;
+                b->lateral_in[jt.start[s]] = b->joint_count * MERP_PATCH_CUTS + s;
         }
         b->joint_count++;
     }
-    merp_free(base_claim);
+    merp_free(c), merp_free(cl.lo), merp_free(cl.hi);
     return rc;
 }
 
@@ -208,26 +403,29 @@ static mer_result plan(merp_builder *b, mer_error *err)
 static void unplan(merp_builder *b, merp_joint *jt)
 {
     jt->ok = false;
-    b->joint_at[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    b->joint_at[jt->start[MERP_CUT_IN]] = UINT32_MAX;
+    b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    for (uint32_t s = 1; s < jt->cuts; s++)
+        b->cut_end[jt->node[s]] = UINT32_MAX;
     for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
-        b->lateral_in[jt->node[s]] = UINT32_MAX;
+        b->lateral_in[jt->start[s]] = UINT32_MAX;
 }
 
-/* Each axis's joints and, for a lateral not in a patch, its base disk; with
- * `record`, the cut rings of the axes that have any. */
+/* Each axis's ring counts and, for a lateral not in a patch, its base
+ * disk; with `record`, the cut rings of the axes that have any. */
 static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
 {
     for (uint32_t i = 0; i < b->axis_count; i++) {
         merp_axis *a = &b->axes[i];
         const mer_node *first = &b->nodes[a->first];
-        bool starts_in = b->lateral_in[a->first] != UINT32_MAX;
+        bool starts_in = b->lateral_in[a->first] != UINT32_MAX, cuts = starts_in;
         a->base_cap = first->parent == MER_NO_NODE || !starts_in;
-        a->joints = 0;
+        a->extra_rings = 0, a->lost_bands = 0;
         uint32_t id = a->first;
-        for (uint32_t k = 0; k + 1 < a->count; k++, id = b->nodes[id].main_child)
-            a->joints += b->joint_at[id] != UINT32_MAX;
-        if (record && (a->joints > 0 || starts_in)) {
-            mer_result rc = merp_mesh_record_rings(b, a, err);
+        for (uint32_t k = 0; k < a->count && !cuts; k++, id = b->nodes[id].main_child)
+            cuts = b->cut_begin[id] != UINT32_MAX || b->cut_end[id] != UINT32_MAX;
+        if (cuts) {
+            mer_result rc = merp_mesh_record_rings(b, a, record, err);
             if (rc != MER_OK)
                 return rc;
         }
@@ -235,8 +433,8 @@ static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
     return MER_OK;
 }
 
-/* The grid of jt's patch: the box of every shaft from J to just past its cut,
- * grown by the shell its surface stays in, with cells of h. */
+/* The grid of jt's patch: the box of every shaft from J to just past its
+ * cut, grown by the shell its surface stays in, with cells of h. */
 static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g)
 {
     const float *J = jt->field.in.b;
@@ -244,11 +442,9 @@ static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, mer
     for (int k = 0; k < 3; k++)
         lo[k] = hi[k] = J[k];
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        const mer_node *n = &b->nodes[jt->node[s]];
-        float sign = s == MERP_CUT_IN ? -1.0f : 1.0f, reach = jt->d[s] + 2.0f * h;
-        float e = SHELL * fmaxf(radius_of(b, jt->node[s]), s < 2 ? radius_of(b, jt->node[0]) : 0.0f) + 2.0f * h;
+        float e = SHELL * fmaxf(radius_of(b, jt->start[s]), s < 2 ? radius_of(b, jt->start[0]) : 0.0f) + 2.0f * h;
         for (int k = 0; k < 3; k++) {
-            float end = J[k] + sign * reach * n->dir[k];
+            float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
             lo[k] = fminf(lo[k], fminf(J[k], end) - e);
             hi[k] = fmaxf(hi[k], fmaxf(J[k], end) + e);
         }
@@ -284,17 +480,13 @@ static uint32_t nearest_shaft(const merp_joint *jt, const float p[3])
 static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, const float p[3],
                      float uv[2])
 {
-    const mer_node *n = &b->nodes[jt->node[s]];
-    float o[3], q[3];
-    float at = s == MERP_CUT_IN ? n->length - jt->d[s] : jt->d[s];
-    for (int k = 0; k < 3; k++) {
-        o[k] = n->base[k] + at * n->dir[k];
-        q[k] = p[k] - o[k];
-    }
+    float q[3];
+    for (int k = 0; k < 3; k++)
+        q[k] = p[k] - jt->o[s][k];
     float r = radius_of(b, jt->node[s]) + end_radius(b, jt->node[s]);
     float u = atan2f(v3_dot(q, jt->frame[s][1]), v3_dot(q, jt->frame[s][0])) / MERP_TWO_PI;
     uv[0] = u < 0.0f ? u + 1.0f : u;
-    uv[1] = jt->v[s] + v3_dot(q, n->dir) / (MERP_TWO_PI * 0.5f * r);
+    uv[1] = jt->v[s] + (s == MERP_CUT_IN ? -1.0f : 1.0f) * v3_dot(q, jt->n[s]) / (MERP_TWO_PI * 0.5f * r);
 }
 
 /* Gives a vertex of u < ½ in every triangle that spans the seam (u jumps
@@ -341,6 +533,25 @@ static float bark_mark(const merp_junction *f, const float p[3])
     return b;
 }
 
+/* How much of the bark's mark shows at p: 1 in the patch, falling smoothly
+ * to 0 over the last radius before each cut, so that b (0 on the tubes)
+ * and with it the bark's colour are continuous across the cut rings. */
+static float mark_fade(const merp_builder *b, const merp_joint *jt, const float p[3])
+{
+    float w = 1.0f;
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        float q[3], r = radius_of(b, jt->start[s]);
+        for (int k = 0; k < 3; k++)
+            q[k] = jt->o[s][k] - p[k];
+        float x = v3_dot(q, jt->n[s]) / r;
+        if (x < 1.0f && v3_dot(q, q) - x * x * r * r <= SHELL * SHELL * r * r) {
+            x = fmaxf(x, 0.0f);
+            w = fminf(w, x * x * (3.0f - 2.0f * x));
+        }
+    }
+    return w;
+}
+
 /* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
  * rings shade as the tubes), shafts, ridge b = F_b, UVs (ring copies exactly
  * the ring's), then the seam split. */
@@ -357,7 +568,7 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
             nr[k] = -nr[k];
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
-        jt->ridge[v] = bark_mark(&jt->field, p);
+        jt->ridge[v] = bark_mark(&jt->field, p) * mark_fade(b, jt, p);
         uint32_t s = nearest_shaft(jt, p);
         uint32_t r = v - ring_first, j = r;
         if (v >= ring_first) /* a ring copy: its cut and place on the ring */
@@ -368,6 +579,7 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
         if (v >= ring_first) {
             jt->uvs[2 * v] = (float)j / (float)jt->sides[s];
             jt->uvs[2 * v + 1] = jt->v[s];
+            memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float));
         }
     }
     if (!b->opt.no_uvs)
@@ -406,14 +618,10 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
     if (!patch_grid(b, jt, h, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        const mer_node *n = &b->nodes[jt->node[s]];
         merp_cut *c = &pt.cut[s];
-        float sign = s == MERP_CUT_IN ? -1.0f : 1.0f;
-        for (int k = 0; k < 3; k++) {
-            c->o[k] = jt->field.in.b[k] + sign * jt->d[s] * n->dir[k];
-            c->n[k] = sign * n->dir[k];
-        }
-        c->reach = REACH * radius_of(b, jt->node[s]) + h;
+        memcpy(c->o, jt->o[s], sizeof c->o);
+        memcpy(c->n, jt->n[s], sizeof c->n);
+        c->reach = REACH * radius_of(b, jt->start[s]) + h;
         c->ring = jt->ring[s];
         c->sides = jt->sides[s];
     }
@@ -543,7 +751,7 @@ mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err)
         mer_mesh_part *part = c->part;
         uint32_t first = merp_take_vertices(c, m->vertex_count);
         for (uint32_t v = 0; v < m->vertex_count; v++) {
-            const mer_node *n = &b->nodes[jt->node[jt->shaft[v]]];
+            const mer_node *n = &b->nodes[jt->start[jt->shaft[v]]];
             const float *uv = jt->uvs + 2 * (size_t)v;
             merp_set_vertex(part, first + v, m->positions + 3 * (size_t)v, m->normals + 3 * (size_t)v,
                             uv[0], uv[1], n->id);
@@ -568,4 +776,6 @@ void merp_mesh_joints_free(merp_builder *b)
     merp_free(b->joints);
     merp_free(b->joint_at);
     merp_free(b->lateral_in);
+    merp_free(b->cut_end);
+    merp_free(b->cut_begin);
 }
