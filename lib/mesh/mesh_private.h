@@ -167,6 +167,27 @@ static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id
     return &b->joints[b->joint_at[id]];
 }
 
+#define MERP_JOINT_REACH 1.15f /* a cut acts within this × its shaft's radius (+ h) */
+
+static inline float merp_node_radius(const merp_builder *b, uint32_t id)
+{
+    return 0.5f * b->nodes[id].diameter;
+}
+
+/* The radius at the end of internode id, as tube.c's next ring has it. */
+static inline float merp_node_end_radius(const merp_builder *b, uint32_t id)
+{
+    uint32_t c = b->nodes[id].main_child;
+    return c != MER_NO_NODE && b->nodes[c].alive ? merp_node_radius(b, c) : merp_node_radius(b, id);
+}
+
+/* joints_plan.c: plans the forks to patch into b->joints, their cuts and
+ * fields, and the node maps tube.c follows (joint_at, lateral_in, cut_end,
+ * cut_begin). Errors: MER_ERR_NOMEM. */
+mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err);
+/* A patch's grid spacing (joints_plan.c). */
+float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
+
 /* With implicit junctions: plans the forks to patch (cut distances that fit
  * their internodes), records their rings (a dry run of tube.c), builds each
  * patch (a fork whose patch fails stays tubes), and sets every axis's
