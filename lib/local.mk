@@ -119,6 +119,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/color.c \
 	lib/mesh/joints.c \
 	lib/mesh/joints_close.c \
+	lib/mesh/joints_plan.c \
 	lib/mesh/implicit/implicit.h \
 	lib/mesh/implicit/segment.c \
 	lib/mesh/implicit/blend.c \

@@ -69,12 +69,15 @@
  * field (summation blend, PCM and generalized bounded blending: the branch bark
  * ridge) is polygonized in a small grid sized to its radii, each shaft's tube
  * ends at an extra ring just outside the other primitives' supports, and the
- * patch is stitched to those rings, so bark is one closed surface there. A fork
- * whose cuts do not fit in its internodes (short, thick internodes; laterals
- * nearly along their parent) stays tubes. In this mode every lateral that is
- * not in a patch gets a base disk, so the whole bark is closed (a 2-manifold
- * once vertices of equal position are welded; the UV seams and disks keep
- * their own vertices). Each bark vertex then carries b = F_b(p), the bounding
+ * patch is stitched to those rings, so bark is one closed surface there; a
+ * shaft runs across as many short internodes as its cut needs while its axis
+ * stays nearly straight, and the tube and the patch share each ring vertex's
+ * normal and b. A fork whose axes bend too much there, whose cuts would fall in
+ * another fork's patch (thickest laterals are served first) or a living tip,
+ * or whose laterals run nearly along their parent, stays tubes. In this mode
+ * every lateral that is not in a patch gets a base disk, so the whole bark is
+ * closed (a 2-manifold once vertices of equal position are welded; the UV
+ * seams and disks keep their own vertices). Each bark vertex then carries b = F_b(p), the bounding
  * field's value (0 on tubes, up to 1 on the ridge and on a fresh bud scale
  * scar: the larger of the laterals' F_b and the parent's scar's weighted
  * F_b), in `ridge` (glTF `_RIDGE`); with a colour mode the colour is darkened by it. Patch UVs

@@ -54,7 +54,8 @@ mer_result merp_mesh_collect_axes(merp_builder *b, mer_error *err)
         a->first = id;
         a->count = 1;
         a->base_cap = trunk;
-        a->joints = 0;
+        a->extra_rings = 0;
+        a->lost_bands = 0;
         uint32_t last = id;
         while (alive(b, b->nodes[last].main_child)) {
             last = b->nodes[last].main_child;

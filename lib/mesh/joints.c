@@ -1,7 +1,7 @@
 /* meristem — implicit junctions in the bark (meristem/mesh.h, Junctions; G04
- * §3, issue 18): which forks get a patch, where their shafts are cut, the
- * patches built (lib/mesh/implicit/) with their UVs and ridge values, and
- * written into the bark part. tube.c writes the cut rings. */
+ * §3, issue 18): the patches of the forks joints_plan.c planned, built
+ * (lib/mesh/implicit/) with their UVs and ridge values, and written into the
+ * bark part. tube.c writes the cut rings. */
 #include "config.h"
 
 #include <math.h>
@@ -11,223 +11,36 @@
 #include "core/parallel.h"
 #include "mesh_private.h"
 
-#define JUNCTION_DIAMETER_FRACTION 0.2f /* junction_diameter 0: this × the thickest */
-#define LATERAL_RATIO 0.25f  /* a lateral in a patch: at least this × its parent's diameter */
-#define SUPPORT_SEEN 0.8f    /* another primitive's field counts within this × its support */
-#define CUT_ROOM 0.85f       /* cuts take at most this fraction of an internode */
-#define REACH 1.15f          /* a cut acts within this × its shaft's radius (+ h) */
 #define SHELL 1.6f           /* the surface stays within this × a shaft's radius of its axis */
-#define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
-#define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
-#define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
 #define MAX_CELLS 200000u    /* a patch's grid at most; a fork that needs more stays tubes */
-
-static float radius_of(const merp_builder *b, uint32_t id)
-{
-    return 0.5f * b->nodes[id].diameter;
-}
-
-/* The radius at the end of internode id, as tube.c's next ring has it. */
-static float end_radius(const merp_builder *b, uint32_t id)
-{
-    uint32_t c = b->nodes[id].main_child;
-    return c != MER_NO_NODE && b->nodes[c].alive ? radius_of(b, c) : radius_of(b, id);
-}
-
-/* A living tip's last internode is a cone (tube.c): no cut fits in it. */
-static bool usable(const merp_builder *b, uint32_t id)
-{
-    if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || b->nodes[id].length <= 0.0f)
-        return false;
-    const mer_node *n = &b->nodes[id];
-    bool child = n->main_child != MER_NO_NODE && b->nodes[n->main_child].alive;
-    return child || n->terminal_bud == MER_BUD_NONE;
-}
-
-static void segment_of(const merp_builder *b, uint32_t id, merp_seg *s)
-{
-    const mer_node *n = &b->nodes[id];
-    memcpy(s->a, n->base, sizeof s->a);
-    merp_tip_of(n, s->b);
-    s->ra = radius_of(b, id);
-    s->rb = end_radius(b, id);
-}
-
-/* A patch's grid spacing: a few cells across the parent, about one across
- * its thinnest lateral's radius (enough for marching tetrahedra to keep the
- * tube, and the patch's cost). */
-static float cell_of(const merp_builder *b, const merp_joint *jt)
-{
-    float h = radius_of(b, jt->node[MERP_CUT_IN]) / CELLS_PER_RADIUS;
-    for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
-        h = fminf(h, radius_of(b, jt->node[s]) / CELLS_PER_LATERAL_RADIUS);
-    return h;
-}
-
-static int axis_cmp(const void *key, const void *elem)
-{
-    uint32_t id = *(const uint32_t *)key, first = ((const merp_axis *)elem)->first;
-    return id < first ? -1 : id > first;
-}
-
-static const merp_axis *axis_from(const merp_builder *b, uint32_t first)
-{
-    return bsearch(&first, b->axes, b->axis_count, sizeof *b->axes, axis_cmp);
-}
-
-/* How far along n from J a cut of a shaft of radius r (reach ρ) must lie to
- * be clear of a primitive leaving J along m with support R: the disk at d
- * is at least d·sin φ − ρ from that primitive's axis (φ between n and m), or
- * d when m points back. -1 when they are too close to parallel. */
-static float clear_of(const float n[3], const float m[3], float R, float rho)
-{
-    float c = v3_dot(n, m);
-    if (c <= 0.0f)
-        return R;
-    float s = sqrtf(fmaxf(0.0f, 1.0f - c * c));
-    return s < 0.2f ? -1.0f : (R + rho) / s;
-}
-
-/* The years of a shoot made in step `born`: 1 in the season it appears (a
- * node made in the last step has born = step − 1: the step count is raised
- * after the model's step). */
-static float years_since(const merp_builder *b, uint32_t born)
-{
-    return b->step > born + 1 ? (float)(b->step - born) : 1.0f;
-}
-
-/* Plans the fork at P's tip into jt (cuts, field); false when it does not fit. */
-static bool plan_one(merp_builder *b, uint32_t P, const float *base_claim, merp_joint *jt)
-{
-    const mer_node *p = &b->nodes[P];
-    uint32_t C = p->main_child;
-    if (!usable(b, P) || !usable(b, C))
-        return false;
-    *jt = (merp_joint){.node = {P, C}, .cuts = 2};
-    merp_junction *f = &jt->field;
-    segment_of(b, P, &f->in);
-    segment_of(b, C, &f->out);
-    f->w = PCM_WIDTH;
-    for (int k = 0; k < 2; k++) {
-        uint32_t L = p->lateral_child[k];
-        if (!usable(b, L) || b->nodes[L].diameter < LATERAL_RATIO * p->diameter)
-            continue;
-        const merp_axis *a = axis_from(b, L);
-        float gap[3];
-        for (int i = 0; i < 3; i++)
-            gap[i] = b->nodes[L].base[i] - f->in.b[i];
-        if (a == NULL || merp_mesh_is_twig(b, a) || v3_len(gap) > 1e-4f * (1.0f + v3_len(f->in.b)))
-            continue;
-        segment_of(b, L, &f->lateral[f->laterals]);
-        jt->node[jt->cuts++] = L;
-        f->laterals++;
-    }
-    if (f->laterals == 0)
-        return false;
-    float h = cell_of(b, jt);
-    /* Each shaft's direction away from J, and its primitives' supports. */
-    float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS];
-    for (int i = 0; i < 3; i++)
-        dir[MERP_CUT_IN][i] = -p->dir[i];
-    for (uint32_t s = 1; s < jt->cuts; s++)
-        memcpy(dir[s], b->nodes[jt->node[s]].dir, sizeof dir[s]);
-    for (uint32_t s = 0; s < jt->cuts; s++) {
-        const merp_seg *g = s == 0 ? &f->in : s == 1 ? &f->out : &f->lateral[s - 2];
-        R[s] = SUPPORT_SEEN * merp_seg_support(g);
-    }
-    for (uint32_t s = 0; s < jt->cuts; s++) {
-        float r = radius_of(b, jt->node[s]), rho = REACH * r + h, d = r;
-        for (uint32_t o = 0; o < jt->cuts; o++) {
-            if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
-                continue;
-            float need = clear_of(dir[s], dir[o], R[o], rho);
-            if (need < 0.0f)
-                return false;
-            d = fmaxf(d, need);
-        }
-        jt->d[s] = d + 2.0f * h;
-        float room = CUT_ROOM * b->nodes[jt->node[s]].length - (s == 0 ? base_claim[P] : 0.0f);
-        if (jt->d[s] > room)
-            return false;
-    }
-    float ridge_up[3];
-    memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
-    /* The bark ages with the oldest lateral (G04 Fig. 7). The parent's bud
-     * scale scar exists only where J ends one season's shoot and C begins the
-     * next's, and ages with C's shoot. */
-    uint32_t born = b->nodes[jt->node[2]].born;
-    for (uint32_t k = 1; k < f->laterals; k++)
-        born = born < b->nodes[jt->node[2 + k]].born ? born : b->nodes[jt->node[2 + k]].born;
-    merp_junction_age(f, ridge_up, years_since(b, born));
-    f->scar_weight = b->nodes[C].born == p->born ? 0.0f : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
-    return true;
-}
-
-static mer_result plan(merp_builder *b, mer_error *err)
-{
-    size_t n = b->node_count;
-    b->joint_at = merp_malloc((n ? n : 1) * sizeof *b->joint_at);
-    b->lateral_in = merp_malloc((n ? n : 1) * sizeof *b->lateral_in);
-    float *base_claim = merp_calloc(n ? n : 1, sizeof *base_claim);
-    uint32_t cap = 0;
-    mer_result rc = MER_OK;
-    if (b->joint_at == NULL || b->lateral_in == NULL || base_claim == NULL)
-        rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
-    for (size_t i = 0; i < n && rc == MER_OK; i++)
-        b->joint_at[i] = b->lateral_in[i] = UINT32_MAX;
-    float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
-                                                      : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
-    merp_joint jt;
-    for (uint32_t id = 0; id < n && rc == MER_OK; id++) {
-        if (!b->nodes[id].alive || b->nodes[id].diameter < threshold || !plan_one(b, id, base_claim, &jt))
-            continue;
-        if (b->joint_count == cap) {
-            cap = cap ? 2 * cap : 16;
-            merp_joint *grown = merp_realloc(b->joints, cap * sizeof *grown);
-            if (grown == NULL) {
-                rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
-                break;
-            }
-            b->joints = grown;
-        }
-        jt.ok = true;
-        b->joints[b->joint_count] = jt;
-        b->joint_at[id] = b->joint_count;
-        for (uint32_t s = 1; s < jt.cuts; s++) {
-            base_claim[jt.node[s]] = jt.d[s];
-            if (s >= MERP_CUT_LATERAL)
-                b->lateral_in[jt.node[s]] = b->joint_count * MERP_PATCH_CUTS + s;
-        }
-        b->joint_count++;
-    }
-    merp_free(base_claim);
-    return rc;
-}
 
 /* A fork whose patch failed: its shafts are tubes again. */
 static void unplan(merp_builder *b, merp_joint *jt)
 {
     jt->ok = false;
-    b->joint_at[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    b->joint_at[jt->start[MERP_CUT_IN]] = UINT32_MAX;
+    b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    for (uint32_t s = 1; s < jt->cuts; s++)
+        b->cut_end[jt->node[s]] = UINT32_MAX;
     for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
-        b->lateral_in[jt->node[s]] = UINT32_MAX;
+        b->lateral_in[jt->start[s]] = UINT32_MAX;
 }
 
-/* Each axis's joints and, for a lateral not in a patch, its base disk; with
- * `record`, the cut rings of the axes that have any. */
+/* Each axis's ring counts and, for a lateral not in a patch, its base
+ * disk; with `record`, the cut rings of the axes that have any. */
 static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
 {
     for (uint32_t i = 0; i < b->axis_count; i++) {
         merp_axis *a = &b->axes[i];
         const mer_node *first = &b->nodes[a->first];
-        bool starts_in = b->lateral_in[a->first] != UINT32_MAX;
+        bool starts_in = b->lateral_in[a->first] != UINT32_MAX, cuts = starts_in;
         a->base_cap = first->parent == MER_NO_NODE || !starts_in;
-        a->joints = 0;
+        a->extra_rings = 0, a->lost_bands = 0;
         uint32_t id = a->first;
-        for (uint32_t k = 0; k + 1 < a->count; k++, id = b->nodes[id].main_child)
-            a->joints += b->joint_at[id] != UINT32_MAX;
-        if (record && (a->joints > 0 || starts_in)) {
-            mer_result rc = merp_mesh_record_rings(b, a, err);
+        for (uint32_t k = 0; k < a->count && !cuts; k++, id = b->nodes[id].main_child)
+            cuts = b->cut_begin[id] != UINT32_MAX || b->cut_end[id] != UINT32_MAX;
+        if (cuts) {
+            mer_result rc = merp_mesh_record_rings(b, a, record, err);
             if (rc != MER_OK)
                 return rc;
         }
@@ -235,8 +48,8 @@ static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
     return MER_OK;
 }
 
-/* The grid of jt's patch: the box of every shaft from J to just past its cut,
- * grown by the shell its surface stays in, with cells of h. */
+/* The grid of jt's patch: the box of every shaft from J to just past its
+ * cut, grown by the shell its surface stays in, with cells of h. */
 static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g)
 {
     const float *J = jt->field.in.b;
@@ -244,11 +57,10 @@ static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, mer
     for (int k = 0; k < 3; k++)
         lo[k] = hi[k] = J[k];
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        const mer_node *n = &b->nodes[jt->node[s]];
-        float sign = s == MERP_CUT_IN ? -1.0f : 1.0f, reach = jt->d[s] + 2.0f * h;
-        float e = SHELL * fmaxf(radius_of(b, jt->node[s]), s < 2 ? radius_of(b, jt->node[0]) : 0.0f) + 2.0f * h;
+        float r = merp_node_radius(b, jt->start[s]);
+        float e = SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
         for (int k = 0; k < 3; k++) {
-            float end = J[k] + sign * reach * n->dir[k];
+            float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
             lo[k] = fminf(lo[k], fminf(J[k], end) - e);
             hi[k] = fmaxf(hi[k], fmaxf(J[k], end) + e);
         }
@@ -284,17 +96,13 @@ static uint32_t nearest_shaft(const merp_joint *jt, const float p[3])
 static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, const float p[3],
                      float uv[2])
 {
-    const mer_node *n = &b->nodes[jt->node[s]];
-    float o[3], q[3];
-    float at = s == MERP_CUT_IN ? n->length - jt->d[s] : jt->d[s];
-    for (int k = 0; k < 3; k++) {
-        o[k] = n->base[k] + at * n->dir[k];
-        q[k] = p[k] - o[k];
-    }
-    float r = radius_of(b, jt->node[s]) + end_radius(b, jt->node[s]);
+    float q[3];
+    for (int k = 0; k < 3; k++)
+        q[k] = p[k] - jt->o[s][k];
+    float r = merp_node_radius(b, jt->node[s]) + merp_node_end_radius(b, jt->node[s]);
     float u = atan2f(v3_dot(q, jt->frame[s][1]), v3_dot(q, jt->frame[s][0])) / MERP_TWO_PI;
     uv[0] = u < 0.0f ? u + 1.0f : u;
-    uv[1] = jt->v[s] + v3_dot(q, n->dir) / (MERP_TWO_PI * 0.5f * r);
+    uv[1] = jt->v[s] + (s == MERP_CUT_IN ? -1.0f : 1.0f) * v3_dot(q, jt->n[s]) / (MERP_TWO_PI * 0.5f * r);
 }
 
 /* Gives a vertex of u < ½ in every triangle that spans the seam (u jumps
@@ -341,6 +149,25 @@ static float bark_mark(const merp_junction *f, const float p[3])
     return b;
 }
 
+/* How much of the bark's mark shows at p: 1 in the patch, falling smoothly
+ * to 0 over the last radius before each cut, so that b (0 on the tubes)
+ * and with it the bark's colour are continuous across the cut rings. */
+static float mark_fade(const merp_builder *b, const merp_joint *jt, const float p[3])
+{
+    float w = 1.0f;
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        float q[3], r = merp_node_radius(b, jt->start[s]);
+        for (int k = 0; k < 3; k++)
+            q[k] = jt->o[s][k] - p[k];
+        float x = v3_dot(q, jt->n[s]) / r;
+        if (x < 1.0f && v3_dot(q, q) - x * x * r * r <= SHELL * SHELL * r * r) {
+            x = fmaxf(x, 0.0f);
+            w = fminf(w, x * x * (3.0f - 2.0f * x));
+        }
+    }
+    return w;
+}
+
 /* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
  * rings shade as the tubes), shafts, ridge b = F_b, UVs (ring copies exactly
  * the ring's), then the seam split. */
@@ -357,7 +184,7 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
             nr[k] = -nr[k];
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
-        jt->ridge[v] = bark_mark(&jt->field, p);
+        jt->ridge[v] = bark_mark(&jt->field, p) * mark_fade(b, jt, p);
         uint32_t s = nearest_shaft(jt, p);
         uint32_t r = v - ring_first, j = r;
         if (v >= ring_first) /* a ring copy: its cut and place on the ring */
@@ -368,6 +195,7 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
         if (v >= ring_first) {
             jt->uvs[2 * v] = (float)j / (float)jt->sides[s];
             jt->uvs[2 * v + 1] = jt->v[s];
+            memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float));
         }
     }
     if (!b->opt.no_uvs)
@@ -401,19 +229,15 @@ static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_tr
  * caller unplans the fork) when the patch does not close on its cuts. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
 {
-    float h = cell_of(b, jt);
+    float h = merp_joint_cell(b, jt);
     merp_patch pt = {.j = &jt->field, .cuts = jt->cuts};
     if (!patch_grid(b, jt, h, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        const mer_node *n = &b->nodes[jt->node[s]];
         merp_cut *c = &pt.cut[s];
-        float sign = s == MERP_CUT_IN ? -1.0f : 1.0f;
-        for (int k = 0; k < 3; k++) {
-            c->o[k] = jt->field.in.b[k] + sign * jt->d[s] * n->dir[k];
-            c->n[k] = sign * n->dir[k];
-        }
-        c->reach = REACH * radius_of(b, jt->node[s]) + h;
+        memcpy(c->o, jt->o[s], sizeof c->o);
+        memcpy(c->n, jt->n[s], sizeof c->n);
+        c->reach = MERP_JOINT_REACH * merp_node_radius(b, jt->start[s]) + h;
         c->ring = jt->ring[s];
         c->sides = jt->sides[s];
     }
@@ -507,7 +331,7 @@ static mer_result build_patches(merp_builder *b, mer_error *err)
 
 mer_result merp_mesh_joints(merp_builder *b, mer_error *err)
 {
-    mer_result rc = plan(b, err);
+    mer_result rc = merp_mesh_joints_plan(b, err);
     if (rc == MER_OK)
         rc = walk_axes(b, true, err);
     if (rc == MER_OK)
@@ -543,7 +367,7 @@ mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err)
         mer_mesh_part *part = c->part;
         uint32_t first = merp_take_vertices(c, m->vertex_count);
         for (uint32_t v = 0; v < m->vertex_count; v++) {
-            const mer_node *n = &b->nodes[jt->node[jt->shaft[v]]];
+            const mer_node *n = &b->nodes[jt->start[jt->shaft[v]]];
             const float *uv = jt->uvs + 2 * (size_t)v;
             merp_set_vertex(part, first + v, m->positions + 3 * (size_t)v, m->normals + 3 * (size_t)v,
                             uv[0], uv[1], n->id);
@@ -568,4 +392,6 @@ void merp_mesh_joints_free(merp_builder *b)
     merp_free(b->joints);
     merp_free(b->joint_at);
     merp_free(b->lateral_in);
+    merp_free(b->cut_end);
+    merp_free(b->cut_begin);
 }

@@ -30,7 +30,10 @@ typedef struct merp_axis {
     uint8_t end;      /* enum merp_axis_end */
     uint8_t base_cap; /* 1 for a plant's trunk (and, with implicit junctions, a
                          lateral that starts in no patch) */
-    uint32_t joints;  /* implicit junctions along it: one more ring each */
+    /* With implicit junctions: rings added (two cut rings) less rings dropped
+     * (inside a patch), and the quads between rings dropped, on this axis. */
+    int32_t extra_rings;
+    uint32_t lost_bands;
 } merp_axis;
 
 /* The cuts of an implicit junction (mesh.h, Junctions): the parent's shaft
@@ -39,12 +42,20 @@ enum { MERP_CUT_IN, MERP_CUT_OUT, MERP_CUT_LATERAL };
 
 /* One fork meshed as an implicit patch (joints.c). */
 typedef struct merp_joint {
-    uint32_t node[MERP_PATCH_CUTS]; /* the internode each cut lies in: P, C, L_k */
+    uint32_t start[MERP_PATCH_CUTS]; /* each shaft's internode at J: P, C, L_k */
+    uint32_t node[MERP_PATCH_CUTS]; /* the internode each cut lies in: P or an
+                                       internode below it on its axis, C or one
+                                       above it, L_k or one along its axis */
     uint32_t cuts;                  /* 2 + laterals in the patch */
-    float d[MERP_PATCH_CUTS];       /* each cut's distance from J along its shaft */
+    float d[MERP_PATCH_CUTS];       /* each cut's distance from J (straight) */
+    float at[MERP_PATCH_CUTS];      /* ... and from its internode's base */
+    float o[MERP_PATCH_CUTS][3], n[MERP_PATCH_CUTS][3]; /* its centre and plane
+                                       normal, pointing away from J */
     float ring[MERP_PATCH_CUTS][3 * MERP_MAX_SIDES]; /* the tube's ring at each cut */
     float frame[MERP_PATCH_CUTS][2][3]; /* that ring's frame normal and binormal */
     float v[MERP_PATCH_CUTS];       /* that ring's UV v */
+    float ring_normal[MERP_PATCH_CUTS][3 * MERP_MAX_SIDES]; /* the one normal the
+                                       tube and the patch give each ring vertex */
     uint32_t sides[MERP_PATCH_CUTS];
     bool ok;                        /* planned, and its patch built */
     merp_junction field;
@@ -85,6 +96,10 @@ typedef struct merp_builder {
     uint32_t *joint_at;     /* by node id: the joint at its tip, or UINT32_MAX */
     uint32_t *lateral_in;   /* by node id: joint · MERP_PATCH_CUTS + cut of a lateral
                                whose shaft starts in a patch, or UINT32_MAX */
+    uint32_t *cut_end;      /* by node id: joint · MERP_PATCH_CUTS + cut of the out
+                               or lateral cut in it (a patch ends), or UINT32_MAX */
+    uint32_t *cut_begin;    /* by node id: the joint whose in cut lies in it (a
+                               patch begins), or UINT32_MAX */
     bool dry;               /* tube.c only records the cut rings, writes nothing */
 } merp_builder;
 
@@ -119,14 +134,14 @@ static inline uint64_t merp_axis_vertices(const merp_axis *a, bool seam)
 {
     const uint64_t ring = seam ? a->sides + 1 : a->sides, cap = a->sides + 1;  // cap: centre + rim
     const uint64_t v = a->end == MERP_END_TIP ? a->count * ring + 1 : (a->count + 1) * ring + cap;
-    return (a->base_cap ? v + cap : v) + a->joints * ring;
+    return (uint64_t)((int64_t)(a->base_cap ? v + cap : v) + (int64_t)a->extra_rings * (int64_t)ring);
 }
 
 /* Exactly the indices tube.c writes for `a`: two triangles per side between
  * rings, one per side in the cone or disk at the end and in a base disk. */
 static inline uint64_t merp_axis_indices(const merp_axis *a)
 {
-    uint64_t quads = a->end == MERP_END_TIP ? a->count - 1 : a->count;
+    uint64_t quads = (a->end == MERP_END_TIP ? a->count - 1 : a->count) - a->lost_bands;
     uint64_t i = quads * a->sides * 6 + (uint64_t)a->sides * 3;
     return a->base_cap ? i + (uint64_t)a->sides * 3 : i;
 }
@@ -137,9 +152,10 @@ static inline uint64_t merp_axis_indices(const merp_axis *a)
  * merp_axis_indices (see build.c): with twig lines the thicker axes first. */
 mer_result merp_mesh_bark(merp_builder *b, mer_error *err);
 
-/* Walks axis a's rings as merp_mesh_bark does, writing nothing, and records
- * each cut ring's positions, frame and UV v in its joint (for joints.c). */
-mer_result merp_mesh_record_rings(merp_builder *b, const merp_axis *a, mer_error *err);
+/* Walks axis a's rings as merp_mesh_bark does, writing nothing: sets a's
+ * extra_rings and lost_bands and, with `record`, records each cut ring's
+ * positions, frame and UV v in its joint (for joints.c). */
+mer_result merp_mesh_record_rings(merp_builder *b, merp_axis *a, bool record, mer_error *err);
 
 /* -------------------------------------------------------------- joints.c */
 
@@ -151,10 +167,31 @@ static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id
     return &b->joints[b->joint_at[id]];
 }
 
+#define MERP_JOINT_REACH 1.15f /* a cut acts within this × its shaft's radius (+ h) */
+
+static inline float merp_node_radius(const merp_builder *b, uint32_t id)
+{
+    return 0.5f * b->nodes[id].diameter;
+}
+
+/* The radius at the end of internode id, as tube.c's next ring has it. */
+static inline float merp_node_end_radius(const merp_builder *b, uint32_t id)
+{
+    uint32_t c = b->nodes[id].main_child;
+    return c != MER_NO_NODE && b->nodes[c].alive ? merp_node_radius(b, c) : merp_node_radius(b, id);
+}
+
+/* joints_plan.c: plans the forks to patch into b->joints, their cuts and
+ * fields, and the node maps tube.c follows (joint_at, lateral_in, cut_end,
+ * cut_begin). Errors: MER_ERR_NOMEM. */
+mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err);
+/* A patch's grid spacing (joints_plan.c). */
+float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
+
 /* With implicit junctions: plans the forks to patch (cut distances that fit
  * their internodes), records their rings (a dry run of tube.c), builds each
  * patch (a fork whose patch fails stays tubes), and sets every axis's
- * `joints` and lateral base caps. Errors: MER_ERR_NOMEM. */
+ * ring counts and lateral base caps. Errors: MER_ERR_NOMEM. */
 mer_result merp_mesh_joints(merp_builder *b, mer_error *err);
 /* The patch vertices and indices to add to the bark. */
 void merp_mesh_joints_size(const merp_builder *b, uint64_t *vertices, uint64_t *indices);

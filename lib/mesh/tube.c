@@ -81,7 +81,8 @@ static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center
  * tilted by `slope` (the local taper, so a cone shades as a cone), UV v `v`,
  * joined by quads to the last ring when `join`. A cut ring of joint `jt`
  * (mesh.h, Junctions) is recorded there on a dry run and copied from there
- * otherwise, so the patch's copies of it match bit for bit. */
+ * otherwise, with the normal the patch gave its copy, so the two match bit
+ * for bit and shade alike. */
 static void emit_ring(merp_builder *b, tube *tb, const float center[3], const float t[3],
                       float radius, float slope, float v, const mer_node *owner, bool join,
                       merp_joint *jt, uint32_t cut)
@@ -117,8 +118,10 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
             p[k] = center[k] + radius * radial[k];
             nrm[k] = (radial[k] + slope * t[k]) * inv;
         }
-        if (jt != NULL)
+        if (jt != NULL) { /* the patch's own copy of this vertex shares it all */
             memcpy(p, jt->ring[cut] + 3 * jj, sizeof p);
+            memcpy(nrm, jt->ring_normal[cut] + 3 * jj, sizeof nrm);
+        }
         merp_set_vertex(part, first + j, p, nrm, (float)j / (float)sides, v, owner->id);
     }
     merp_mesh_color(b, part, first, stride, owner);
@@ -133,8 +136,8 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
     tb->prev_ring = first;
 }
 
-/* Ring i, and the quads joining it to ring i - 1. */
-static void ring(merp_builder *b, tube *tb, uint32_t i)
+/* Ring i, and the quads joining it to the last ring when `join`. */
+static void ring(merp_builder *b, tube *tb, uint32_t i, bool join)
 {
     const uint32_t count = tb->a->count;
     const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
@@ -146,49 +149,65 @@ static void ring(merp_builder *b, tube *tb, uint32_t i)
     for (uint32_t k = lo; k < hi; k++)
         span += b->nodes[b->chain[k < count ? k : count - 1]].length;
     float slope = span > 0.0f ? (r[lo] - r[hi]) / span : 0.0f;
-    emit_ring(b, tb, center, t, r[i], slope, tb->v, owner, i > 0, NULL, 0);
+    emit_ring(b, tb, center, t, r[i], slope, tb->v, owner, join, NULL, 0);
 }
 
-/* Joint jt's cut ring `cut`, at distance s along the axis's internode k. */
-static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, uint32_t k, float s,
-                     bool join)
+/* Joint jt's cut ring `cut`, at its distance along the axis's internode k,
+ * square to the patch's shaft there (its cut plane's normal, towards the
+ * axis's tip). */
+static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, uint32_t k, bool join)
 {
     const mer_node *n = &b->nodes[b->chain[k]];
-    const float *r = b->radii;
-    float f = n->length > 0.0f ? s / n->length : 0.0f, center[3];
-    for (int a = 0; a < 3; a++)
+    const float *r = b->radii, s = jt->at[cut];
+    float f = n->length > 0.0f ? s / n->length : 0.0f, center[3], t[3];
+    for (int a = 0; a < 3; a++) {
         center[a] = n->base[a] + s * n->dir[a];
+        t[a] = cut == MERP_CUT_IN ? -jt->n[cut][a] : jt->n[cut][a];
+    }
     float slope = n->length > 0.0f ? (r[k] - r[k + 1]) / n->length : 0.0f;
     float circumference = MERP_TWO_PI * 0.5f * (r[k] + r[k + 1]);
     float v = tb->v + (circumference > 0.0f ? s / circumference : 0.0f);
-    emit_ring(b, tb, center, n->dir, r[k] + (r[k + 1] - r[k]) * f, slope, v, n, join, jt, cut);
+    emit_ring(b, tb, center, t, r[k] + (r[k + 1] - r[k]) * f, slope, v, n, join, jt, cut);
 }
 
-/* The rings of an axis with implicit junctions: a lateral that starts in a
- * patch starts at its cut; at a patched fork the ring at J is replaced by the
- * cut rings below and above it, which the patch joins. */
-static void rings_with_joints(merp_builder *b, tube *tb)
+/* The rings of an axis with implicit junctions, with `emit` written (or, on
+ * a dry run, recorded), else only counted into *rings and *bands: ring i
+ * at the base of internode i unless it lies inside a patch, and in
+ * internode i the cut that ends a patch (a lateral's first, or the out cut
+ * of a fork below) and then the cut that begins one (the in cut of a fork
+ * at or above its tip). A patch's span may cover several internodes. */
+static void rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *rings, uint32_t *bands)
 {
     const uint32_t count = tb->a->count;
-    uint32_t li = b->lateral_in[b->chain[0]];
+    bool inside = b->lateral_in[b->chain[0]] != UINT32_MAX, any = false;
+    *rings = *bands = 0;
     for (uint32_t i = 0; i < tb->rings; i++) {
-        if (i == 0 && li != UINT32_MAX) {
-            merp_joint *jt = &b->joints[li / MERP_PATCH_CUTS];
-            cut_ring(b, tb, jt, li % MERP_PATCH_CUTS, 0, jt->d[li % MERP_PATCH_CUTS], false);
-            continue;
+        if (!inside) {
+            if (emit)
+                ring(b, tb, i, any);
+            *bands += any;
+            ++*rings, any = true;
+        } else if (emit) {
+            float center[3], t[3];
+            ring_place(b, tb, i, center, t); /* only to carry v to ring i */
         }
-        uint32_t at = i > 0 && i < count ? b->joint_at[b->chain[i - 1]] : UINT32_MAX;
-        if (at == UINT32_MAX) {
-            ring(b, tb, i);
-            continue;
+        if (i >= count)
+            break;
+        uint32_t id = b->chain[i], e = b->cut_end[id], g = b->cut_begin[id];
+        if (e != UINT32_MAX) {
+            assert(inside);
+            if (emit)
+                cut_ring(b, tb, &b->joints[e / MERP_PATCH_CUTS], e % MERP_PATCH_CUTS, i, false);
+            ++*rings, any = true, inside = false;
         }
-        merp_joint *jt = &b->joints[at];
-        const mer_node *P = &b->nodes[b->chain[i - 1]];
-        cut_ring(b, tb, jt, MERP_CUT_IN, i - 1, P->length - jt->d[MERP_CUT_IN], true);
-        float center[3], t[3];
-        ring_place(b, tb, i, center, t); /* only to carry v to ring i */
-        cut_ring(b, tb, jt, MERP_CUT_OUT, i, jt->d[MERP_CUT_OUT], false);
+        if (g != UINT32_MAX) {
+            assert(!inside && any);
+            if (emit)
+                cut_ring(b, tb, &b->joints[g], MERP_CUT_IN, i, true);
+            ++*rings, ++*bands, inside = true;
+        }
     }
+    assert(!inside);
 }
 
 /* A flat disk over the ring at `ring_at`: a centre vertex at `at` and a rim of
@@ -270,11 +289,12 @@ static mer_result mesh_axis(merp_builder *b, const merp_axis *a, const float *co
     tube tb;
     tube_start(b, a, cos_t, sin_t, &tb);
     const mer_node *first = &b->nodes[b->chain[0]];
+    uint32_t rings, bands;
     if (b->joints != NULL)
-        rings_with_joints(b, &tb);
+        rings_with_joints(b, &tb, true, &rings, &bands);
     else
         for (uint32_t i = 0; i < tb.rings; i++)
-            ring(b, &tb, i);
+            ring(b, &tb, i, i > 0);
     // A twig's line runs along its prism's first edge: at under a pixel wide, the
     // edge and the centre line are the same pixels (a twig is in no patch).
     if (c->twig)
@@ -298,7 +318,7 @@ static void angle_table(uint32_t sides, float *cos_t, float *sin_t)
     }
 }
 
-mer_result merp_mesh_record_rings(merp_builder *b, const merp_axis *a, mer_error *err)
+mer_result merp_mesh_record_rings(merp_builder *b, merp_axis *a, bool record, mer_error *err)
 {
     float cos_t[MERP_MAX_SIDES], sin_t[MERP_MAX_SIDES];
     mer_result rc = merp_mesh_chain(b, a, err);
@@ -306,10 +326,13 @@ mer_result merp_mesh_record_rings(merp_builder *b, const merp_axis *a, mer_error
         return rc;
     angle_table(a->sides, cos_t, sin_t);
     tube tb;
+    uint32_t rings, bands;
     b->dry = true;
     tube_start(b, a, cos_t, sin_t, &tb);
-    rings_with_joints(b, &tb);
+    rings_with_joints(b, &tb, record, &rings, &bands);
     b->dry = false;
+    a->extra_rings = (int32_t)rings - (int32_t)tb.rings;
+    a->lost_bands = tb.rings - 1 - bands;
     return MER_OK;
 }
 

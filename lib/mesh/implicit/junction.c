@@ -79,24 +79,35 @@ static void ring_bound(const merp_junction *j, uint32_t k, const float up[3], me
     b->r_out = b->r_in + 0.8f * r_L;
 }
 
+/* The parent's scar band holds F_b = 1 out to this × its radius: the
+ * surface there lies up to ~1.35 × the pipe radius (bulge and blend). */
+#define SCAR_R_IN 1.5f
+
 void merp_junction_age(merp_junction *j, const float up[3], float years)
 {
     assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
     float sigma = merp_junction_scar_weight(years), m = 1.0f - sigma;
-    /* The parent's scar: a band about its axis at J, as wide as PCM's bulge
-     * between in and out (about 1.3 r_P either side). */
+    /* The parent's scar: a band about its axis at J, 0.6 r_P either side.
+     * F_b = 1 must hold on the surface all round, which the scar's own
+     * bulge, the laterals' blend and the parent's taper push out from the
+     * pipe radius at J: so out to SCAR_R_IN times the parent's thickest
+     * radius within the band. */
     float ax[3];
     for (int a = 0; a < 3; a++)
         ax[a] = j->in.b[a] - j->in.a[a];
+    float len = v3_len(ax);
     if (!v3_normalize(ax))
         memcpy(ax, up, sizeof ax);
-    float r_P = j->in.rb;
+    float r_P = j->in.rb, t = len > 0.0f ? fminf(1.0f, 0.6f * r_P / len) : 0.0f;
+    float r_band = fmaxf(r_P, j->in.rb + t * (j->in.ra - j->in.rb));
+    if (j->out.ra > 0.0f)
+        r_band = fmaxf(r_band, j->out.ra);
     for (int a = 0; a < 3; a++) {
         j->scar.a[a] = j->in.b[a] - 0.6f * r_P * ax[a];
         j->scar.b[a] = j->in.b[a] + 0.6f * r_P * ax[a];
     }
-    j->scar.r_in = 1.1f * r_P;
-    j->scar.r_out = 2.0f * r_P;
+    j->scar.r_in = SCAR_R_IN * r_band;
+    j->scar.r_out = j->scar.r_in + 0.9f * r_band;
     j->scar_weight = j->out.ra > 0.0f ? sigma : 0.0f;
     /* Each lateral's ring turns into its crotch's ridge. */
     for (uint32_t k = 0; k < j->laterals; k++) {
