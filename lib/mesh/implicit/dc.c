@@ -91,12 +91,55 @@ typedef struct cell_sheets {
     uint8_t sheet[12];
 } cell_sheets;
 
+/* The crossings found so far, by grid edge (3 × its lower sample + its
+ * axis): open addressing over a power-of-two table at most half full, so a
+ * patch touches memory in the surface's area, not the grid's volume. */
+typedef struct edge_map {
+    uint32_t *slot; /* per slot: key + 1 (0: empty) */
+    uint32_t *value;
+    uint32_t mask, n;
+} edge_map;
+
+static uint32_t map_home(uint32_t key, uint32_t mask)
+{
+    return (key * 0x9e3779b1u >> 7) & mask;
+}
+
+/* The slot of `key`: its own or the empty one it would take. */
+static uint32_t map_find(const edge_map *m, uint32_t key)
+{
+    uint32_t i = map_home(key, m->mask);
+    while (m->slot[i] != 0 && m->slot[i] != key + 1)
+        i = (i + 1) & m->mask;
+    return i;
+}
+
+/* Room for one more key: doubles the table when it would be half full. */
+static bool map_room(edge_map *m)
+{
+    if (m->slot != NULL && 2 * (m->n + 1) <= m->mask + 1)
+        return true;
+    uint32_t size = m->slot == NULL ? 1024 : 2 * (m->mask + 1);
+    edge_map g = {merp_calloc(size, sizeof(uint32_t)), merp_malloc(size * sizeof(uint32_t)), size - 1, m->n};
+    if (g.slot == NULL || g.value == NULL) {
+        merp_free(g.slot), merp_free(g.value);
+        return false;
+    }
+    for (uint32_t i = 0; m->slot != NULL && i <= m->mask; i++)
+        if (m->slot[i] != 0) {
+            uint32_t j = map_find(&g, m->slot[i] - 1);
+            g.slot[j] = m->slot[i], g.value[j] = m->value[i];
+        }
+    merp_free(m->slot), merp_free(m->value);
+    *m = g;
+    return true;
+}
+
 typedef struct dc {
     merp_walk *w;
     uint32_t *cell_v;    /* per cell: its cell_sheets + 1, 0 when none */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
-    uint32_t *edge_x;    /* per sample × 3 axes: crossing + 1, 0 when none yet */
-    uint32_t *cleared;   /* a bit per sample: its 3 edge_x slots are cleared */
+    edge_map edges;      /* grid edge → its crossing in x */
     crossing *x;         /* the crossings solved so far */
     uint32_t nx, xcap, nsheets;
     merp_trimesh *out;
@@ -109,13 +152,12 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float 
     const merp_grid *g = d->w->g;
     uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
     uint32_t s = merp_walk_sample(d->w, cell[0] + (c1 & 1), cell[1] + (c1 >> 1 & 1), cell[2] + (c1 >> 2 & 1));
-    if (!(d->cleared[s >> 5] >> (s & 31) & 1u)) {
-        memset(d->edge_x + 3 * (size_t)s, 0, 3 * sizeof *d->edge_x);
-        d->cleared[s >> 5] |= 1u << (s & 31);
-    }
-    uint32_t *slot = &d->edge_x[3 * (size_t)s + (uint32_t)(e >> 2)];
-    if (*slot != 0)
-        return &d->x[*slot - 1];
+    uint32_t key = 3 * s + (uint32_t)(e >> 2);
+    if (!map_room(&d->edges))
+        return NULL;
+    uint32_t slot = map_find(&d->edges, key);
+    if (d->edges.slot[slot] != 0)
+        return &d->x[d->edges.value[slot]];
     if (d->nx == d->xcap) {
         uint32_t cap = d->xcap ? 2 * d->xcap : 1024;
         crossing *x = merp_realloc(d->x, (size_t)cap * sizeof *x);
@@ -134,7 +176,7 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float 
     for (int k = 0; k < 3; k++)
         dir[k] = in1 ? p2[k] - p1[k] : p1[k] - p2[k];
     merp_walk_normal(d->w, x->p, fp, dir, x->n);
-    *slot = ++d->nx;
+    d->edges.slot[slot] = key + 1, d->edges.value[slot] = d->nx++, d->edges.n++;
     return x;
 }
 
@@ -330,7 +372,8 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
 static void dc_free(merp_walk *w, dc *d)
 {
     merp_walk_free(w);
-    merp_free(d->cell_v), merp_free(d->sheets), merp_free(d->edge_x), merp_free(d->cleared), merp_free(d->x);
+    merp_free(d->cell_v), merp_free(d->sheets), merp_free(d->x);
+    merp_free(d->edges.slot), merp_free(d->edges.value);
 }
 
 mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
@@ -338,13 +381,12 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *d
 {
     merp_walk w;
     dc d = {.w = &w, .out = out, .src = src};
-    size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2], samples = (size_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
+    size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2];
+    assert(3 * (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1) < UINT32_MAX); /* edge keys */
     if (merp_walk_begin(&w, g, f, data, seeds, nseeds, cells, &d.cell_v, out, err) != MER_OK)
         return MER_ERR_NOMEM;
     d.sheets = merp_malloc(cells * sizeof *d.sheets);
-    d.edge_x = merp_malloc(3 * samples * sizeof *d.edge_x);
-    d.cleared = merp_calloc(samples / 32 + 1, sizeof *d.cleared);
-    mer_result rc = d.sheets && d.edge_x && d.cleared ? MER_OK : MER_ERR_NOMEM;
+    mer_result rc = d.sheets != NULL ? MER_OK : MER_ERR_NOMEM;
     uint32_t cell[3];
     float cf[8];
     uint8_t mask;

@@ -40,11 +40,10 @@ static float clipped_field(const float p[3], const void *data)
     const clipped *cl = data;
     float f = merp_junction_field(p, cl->pt->j);
     for (uint32_t i = 0; i < cl->pt->cuts; i++) {
-        float dist;
-        if (!in_reach(&cl->pt->cut[i], p, &dist))
-            continue;
-        float g = MERP_ISO - cl->kappa * dist;
-        f = g < f ? g : f;
+        /* The plane first: the reach only matters where the cut would win. */
+        float g = MERP_ISO - cl->kappa * cut_distance(&cl->pt->cut[i], p), dist;
+        if (g < f && in_reach(&cl->pt->cut[i], p, &dist))
+            f = g;
     }
     return f;
 }
