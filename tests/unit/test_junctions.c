@@ -206,7 +206,9 @@ static void same_bytes_and_default_unchanged(void **state)
 /* The largest b (`_RIDGE`) of the bark vertices in three places of the fork
  * at P's tip with lateral L (G04 Fig. 7): on the parent opposite the lateral
  * at J's height (its bud scale scar), under the lateral's base, and in the
- * crotch above it. */
+ * crotch above it (down to 0.7 r_L above the lateral's axis: the crease of
+ * contact lies inside both undeformed tubes, and dual contouring puts its
+ * vertex on it). */
 typedef struct fork_marks {
     float scar, under, crotch;
 } fork_marks;
@@ -245,7 +247,7 @@ static fork_marks marks_at(const mer_scene *s, uint32_t P, uint32_t L)
             which = 0, slot = &r.scar;
         else if (along > 0.0f && along < rP + 2.0f * rL && above < -0.8f * rL)
             which = 1, slot = &r.under;
-        else if (along > 0.0f && along < rP + 2.0f * rL && above > 0.8f * rL && side > 0.0f)
+        else if (along > 0.0f && along < rP + 2.0f * rL && above > 0.7f * rL && side > 0.0f)
             which = 2, slot = &r.crotch;
         if (slot == NULL || dot3(q, q) > 9.0f * rP * rP)
             continue;

@@ -1,8 +1,8 @@
 /* meristem — dual contouring (Ju, Losasso, Schaefer & Warren 2002) over a
- * regular grid (implicit.h): one vertex per crossed cell, placed by the
- * quadratic error function of the cell's edge crossings and normals (Hermite
- * data), so that a crease through the cell (the branch bark ridge) keeps its
- * vertex on it; one quad per crossed edge. */
+ * regular grid (implicit.h): a vertex per sheet of surface in each crossed
+ * cell, placed by the quadratic error function of the sheet's edge crossings
+ * and normals (Hermite data), so that a crease through the cell (the branch
+ * bark ridge) keeps its vertex on it; one quad per crossed edge. */
 #include "config.h"
 
 #include <assert.h>
@@ -19,15 +19,24 @@
  * a crease, across a flat face). */
 #define QEF_LAMBDA 0.02f
 
-/* The two cube corners of each of a cell's 12 edges (bits x = 1, y = 2, z = 4). */
+/* The two cube corners of each of a cell's 12 edges (bits x = 1, y = 2,
+ * z = 4): edges 0–3 along x, 4–7 along y, 8–11 along z (edge e's axis is
+ * e / 4). */
 static const uint8_t cube_edge[12][2] = {
     {0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7},
 };
 
+/* The edge between corners c1 and c2 that differ in one bit. */
+static int edge_of(uint8_t c1, uint8_t c2)
+{
+    uint8_t lo = c1 < c2 ? c1 : c2, d = c1 ^ c2;
+    return d == 1 ? lo >> 1 : d == 2 ? 4 + (lo & 1) + 2 * (lo >> 2) : 8 + lo;
+}
+
 void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles)
 {
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
-    *vertices = (uint64_t)g->n[0] * g->n[1] * g->n[2];
+    *vertices = (uint64_t)MERP_DC_SHEETS * g->n[0] * g->n[1] * g->n[2];
     *triangles = samples * 3 * 2;
 }
 
@@ -69,75 +78,249 @@ static void qef_solve(const qef *q, float x[3])
     x[2] = m[2] + (c02 * r[0] + c12 * r[1] + c22 * r[2]) / det;
 }
 
-typedef struct dc {
-    merp_walk *w;
-    uint32_t *cell_v; /* per cell: vertex + 1, 0 when none */
-    merp_trimesh *out;
-    uint32_t *cells; /* per vertex: its cell, or NULL */
-} dc;
+/* The Hermite datum of a crossed grid edge: the surface point on it and the
+ * normal there, solved once for the four cells around the edge. */
+typedef struct crossing {
+    float p[3], n[3];
+} crossing;
 
-static void corner_sample(const uint32_t cell[3], uint8_t c, uint32_t s[3])
+/* A crossed cell's sheets: its first vertex and, per cell edge, the sheet
+ * (so the vertex first + sheet) that crosses it. */
+typedef struct cell_sheets {
+    uint32_t first;
+    uint8_t sheet[12];
+} cell_sheets;
+
+/* The crossings found so far, by grid edge (3 × its lower sample + its
+ * axis): open addressing over a power-of-two table at most half full, so a
+ * patch touches memory in the surface's area, not the grid's volume. */
+typedef struct edge_map {
+    uint32_t *slot; /* per slot: key + 1 (0: empty) */
+    uint32_t *value;
+    uint32_t mask, n;
+} edge_map;
+
+static uint32_t map_home(uint32_t key, uint32_t mask)
 {
-    s[0] = cell[0] + (c & 1), s[1] = cell[1] + (c >> 1 & 1), s[2] = cell[2] + (c >> 2 & 1);
+    return (key * 0x9e3779b1u >> 7) & mask;
 }
 
-/* The cell's vertex: its crossings' QEF minimum, clamped into the cell. */
-static void cell_vertex(dc *d, const uint32_t cell[3], const float cf[8], uint8_t mask)
+/* The slot of `key`: its own or the empty one it would take. */
+static uint32_t map_find(const edge_map *m, uint32_t key)
+{
+    uint32_t i = map_home(key, m->mask);
+    while (m->slot[i] != 0 && m->slot[i] != key + 1)
+        i = (i + 1) & m->mask;
+    return i;
+}
+
+/* Room for one more key: doubles the table when it would be half full. */
+static bool map_room(edge_map *m)
+{
+    if (m->slot != NULL && 2 * (m->n + 1) <= m->mask + 1)
+        return true;
+    uint32_t size = m->slot == NULL ? 1024 : 2 * (m->mask + 1);
+    edge_map g = {merp_calloc(size, sizeof(uint32_t)), merp_malloc(size * sizeof(uint32_t)), size - 1, m->n};
+    if (g.slot == NULL || g.value == NULL) {
+        merp_free(g.slot), merp_free(g.value);
+        return false;
+    }
+    for (uint32_t i = 0; m->slot != NULL && i <= m->mask; i++)
+        if (m->slot[i] != 0) {
+            uint32_t j = map_find(&g, m->slot[i] - 1);
+            g.slot[j] = m->slot[i], g.value[j] = m->value[i];
+        }
+    merp_free(m->slot), merp_free(m->value);
+    *m = g;
+    return true;
+}
+
+typedef struct dc {
+    merp_walk *w;
+    uint32_t *cell_v;    /* per cell: its cell_sheets + 1, 0 when none */
+    cell_sheets *sheets; /* per crossed cell, in the walk's order */
+    edge_map edges;      /* grid edge → its crossing in x */
+    crossing *x;         /* the crossings solved so far */
+    uint32_t nx, xcap, nsheets;
+    merp_trimesh *out;
+    merp_dc_source *src; /* per vertex: where it comes from, or NULL */
+} dc;
+
+/* The crossing on cell edge e (corners differ in sign): solved on first use. */
+static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float cf[8], int e)
 {
     const merp_grid *g = d->w->g;
-    qef q;
-    memset(&q, 0, sizeof q);
+    uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
+    uint32_t s = merp_walk_sample(d->w, cell[0] + (c1 & 1), cell[1] + (c1 >> 1 & 1), cell[2] + (c1 >> 2 & 1));
+    uint32_t key = 3 * s + (uint32_t)(e >> 2);
+    if (!map_room(&d->edges))
+        return NULL;
+    uint32_t slot = map_find(&d->edges, key);
+    if (d->edges.slot[slot] != 0)
+        return &d->x[d->edges.value[slot]];
+    if (d->nx == d->xcap) {
+        uint32_t cap = d->xcap ? 2 * d->xcap : 1024;
+        crossing *x = merp_realloc(d->x, (size_t)cap * sizeof *x);
+        if (x == NULL)
+            return NULL;
+        d->x = x, d->xcap = cap;
+    }
+    crossing *x = &d->x[d->nx];
+    float p1[3], p2[3], dir[3];
+    for (int k = 0; k < 3; k++) {
+        p1[k] = g->origin[k] + (float)(cell[k] + (c1 >> k & 1)) * g->h;
+        p2[k] = g->origin[k] + (float)(cell[k] + (c2 >> k & 1)) * g->h;
+    }
+    bool in1 = cf[c1] >= MERP_ISO;
+    float fp = in1 ? merp_walk_solve(d->w, p1, cf[c1], p2, cf[c2], x->p) : merp_walk_solve(d->w, p2, cf[c2], p1, cf[c1], x->p);
+    for (int k = 0; k < 3; k++)
+        dir[k] = in1 ? p2[k] - p1[k] : p1[k] - p2[k];
+    merp_walk_normal(d->w, x->p, fp, dir, x->n);
+    d->edges.slot[slot] = key + 1, d->edges.value[slot] = d->nx++, d->edges.n++;
+    return x;
+}
+
+static int find(int *parent, int e)
+{
+    while (parent[e] != e)
+        e = parent[e] = parent[parent[e]];
+    return e;
+}
+
+static void join(int *parent, int a, int b)
+{
+    a = find(parent, a), b = find(parent, b);
+    if (a != b)
+        parent[a > b ? a : b] = a < b ? a : b;
+}
+
+/* The cell's sheets: its crossed edges grouped by the segments the surface
+ * draws on each face. A face with four crossed edges (corners alternating in
+ * sign) is decided by the asymptotic decider (Nielson & Hamann 1991): the
+ * inside corners are joined across the face when the bilinear interpolant's
+ * saddle is inside. Both cells of a face see its four values alike, so they
+ * agree on its segments and their sheets meet edge to edge: the dual mesh is
+ * a manifold (where a sheet does not cross one face twice on both sides).
+ * Returns the number of sheets; sheet[e] for each crossed edge e. */
+static int cell_sheet_split(const float cf[8], uint8_t mask, uint8_t sheet[12])
+{
+    int parent[12];
+    for (int e = 0; e < 12; e++)
+        parent[e] = e;
+    for (int a = 0; a < 3; a++)
+        for (int side = 0; side < 2; side++) {
+            int b = (a + 1) % 3, c = (a + 2) % 3;
+            uint8_t k[4];
+            k[0] = (uint8_t)(side << a), k[1] = (uint8_t)(k[0] | 1 << b), k[2] = (uint8_t)(k[1] | 1 << c),
+            k[3] = (uint8_t)(k[0] | 1 << c);
+            int fe[4], crossed = 0;
+            for (int t = 0; t < 4; t++) {
+                bool x = (mask >> k[t] & 1) != (mask >> k[(t + 1) % 4] & 1);
+                fe[t] = x ? edge_of(k[t], k[(t + 1) % 4]) : -1;
+                crossed += x;
+            }
+            if (crossed == 2) {
+                int e0 = -1;
+                for (int t = 0; t < 4; t++) {
+                    if (fe[t] >= 0 && e0 >= 0)
+                        join(parent, e0, fe[t]);
+                    else if (fe[t] >= 0)
+                        e0 = fe[t];
+                }
+            } else if (crossed == 4) {
+                float v[4];
+                for (int t = 0; t < 4; t++)
+                    v[t] = cf[k[t]] - MERP_ISO;
+                float num = v[0] * v[2] - v[1] * v[3], den = v[0] + v[2] - v[1] - v[3];
+                bool saddle_in = den > 0.0f ? num >= 0.0f : num <= 0.0f;
+                /* Cut off each corner of the side that is not joined: corner
+                 * t's edges are fe[t − 1] and fe[t]. */
+                bool cut_in = !saddle_in;
+                for (int t = 0; t < 4; t++)
+                    if ((bool)(mask >> k[t] & 1) == cut_in)
+                        join(parent, fe[(t + 3) % 4], fe[t]);
+            }
+        }
+    int n = 0, id[12];
     for (int e = 0; e < 12; e++) {
         uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
         if ((mask >> c1 & 1) == (mask >> c2 & 1))
             continue;
-        uint32_t s1[3], s2[3];
-        corner_sample(cell, c1, s1);
-        corner_sample(cell, c2, s2);
-        float p1[3], p2[3], p[3], n[3], dir[3];
-        for (int k = 0; k < 3; k++) {
-            p1[k] = g->origin[k] + (float)s1[k] * g->h;
-            p2[k] = g->origin[k] + (float)s2[k] * g->h;
-        }
-        bool in1 = mask >> c1 & 1;
-        float fp = in1 ? merp_walk_solve(d->w, p1, cf[c1], p2, cf[c2], p) : merp_walk_solve(d->w, p2, cf[c2], p1, cf[c1], p);
-        for (int k = 0; k < 3; k++)
-            dir[k] = in1 ? p2[k] - p1[k] : p1[k] - p2[k];
-        merp_walk_normal(d->w, p, fp, dir, n);
-        qef_add(&q, p, n);
+        int r = find(parent, e);
+        if (r == e)
+            id[e] = n++;
+        sheet[e] = (uint8_t)id[r];
     }
-    float x[3];
-    qef_solve(&q, x);
+    return n;
+}
+
+/* The vertex of one sheet: its crossings' QEF minimum, clamped into the cell. */
+static void sheet_vertex(dc *d, const uint32_t cell[3], const crossing *const *x, int nx, uint8_t corners)
+{
+    const merp_grid *g = d->w->g;
+    qef q;
+    memset(&q, 0, sizeof q);
+    for (int i = 0; i < nx; i++)
+        qef_add(&q, x[i]->p, x[i]->n);
+    float v_[3];
+    qef_solve(&q, v_);
     for (int k = 0; k < 3; k++) {
         float lo = g->origin[k] + (float)cell[k] * g->h;
-        x[k] = x[k] < lo ? lo : x[k] > lo + g->h ? lo + g->h : x[k];
+        v_[k] = v_[k] < lo ? lo : v_[k] > lo + g->h ? lo + g->h : v_[k];
     }
     merp_trimesh *o = d->out;
     uint32_t v = o->vertex_count++;
-    memcpy(o->positions + 3 * (size_t)v, x, sizeof x);
+    memcpy(o->positions + 3 * (size_t)v, v_, sizeof v_);
     if (o->normals != NULL) { /* a caller may shade from another field */
-        float fallback[3] = {x[0] - q.mass[0] / (float)q.count, x[1] - q.mass[1] / (float)q.count,
-                             x[2] - q.mass[2] / (float)q.count};
+        float fallback[3] = {v_[0] - q.mass[0] / (float)q.count, v_[1] - q.mass[1] / (float)q.count,
+                             v_[2] - q.mass[2] / (float)q.count};
         if (!v3_normalize(fallback))
             fallback[0] = 1.0f;
-        merp_walk_normal(d->w, x, d->w->f(x, d->w->data), fallback, o->normals + 3 * (size_t)v);
+        merp_walk_normal(d->w, v_, d->w->f(v_, d->w->data), fallback, o->normals + 3 * (size_t)v);
     }
-    uint32_t idx = cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]);
-    d->cell_v[idx] = v + 1;
-    if (d->cells != NULL)
-        d->cells[v] = idx;
+    if (d->src != NULL)
+        d->src[v] = (merp_dc_source){cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]), corners};
 }
 
-static uint32_t vertex_of(const dc *d, uint32_t i, uint32_t j, uint32_t k)
+/* The cell's vertices, one per sheet. MER_ERR_NOMEM when a crossing finds no room. */
+static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8], uint8_t mask)
+{
+    cell_sheets *cs = &d->sheets[d->nsheets];
+    int n = cell_sheet_split(cf, mask, cs->sheet);
+    cs->first = d->out->vertex_count;
+    for (int s = 0; s < n; s++) {
+        const crossing *x[12];
+        int nx = 0;
+        uint8_t corners = 0;
+        for (int e = 0; e < 12; e++) {
+            uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
+            if ((mask >> c1 & 1) == (mask >> c2 & 1) || cs->sheet[e] != s)
+                continue;
+            if ((x[nx++] = edge_crossing(d, cell, cf, e)) == NULL)
+                return MER_ERR_NOMEM;
+            corners |= (uint8_t)(1u << c1 | 1u << c2);
+        }
+        sheet_vertex(d, cell, x, nx, corners);
+    }
+    const merp_grid *g = d->w->g;
+    d->cell_v[cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2])] = ++d->nsheets;
+    return MER_OK;
+}
+
+/* The vertex of cell q's sheet through its edge e; 0 when the walk did not
+ * reach q, else the vertex + 1. */
+static uint32_t vertex_of(const dc *d, const uint32_t q[3], int e)
 {
     const merp_grid *g = d->w->g;
-    return d->cell_v[i + g->n[0] * (j + g->n[1] * k)];
+    uint32_t r = d->cell_v[q[0] + g->n[0] * (q[1] + g->n[1] * q[2])];
+    return r == 0 ? 0 : d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
 }
 
 /* The quads of the cell's three edges from its corner 0 (each interior
- * crossed edge is corner 0's edge of exactly one cell): the four cells
- * around the edge, counter-clockwise about +axis, reversed when the edge's
- * far end is the inside one, split along the diagonal that folds least. */
+ * crossed edge is corner 0's edge of exactly one cell): the sheets through
+ * the edge in the four cells around it, counter-clockwise about +axis,
+ * reversed when the edge's far end is the inside one, split along the
+ * diagonal that folds least. */
 static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
 {
     const float *pos = d->out->positions;
@@ -148,15 +331,15 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
         int b = (a + 1) % 3, c = (a + 2) % 3;
         if (cell[b] == 0 || cell[c] == 0)
             continue; /* on the grid's face: the surface leaves it here */
-        uint32_t q[4][3];
-        for (int t = 0; t < 4; t++)
-            memcpy(q[t], cell, sizeof q[t]);
-        q[0][b]--, q[0][c]--; /* (−, −), (0, −), (0, 0), (−, 0) in the (b, c) plane */
-        q[1][c]--;
-        q[3][b]--;
+        /* (−, −), (0, −), (0, 0), (−, 0) in the (b, c) plane; in each the
+         * edge starts at the corner opposite the offset. */
+        static const uint8_t off[4][2] = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
         uint32_t v[4];
         for (int t = 0; t < 4; t++) {
-            v[t] = vertex_of(d, q[t][0], q[t][1], q[t][2]);
+            uint32_t q[3] = {cell[0], cell[1], cell[2]};
+            q[b] -= off[t][0], q[c] -= off[t][1];
+            uint8_t c0 = (uint8_t)(off[t][0] << b | off[t][1] << c);
+            v[t] = vertex_of(d, q, edge_of(c0, (uint8_t)(c0 | far)));
             if (v[t] == 0)
                 return; /* a neighbour the walk did not reach */
             v[t]--;
@@ -186,21 +369,31 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
     }
 }
 
+static void dc_free(merp_walk *w, dc *d)
+{
+    merp_walk_free(w);
+    merp_free(d->cell_v), merp_free(d->sheets), merp_free(d->x);
+    merp_free(d->edges.slot), merp_free(d->edges.value);
+}
+
 mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
-                              uint32_t nseeds, merp_trimesh *out, uint32_t *cells, mer_error *err)
+                              uint32_t nseeds, merp_trimesh *out, merp_dc_source *src, mer_error *err)
 {
     merp_walk w;
-    dc d = {&w, NULL, out, cells};
-    if (merp_walk_begin(&w, g, f, data, seeds, nseeds, (size_t)g->n[0] * g->n[1] * g->n[2], &d.cell_v, out,
-                        err) != MER_OK)
+    dc d = {.w = &w, .out = out, .src = src};
+    size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2];
+    assert(3 * (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1) < UINT32_MAX); /* edge keys */
+    if (merp_walk_begin(&w, g, f, data, seeds, nseeds, cells, &d.cell_v, out, err) != MER_OK)
         return MER_ERR_NOMEM;
+    d.sheets = merp_malloc(cells * sizeof *d.sheets);
+    mer_result rc = d.sheets != NULL ? MER_OK : MER_ERR_NOMEM;
     uint32_t cell[3];
     float cf[8];
     uint8_t mask;
-    while (merp_walk_next(&w, cell, cf, &mask))
-        cell_vertex(&d, cell, cf, mask);
-    /* Every crossed cell has its vertex: now the quads, in the walk's order. */
-    for (uint32_t i = 0; i < w.tail; i++) {
+    while (rc == MER_OK && merp_walk_next(&w, cell, cf, &mask))
+        rc = cell_vertices(&d, cell, cf, mask);
+    /* Every crossed cell has its vertices: now the quads, in the walk's order. */
+    for (uint32_t i = 0; i < w.tail && rc == MER_OK; i++) {
         uint32_t c = w.queue[i];
         merp_walk_cell(&w, c, cell);
         if (d.cell_v[c] == 0)
@@ -208,7 +401,8 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *d
         mask = merp_walk_corners(&w, cell, cf);
         cell_quads(&d, cell, mask);
     }
-    merp_walk_free(&w);
-    merp_free(d.cell_v);
+    dc_free(&w, &d);
+    if (rc != MER_OK)
+        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
     return MER_OK;
 }

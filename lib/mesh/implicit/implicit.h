@@ -190,29 +190,44 @@ mer_result merp_mtet_polygonize_seeded(const merp_grid *g, merp_field_fn f, cons
 
 /* ----------------------------------------------------------------- dc.c */
 
-/* The most vertices and triangles merp_dc_polygonize can write for `g`: one
- * vertex per cell, two triangles per grid edge (3 a sample). */
+/* The most sheets of surface dual contouring finds in one cell (a cell
+ * whose eight corners alternate in sign has four). */
+#define MERP_DC_SHEETS 4
+
+/* The most vertices and triangles merp_dc_polygonize can write for `g`: a
+ * vertex per sheet of each cell, two triangles per grid edge (3 a sample). */
 void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles);
 
+/* Where a vertex of dual contouring comes from: its cell, i + n[0]·(j +
+ * n[1]·k), and the corners (bits x = 1, y = 2, z = 4) of the cell edges its
+ * sheet crosses. */
+typedef struct merp_dc_source {
+    uint32_t cell;
+    uint8_t corners;
+} merp_dc_source;
+
 /* Dual contouring (Ju et al. 2002) of f ≥ MERP_ISO on `g`, for surfaces whose
- * creases must stay sharp (the branch bark ridge): each cell the surface
- * crosses gets one vertex, the minimum of the quadratic error function of its
- * edge crossings (refined onto the surface) and their normals −∇f, solved as
- * a least-squares problem regularised towards the crossings' mass point
- * (weight 0.02 a crossing) and clamped into the cell; each grid edge the
- * surface crosses joins the vertices of its four cells in a quad, wound
- * outwards (from the edge's inside end to its outside end), split into two
- * triangles along the diagonal that folds least. Where the surface stays in
- * the grid and crosses each cell in one sheet the result is closed and
- * consistently wound. With `seeds` NULL every cell is looked at; else only
- * the surface reached from the seeds (as merp_mtet_polygonize_seeded).
- * Normals are −∇f at the vertices (one side's, on a crease). `out` holds
- * merp_dc_bound's counts; `cells` (NULL, or room for as many vertices) gets
- * each vertex's cell, i + n[0]·(j + n[1]·k). Errors: MER_ERR_NOMEM. Cost:
- * O(crossed cells) evaluations (each crossing is solved in each of its
- * cells). */
+ * creases must stay sharp (the branch bark ridge). The crossed edges of each
+ * cell the surface crosses are grouped into sheets by the segments the
+ * surface draws on the cell's faces (a face with four crossings decided by
+ * the asymptotic decider, alike for both its cells); each sheet gets one
+ * vertex, the minimum of the quadratic error function of its edge crossings
+ * (refined onto the surface) and their normals −∇f, solved as a
+ * least-squares problem regularised towards the crossings' mass point
+ * (weight 0.02 a crossing) and clamped into the cell. Each grid edge the
+ * surface crosses joins the vertices of its sheets in its four cells in a
+ * quad, wound outwards (from the edge's inside end to its outside end),
+ * split into two triangles along the diagonal that folds least. Where the
+ * surface stays in the grid the result is closed and consistently wound,
+ * and manifold (two sheets of a cell that both cross one face twice, on
+ * both sides of it, are the exception). With `seeds` NULL every cell is
+ * looked at; else only the surface reached from the seeds (as
+ * merp_mtet_polygonize_seeded). Normals are −∇f at the vertices (one side's,
+ * on a crease). `out` holds merp_dc_bound's counts; `src` (NULL, or room for
+ * as many vertices) gets each vertex's source. Errors: MER_ERR_NOMEM. Cost:
+ * O(crossed cells) evaluations: each crossed edge is solved once. */
 mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
-                              uint32_t nseeds, merp_trimesh *out, uint32_t *cells, mer_error *err);
+                              uint32_t nseeds, merp_trimesh *out, merp_dc_source *src, mer_error *err);
 
 /* ------------------------------------------------------------ junction.c */
 

@@ -40,11 +40,10 @@ static float clipped_field(const float p[3], const void *data)
     const clipped *cl = data;
     float f = merp_junction_field(p, cl->pt->j);
     for (uint32_t i = 0; i < cl->pt->cuts; i++) {
-        float dist;
-        if (!in_reach(&cl->pt->cut[i], p, &dist))
-            continue;
-        float g = MERP_ISO - cl->kappa * dist;
-        f = g < f ? g : f;
+        /* The plane first: the reach only matters where the cut would win. */
+        float g = MERP_ISO - cl->kappa * cut_distance(&cl->pt->cut[i], p), dist;
+        if (g < f && in_reach(&cl->pt->cut[i], p, &dist))
+            f = g;
     }
     return f;
 }
@@ -256,39 +255,44 @@ static void mark_cuts(const merp_trimesh *m, const merp_patch *pt, float kappa, 
     }
 }
 
-/* The cut whose cap crosses cell c of dual contouring: one of its corners
- * is inside the clipped solid and another outside it only because it lies
- * beyond that cut (F_g ≥ c there). -1 for none. */
-static int cap_of_cell(const clipped *cl, uint32_t c)
+/* The cut whose cap a sheet of dual contouring lies on: one of the corners
+ * of its crossed edges is outside the clipped solid only because it lies
+ * beyond that cut (F_g ≥ c there). Its other corners are those edges' inside
+ * ends, so only a corner beyond a cut (where the cut is the smaller term)
+ * needs F_g. -1 for none. */
+static int cap_of_sheet(const clipped *cl, merp_dc_source src)
 {
     const merp_grid *g = &cl->pt->grid;
-    uint32_t ijk[3] = {c % g->n[0], c / g->n[0] % g->n[1], c / (g->n[0] * g->n[1])};
-    bool inside = false;
+    uint32_t c = src.cell, ijk[3] = {c % g->n[0], c / g->n[0] % g->n[1], c / (g->n[0] * g->n[1])};
     int cap = -1;
     for (uint8_t k = 0; k < 8; k++) {
+        if (!(src.corners >> k & 1))
+            continue;
         float p[3];
         for (int a = 0; a < 3; a++)
             p[a] = g->origin[a] + (float)(ijk[a] + (k >> a & 1)) * g->h;
-        float f = merp_junction_field(p, cl->pt->j), clip = f;
+        float clip = INFINITY;
         int by = -1;
         for (uint32_t i = 0; i < cl->pt->cuts; i++) {
             float dist;
             if (in_reach(&cl->pt->cut[i], p, &dist) && MERP_ISO - cl->kappa * dist < clip)
                 clip = MERP_ISO - cl->kappa * dist, by = (int)i;
         }
-        inside |= clip >= MERP_ISO;
-        if (clip < MERP_ISO && f >= MERP_ISO)
+        if (clip >= MERP_ISO)
+            continue; /* no cut clips it: inside or outside by F_g alone */
+        float f = merp_junction_field(p, cl->pt->j);
+        if (clip < f && f >= MERP_ISO)
             cap = by;
     }
-    return inside ? cap : -1;
+    return cap;
 }
 
-/* Moves the vertex of each cell a cap crosses onto that cap's plane and
- * marks it with its cut (-1 for the others). */
-static void snap_cuts(merp_trimesh *m, const clipped *cl, const uint32_t *cells, int8_t *on_cut)
+/* Moves the vertex of each sheet on a cap onto that cap's plane and marks
+ * it with its cut (-1 for the others). */
+static void snap_cuts(merp_trimesh *m, const clipped *cl, const merp_dc_source *src, int8_t *on_cut)
 {
     for (uint32_t v = 0; v < m->vertex_count; v++) {
-        int i = cap_of_cell(cl, cells[v]);
+        int i = cap_of_sheet(cl, src[v]);
         on_cut[v] = (int8_t)i;
         if (i < 0)
             continue;
@@ -345,7 +349,7 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
     uint64_t vmax, tmax;
     merp_patch_bound(pt, &vmax, &tmax);
     int8_t *on_cut = merp_malloc((size_t)vmax);
-    uint32_t *cells = pt->sharp ? merp_malloc((size_t)vmax * sizeof *cells) : NULL;
+    merp_dc_source *cells = pt->sharp ? merp_malloc((size_t)vmax * sizeof *cells) : NULL;
     if (on_cut == NULL || (pt->sharp && cells == NULL)) {
         merp_free(on_cut), merp_free(cells);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
