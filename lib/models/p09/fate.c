@@ -66,18 +66,24 @@ static int before(uint32_t a, uint32_t b, const float *key)
     return a < b;
 }
 
-void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *buds,
-                           uint32_t terminal, int apical, const float *weights, float w_max,
-                           float w_min, float kappa, uint32_t *rank, uint32_t *scratch,
-                           float *out_v)
+/* Below this many items a list without NaN keys is sorted by insertion: most
+ * axes list a handful, where the merge sort's passes cost more than the sort. */
+#define INSERTION_MAX 16
+
+/* Orders rank[0, n) (the identity on entry) by `before`. Without NaN keys
+ * `before` is a strict total order (ties go by index), so every sort gives
+ * the same list; with one, the merge sort keeps its own answer. */
+static void sort_ranks(uint32_t n, const float *key, int has_nan, uint32_t *rank,
+                       uint32_t *scratch)
 {
-    if (n == 0)
+    if (n <= INSERTION_MAX && !has_nan) {
+        for (uint32_t i = 1; i < n; i++) {
+            uint32_t x = rank[i], j = i;
+            for (; j > 0 && before(x, rank[j - 1], key); j--)
+                rank[j] = rank[j - 1];
+            rank[j] = x;
+        }
         return;
-    /* The sort keys, light per bud, computed once into out_v (written last). */
-    float *key = out_v;
-    for (uint32_t i = 0; i < n; i++) {
-        rank[i] = i;
-        key[i] = q[i] / (float)(buds[i] > 0 ? buds[i] : 1);
     }
     /* Bottom-up merge sort: stable and O(n log n), no recursion, no comparator globals. */
     uint32_t *src = rank, *dst = scratch;
@@ -100,6 +106,24 @@ void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *
     if (src != rank)
         for (uint32_t i = 0; i < n; i++)
             rank[i] = src[i];
+}
+
+void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *buds,
+                           uint32_t terminal, int apical, const float *weights, float w_max,
+                           float w_min, float kappa, uint32_t *rank, uint32_t *scratch,
+                           float *out_v)
+{
+    if (n == 0)
+        return;
+    /* The sort keys, light per bud, computed once into out_v (written last). */
+    float *key = out_v;
+    int has_nan = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        rank[i] = i;
+        key[i] = q[i] / (float)(buds[i] > 0 ? buds[i] : 1);
+        has_nan |= key[i] != key[i];
+    }
+    sort_ranks(n, key, has_nan, rank, scratch);
     if (apical && terminal < n) {
         /* Apical control: the terminal bud heads the list whatever its light. */
         uint32_t pos = 0;
