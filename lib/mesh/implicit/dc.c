@@ -146,7 +146,22 @@ typedef struct dc {
     merp_dc_source *src; /* per vertex: where it comes from, or NULL */
 } dc;
 
-/* The crossing on cell edge e (corners differ in sign): solved on first use. */
+/* Room in d->x for `more` crossings. A cell takes every crossing it needs
+ * (at most 12) before it uses any, so its pointers into d->x stay valid. */
+static bool crossing_room(dc *d, uint32_t more)
+{
+    if (d->nx + more <= d->xcap)
+        return true;
+    uint32_t cap = d->xcap ? 2 * d->xcap : 1024;
+    crossing *x = merp_realloc(d->x, (size_t)cap * sizeof *x);
+    if (x == NULL)
+        return false;
+    d->x = x, d->xcap = cap;
+    return true;
+}
+
+/* The crossing on cell edge e (corners differ in sign): solved on first use.
+ * Needs room for one more crossing (crossing_room). */
 static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float cf[8], int e)
 {
     const merp_grid *g = d->w->g;
@@ -158,13 +173,7 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float 
     uint32_t slot = map_find(&d->edges, key);
     if (d->edges.slot[slot] != 0)
         return &d->x[d->edges.value[slot]];
-    if (d->nx == d->xcap) {
-        uint32_t cap = d->xcap ? 2 * d->xcap : 1024;
-        crossing *x = merp_realloc(d->x, (size_t)cap * sizeof *x);
-        if (x == NULL)
-            return NULL;
-        d->x = x, d->xcap = cap;
-    }
+    assert(d->nx < d->xcap);
     crossing *x = &d->x[d->nx];
     float p1[3], p2[3], dir[3];
     for (int k = 0; k < 3; k++) {
@@ -288,6 +297,8 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
     cell_sheets *cs = &d->sheets[d->nsheets];
     int n = cell_sheet_split(cf, mask, cs->sheet);
     cs->first = d->out->vertex_count;
+    if (!crossing_room(d, 12))
+        return MER_ERR_NOMEM;
     for (int s = 0; s < n; s++) {
         const crossing *x[12];
         int nx = 0;
