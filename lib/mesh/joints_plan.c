@@ -160,7 +160,7 @@ static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first
         for (int k = 0; k < 3; k++)
             q[k] -= J[k];
         v3_cross(q, u, e);
-        if (v3_len(e) > STRAIGHT * r * D)
+        if (v3_len(e) > STRAIGHT * r)
             return false;
         id = s == MERP_CUT_IN ? n->parent : n->main_child;
     }
