@@ -9,11 +9,13 @@ const validator = require('gltf-validator');
  * failure lists the validator's messages.
  */
 async function validates(bytes, { accepted = {} } = {}) {
-  const report = await validator.validateBytes(new Uint8Array(bytes), { maxIssues: 100 });
+  // The accepted codes are muted in the validator itself, so the counts (which, unlike
+  // the message list, are not capped at maxIssues) cover every other warning.
+  const report = await validator.validateBytes(new Uint8Array(bytes),
+    { maxIssues: 100, ignoredIssues: Object.keys(accepted) });
   const messages = report.issues.messages.map((m) => `${m.code} ${m.pointer || ''}: ${m.message}`);
   assert.equal(report.issues.numErrors, 0, messages.join('\n'));
-  const unexpected = report.issues.messages.filter((m) => m.severity === 1 && !(m.code in accepted));
-  assert.deepEqual(unexpected.map((m) => m.code), [], messages.join('\n'));
+  assert.equal(report.issues.numWarnings, 0, messages.join('\n'));
 }
 
 module.exports = { validates };

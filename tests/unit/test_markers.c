@@ -272,6 +272,23 @@ static void test_markers_near(void **state)
             assert_int_equal(count, again); /* the scratch was left clean */
         again = count;
     }
+    /* A query elsewhere lists what it lists on a set never asked before: nothing
+     * of the earlier queries is left in the scratch (repeating one query could not
+     * tell, it would mark the same markers again). */
+    const float q2[3] = {-7.5f, -7.5f, -7.5f};
+    assert_int_equal(merp_markers_near(m, q2, 1, 2.5f, &xyz, &cap, &count, NULL), MER_OK);
+    mer_markers *fresh;
+    assert_int_equal(mer_markers_new(BMIN, BMAX, 3.0f, &fresh, NULL), MER_OK);
+    assert_int_equal(mer_markers_add(fresh, pts, N, NULL), MER_OK);
+    assert_int_equal(mer_markers_remove_sphere(fresh, gone, 0.0f), 1);
+    float *xyz2 = NULL;
+    size_t cap2 = 0, count2 = 0;
+    assert_int_equal(merp_markers_near(fresh, q2, 1, 2.5f, &xyz2, &cap2, &count2, NULL), MER_OK);
+    assert_true(count2 > 0);
+    assert_int_equal(count, count2);
+    assert_memory_equal(xyz, xyz2, 3 * count * sizeof *xyz);
+    merp_free(xyz2);
+    mer_markers_free(fresh);
     merp_free(xyz);
     mer_markers_free(m);
 }
