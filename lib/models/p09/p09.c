@@ -31,7 +31,8 @@ static void p09_free(merp_model *m)
         return;
     void *arrays[] = {m->nbuds, m->nint, m->vin,    m->qb,    m->vb,   m->quiet, m->mark,
                       m->cell,  m->bkey, m->bpos,   m->bdir,  m->bq,   m->bv,    m->bquiet,
-                      m->pq,   m->pv,     m->pbuds, m->prank, m->pscr, m->ptarget, m->ax};
+                      m->pq,   m->pv,     m->pbuds, m->prank, m->pscr, m->ptarget, m->ax,
+                      m->afrom, m->aend, m->abase};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
         merp_free(arrays[i]);
     merp_free(m);
@@ -110,6 +111,8 @@ static void map_nodes(merp_model *m, uint32_t from, uint32_t to)
     merp_prefault(m->quiet, f3 * sizeof *m->quiet, t3 * sizeof *m->quiet);
     merp_prefault(m->mark, f1, t1);
     merp_prefault(m->ax, f1 * sizeof *m->ax, t1 * sizeof *m->ax);
+    merp_prefault(m->afrom, f1 * sizeof *m->afrom, t1 * sizeof *m->afrom);
+    merp_prefault(m->aend, f1 * sizeof *m->aend, t1 * sizeof *m->aend);
 }
 
 /* Gives the nodes made since the last round (by the model's shoots, new plants)
@@ -126,7 +129,8 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority,
         m->cap = sk->cap;
     }
     if (priority && m->ax_cap < sk->n) {
-        if (!MERP_RESIZE(m->ax, sk->cap))
+        if (!MERP_RESIZE(m->ax, sk->cap) || !MERP_RESIZE(m->afrom, sk->cap) ||
+            !MERP_RESIZE(m->aend, sk->cap) || !MERP_RESIZE(m->abase, sk->cap))
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the axes");
         m->ax_cap = sk->cap;
     }
@@ -160,8 +164,11 @@ static void basipetal(merp_model *m, const merp_world *w)
         if (i >= MERP_P09_AHEAD) {
             uint32_t j = i - MERP_P09_AHEAD;
             merp_p09_fetch_children(m, sk, j, 0);
-            if (ax != NULL) /* a record may straddle two cache lines */
+            if (ax != NULL) { /* a record may straddle two cache lines */
                 __builtin_prefetch((const char *)(ax + j) + sizeof *ax - 1, 1);
+                if (sk->child[3 * j] != MER_NO_NODE)
+                    __builtin_prefetch(m->afrom + sk->child[3 * j]);
+            }
         }
         if (!sk->alive[i])
             continue;
@@ -192,11 +199,16 @@ static void basipetal(merp_model *m, const merp_world *w)
             merp_p09_axnode *a = ax + i;
             a->next = child[0] != MER_NO_NODE ? child[0] : nbk[0] ? MERP_AX_TIP_BUD : MERP_AX_TIP;
             a->q_tip = qk[0];
+            /* the items priority.c lists for this node: a lateral branch or
+             * bud per slot, the terminal bud at a tip; and the rest of the axis's */
+            uint32_t items = a->next == MERP_AX_TIP_BUD;
             for (int k = 0; k < 2; k++) {
                 a->child[k] = child[k + 1];
                 a->buds[k] = nbk[k + 1];
                 a->q[k] = qk[k + 1];
+                items += child[k + 1] != MER_NO_NODE || nbk[k + 1] != 0;
             }
+            m->afrom[i] = items + (child[0] != MER_NO_NODE ? m->afrom[child[0]] : 0);
         }
     }
 }

@@ -57,13 +57,18 @@ struct merp_model {
     uint8_t *bquiet;
     size_t bn, bcap;
     int v_deferred;    /* bv is not computed yet (merp_p09_directions) */
-    /* per-round scratch under the priority model: each node's axis record, [0, n) */
+    /* per-round scratch under the priority model, [0, n): each node's axis
+     * record; the items listed from the node to its axis's tip (afrom, by the
+     * basipetal pass) and where they end in the round's lists (aend); the axes'
+     * bases in id order, abase[0, abase_n) */
     merp_p09_axnode *ax;
-    uint32_t ax_cap;
-    /* priority scratch */
+    uint32_t *afrom, *aend, *abase;
+    uint32_t ax_cap, abase_n;
+    /* priority lists: every axis's items, pq, pbuds, ptarget [0, icap), axes by
+     * their base's id, each from base to tip; and one axis's scratch, pcap long */
     float *pq, *pv;
     uint32_t *pbuds, *prank, *pscr, *ptarget;
-    size_t pcap;
+    size_t icap, pcap;
 };
 
 /* How many nodes ahead of a pass over the nodes (basipetal, Borchert-Honda) the

@@ -10,123 +10,135 @@
 #include "core/array.h"
 #include "models/p09/p09.h"
 
-static mer_result reserve_items(merp_model *m, size_t want, mer_error *err)
+/* Room for `items` listed items and for one axis's `longest` list. */
+static mer_result reserve(merp_model *m, size_t items, size_t longest, mer_error *err)
 {
-    if (want <= m->pcap)
-        return MER_OK;
-    size_t cap = want * 2 + 16;
-    if (!MERP_RESIZE(m->pq, cap) || !MERP_RESIZE(m->pv, cap) || !MERP_RESIZE(m->pbuds, cap) ||
-        !MERP_RESIZE(m->prank, cap) || !MERP_RESIZE(m->pscr, cap) ||
-        !MERP_RESIZE(m->ptarget, cap))
-        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the priority lists");
-    m->pcap = cap;
+    if (items > m->icap) {
+        size_t cap = items + items / 2 + 16;
+        if (!MERP_RESIZE(m->pq, cap) || !MERP_RESIZE(m->pbuds, cap) ||
+            !MERP_RESIZE(m->ptarget, cap))
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the priority lists");
+        m->icap = cap;
+    }
+    if (longest > m->pcap) {
+        size_t cap = longest * 2 + 16;
+        if (!MERP_RESIZE(m->pv, cap) || !MERP_RESIZE(m->prank, cap) || !MERP_RESIZE(m->pscr, cap))
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the priority lists");
+        m->pcap = cap;
+    }
     return MER_OK;
 }
 
-/* Lists the branches and buds along the axis based at b (lateral ones node by node,
- * the terminal bud last) into pq, pbuds, ptarget, from the axis records. */
-static mer_result list_axis(merp_model *m, uint32_t b, size_t *count, uint32_t *terminal,
-                            mer_error *err)
+/* How many nodes ahead of a pass the values it will read are fetched. */
+#define AHEAD 32
+
+/* Whether node i (alive) is the base of an axis. */
+static int is_axis_base(const merp_skeleton *sk, uint32_t i)
+{
+    return sk->parent[i] == MER_NO_NODE || sk->slot[i] != 0;
+}
+
+/* Lists the branches and buds along every axis (lateral ones node by node from
+ * base to tip, the terminal bud last) into pq, pbuds, ptarget, one list after
+ * another in the order of the axes' bases, and those bases into abase. One pass
+ * over the nodes in id order: along an axis ids rise from base to tip (a node's
+ * main child is grown after it), so a node's items go where its axis's list
+ * ends less the items from it to the tip (afrom, the basipetal pass's) — the
+ * axis's end found at its base and handed up it (aend). Walking each axis from
+ * its base instead would jump to a far record at every shoot, each jump waiting
+ * on the one before. */
+static void list_axes(merp_model *m, const merp_skeleton *sk)
 {
     const merp_p09_axnode *ax = m->ax;
-    size_t n = 0;
-    *terminal = UINT32_MAX;
-    for (uint32_t j = b;;) {
-        mer_result rc = reserve_items(m, n + 3, err);
-        if (rc != MER_OK)
-            return rc;
-        const merp_p09_axnode *a = ax + j;
+    uint32_t run = 0, nb = 0;
+    for (uint32_t i = 0; i < sk->n; i++) {
+        uint32_t ahead = i + AHEAD;
+        if (ahead < sk->n && sk->parent[ahead] != MER_NO_NODE)
+            __builtin_prefetch(m->aend + sk->parent[ahead]);
+        if (!sk->alive[i])
+            continue;
+        uint32_t end;
+        if (is_axis_base(sk, i)) {
+            end = run += m->afrom[i];
+            m->abase[nb++] = i;
+        } else {
+            end = m->aend[sk->parent[i]];
+        }
+        m->aend[i] = end;
+        uint32_t t = end - m->afrom[i];
+        const merp_p09_axnode *a = ax + i;
         for (uint32_t k = 0; k < 2; k++) {
             uint32_t c = a->child[k];
             if (c != MER_NO_NODE) {
-                m->pq[n] = a->q[k];
-                m->pbuds[n] = a->buds[k];
-                m->ptarget[n++] = c | MERP_BRANCH_FLAG;
+                m->pq[t] = a->q[k];
+                m->pbuds[t] = a->buds[k];
+                m->ptarget[t++] = c | MERP_BRANCH_FLAG;
             } else if (a->buds[k] != 0) {
-                m->pq[n] = a->q[k];
-                m->pbuds[n] = 1;
-                m->ptarget[n++] = 3 * j + k + 1;
+                m->pq[t] = a->q[k];
+                m->pbuds[t] = 1;
+                m->ptarget[t++] = 3 * i + k + 1;
             }
         }
-        if (a->next >= MERP_AX_TIP) {
-            if (a->next == MERP_AX_TIP_BUD) {
-                *terminal = (uint32_t)n;
-                m->pq[n] = a->q_tip;
-                m->pbuds[n] = 1;
-                m->ptarget[n++] = 3 * j;
-            }
-            break;
+        if (a->next == MERP_AX_TIP_BUD) {
+            m->pq[t] = a->q_tip;
+            m->pbuds[t] = 1;
+            m->ptarget[t] = 3 * i;
         }
-        j = a->next;
     }
-    *count = n;
-    return MER_OK;
-}
-
-/* Nothing to share along the axis based at b: every item's share is 0 (v · qw / Σ
- * with finite light), so its branches get 0 and its buds keep the 0 the
- * environment gave them, without listing and sorting. */
-static void zero_axis(merp_model *m, uint32_t b)
-{
-    const merp_p09_axnode *ax = m->ax;
-    for (uint32_t j = b;; j = ax[j].next) {
-        for (uint32_t k = 0; k < 2; k++)
-            if (ax[j].child[k] != MER_NO_NODE)
-                m->vin[ax[j].child[k]] = 0.0f;
-        if (ax[j].next >= MERP_AX_TIP)
-            break;
-    }
-}
-
-/* How many nodes ahead of the allocation the axis records are fetched. */
-#define AHEAD 32
-
-/* Whether node b is alive and the base of an axis. */
-static int is_axis_base(const merp_skeleton *sk, uint32_t b)
-{
-    return sk->alive[b] && (sk->parent[b] == MER_NO_NODE || sk->slot[b] != 0);
+    m->abase_n = nb;
 }
 
 /* Axes are visited by the id of their base node, so an axis is always allocated
  * before the branches it supports. The axis records (m->ax) are the basipetal
  * pass's of this round. A lateral branch without light (a crown's deep shade)
  * gets 0 whatever its axis is given, and so does every branch it bears: its v is
- * set and its axis left unlisted. */
+ * set and its axis left unallocated. An axis given nothing gives its branches 0
+ * and its buds keep the 0 the environment gave them (every share is v · qw / Σ
+ * with finite light), without a sort. */
 mer_result merp_p09_allocate_priority(merp_model *m, const merp_world *w, mer_error *err)
 {
     assert(m != NULL && w != NULL && m->n == w->sk->n);
     const merp_skeleton *sk = w->sk;
     const mer_params *p = w->p;
-    for (uint32_t b = 0; b < sk->n; b++) {
-        /* An axis's second node lies far from its base (grown in a later step):
-         * fetch it while earlier axes are allocated. */
-        uint32_t ahead = b + AHEAD;
-        if (ahead < sk->n && is_axis_base(sk, ahead) && m->ax[ahead].next < MERP_AX_TIP)
-            __builtin_prefetch(m->ax + m->ax[ahead].next);
-        if (!is_axis_base(sk, b))
-            continue;
+    /* at most three items a node; the longest list is one axis of every node */
+    mer_result rc = reserve(m, 3 * (size_t)sk->n, 0, err);
+    if (rc != MER_OK)
+        return rc;
+    list_axes(m, sk);
+    for (uint32_t x = 0; x < m->abase_n; x++) {
+        if (x + AHEAD < m->abase_n) {
+            uint32_t ahead = m->abase[x + AHEAD];
+            __builtin_prefetch(sk->q + ahead);
+            __builtin_prefetch(m->vin + ahead);
+        }
+        uint32_t b = m->abase[x];
         int root = sk->parent[b] == MER_NO_NODE;
         if (!root && sk->q[b] == 0.0f) {
             m->vin[b] = 0.0f;
             continue;
         }
         float v = root ? p->alpha * sk->q[b] : m->vin[b];
+        uint32_t n = m->afrom[b], first = m->aend[b] - n;
+        const uint32_t *target = m->ptarget + first;
         if (v == 0.0f) {
-            zero_axis(m, b);
+            for (uint32_t t = 0; t < n; t++)
+                if (target[t] & MERP_BRANCH_FLAG)
+                    m->vin[target[t] & ~MERP_BRANCH_FLAG] = 0.0f;
             continue;
         }
-        size_t n;
-        uint32_t terminal;
-        mer_result rc = list_axis(m, b, &n, &terminal, err);
-        if (rc != MER_OK)
-            return rc;
         if (n == 0)
             continue;
+        rc = reserve(m, 0, n, err);
+        if (rc != MER_OK)
+            return rc;
+        /* the terminal bud, when the axis has one, is its list's last item */
+        uint32_t last = target[n - 1];
+        uint32_t terminal = !(last & MERP_BRANCH_FLAG) && last % 3 == 0 ? n - 1 : UINT32_MAX;
         int apical = mer_params_apical_at(p, w->step, sk->order[b]);
-        mer_priority_allocate(v, (uint32_t)n, m->pq, m->pbuds, terminal, apical, NULL, p->w_max,
-                              p->w_min, p->kappa, m->prank, m->pscr, m->pv);
-        for (size_t t = 0; t < n; t++) {
-            uint32_t tg = m->ptarget[t];
+        mer_priority_allocate(v, n, m->pq + first, m->pbuds + first, terminal, apical, NULL,
+                              p->w_max, p->w_min, p->kappa, m->prank, m->pscr, m->pv);
+        for (uint32_t t = 0; t < n; t++) {
+            uint32_t tg = target[t];
             if (tg & MERP_BRANCH_FLAG)
                 m->vin[tg & ~MERP_BRANCH_FLAG] = m->pv[t];
             else
