@@ -29,10 +29,10 @@ static void p09_free(merp_model *m)
 {
     if (m == NULL)
         return;
-    void *arrays[] = {m->nbuds, m->nint, m->vin,    m->qb,    m->vb,   m->quiet, m->mark,
-                      m->cell,  m->bkey, m->bpos,   m->bdir,  m->bq,   m->bv,    m->bquiet,
-                      m->pq,   m->pv,     m->pbuds, m->prank, m->pscr, m->ptarget, m->ax,
-                      m->afrom, m->aend, m->abase};
+    void *arrays[] = {m->sub,  m->vin,  m->qb,    m->vb,    m->quiet, m->mark,  m->cell,
+                      m->bkey, m->bpos, m->bdir,  m->bq,    m->bv,    m->bquiet, m->pq,
+                      m->pv,   m->pbuds, m->prank, m->pscr, m->ptarget, m->ax,   m->aend,
+                      m->abase};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
         merp_free(arrays[i]);
     merp_free(m);
@@ -47,7 +47,7 @@ static mer_result p09_clone(const merp_model *m, merp_model **out, mer_error *er
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model");
     /* The per-node state; the per-round scratch starts empty, as in a new model. */
     size_t c1 = m->cap, c3 = 3 * (size_t)m->cap;
-    int ok = MERP_DUP(c->nbuds, m->nbuds, c1) && MERP_DUP(c->nint, m->nint, c1) &&
+    int ok = MERP_DUP(c->sub, m->sub, c1) &&
              MERP_DUP(c->vin, m->vin, c1) && MERP_DUP(c->qb, m->qb, c3) &&
              MERP_DUP(c->vb, m->vb, c3) && MERP_DUP(c->quiet, m->quiet, c3) &&
              MERP_DUP(c->mark, m->mark, c1);
@@ -65,13 +65,34 @@ static void p09_save(const merp_model *m, merp_bytes_out *out)
 {
     size_t n1 = m->n, n3 = 3 * (size_t)m->n;
     merp_put_u32(out, m->n);
-    merp_put(out, m->nbuds, n1 * sizeof *m->nbuds);
-    merp_put(out, m->nint, n1 * sizeof *m->nint);
+    /* the counts as two arrays, as the state has always been written */
+    for (size_t i = 0; i < n1; i++)
+        merp_put_u32(out, m->sub[i].nbuds);
+    for (size_t i = 0; i < n1; i++)
+        merp_put_u32(out, m->sub[i].nint);
     merp_put(out, m->vin, n1 * sizeof *m->vin);
     merp_put(out, m->qb, n3 * sizeof *m->qb);
     merp_put(out, m->vb, n3 * sizeof *m->vb);
     merp_put(out, m->quiet, n3 * sizeof *m->quiet);
     merp_put(out, m->mark, n1 * sizeof *m->mark);
+}
+
+/* Reads the subtree counts, saved as two arrays (nbuds, then nint), into a
+ * new array of records at *out. Returns 0 when the input is bad or memory runs out
+ * (in->bad says which), else 1. */
+static int get_counts(merp_bytes_in *in, merp_p09_sub **out, size_t n)
+{
+    uint32_t *nbuds = NULL, *nint = NULL;
+    int ok = MERP_GET_ARRAY(in, nbuds, n) && MERP_GET_ARRAY(in, nint, n);
+    if (ok && n > 0 && (*out = merp_calloc(n, sizeof **out)) == NULL) {
+        in->bad = 2;
+        ok = 0;
+    }
+    for (size_t i = 0; ok && i < n; i++)
+        (*out)[i] = (merp_p09_sub){.q = 0.0f, .nbuds = nbuds[i], .nint = nint[i], .afrom = 0};
+    merp_free(nbuds);
+    merp_free(nint);
+    return ok;
 }
 
 static mer_result p09_load(merp_bytes_in *in, uint32_t nodes, merp_model **out, mer_error *err)
@@ -84,8 +105,7 @@ static mer_result p09_load(merp_bytes_in *in, uint32_t nodes, merp_model **out, 
     if (n > nodes) /* it has seen at most the skeleton's nodes */
         in->bad = 1;
     size_t n1 = n, n3 = 3 * (size_t)n;
-    (void)(MERP_GET_ARRAY(in, m->nbuds, n1) && MERP_GET_ARRAY(in, m->nint, n1) &&
-           MERP_GET_ARRAY(in, m->vin, n1) && MERP_GET_ARRAY(in, m->qb, n3) &&
+    (void)(get_counts(in, &m->sub, n1) && MERP_GET_ARRAY(in, m->vin, n1) && MERP_GET_ARRAY(in, m->qb, n3) &&
            MERP_GET_ARRAY(in, m->vb, n3) && MERP_GET_ARRAY(in, m->quiet, n3) &&
            MERP_GET_ARRAY(in, m->mark, n1));
     if (in->bad) {
@@ -103,15 +123,13 @@ static mer_result p09_load(merp_bytes_in *in, uint32_t nodes, merp_model **out, 
 static void map_nodes(merp_model *m, uint32_t from, uint32_t to)
 {
     size_t f1 = from, t1 = to, f3 = 3 * (size_t)from, t3 = 3 * (size_t)to;
-    merp_prefault(m->nbuds, f1 * sizeof *m->nbuds, t1 * sizeof *m->nbuds);
-    merp_prefault(m->nint, f1 * sizeof *m->nint, t1 * sizeof *m->nint);
+    merp_prefault(m->sub, f1 * sizeof *m->sub, t1 * sizeof *m->sub);
     merp_prefault(m->vin, f1 * sizeof *m->vin, t1 * sizeof *m->vin);
     merp_prefault(m->qb, f3 * sizeof *m->qb, t3 * sizeof *m->qb);
     merp_prefault(m->vb, f3 * sizeof *m->vb, t3 * sizeof *m->vb);
     merp_prefault(m->quiet, f3 * sizeof *m->quiet, t3 * sizeof *m->quiet);
     merp_prefault(m->mark, f1, t1);
     merp_prefault(m->ax, f1 * sizeof *m->ax, t1 * sizeof *m->ax);
-    merp_prefault(m->afrom, f1 * sizeof *m->afrom, t1 * sizeof *m->afrom);
     merp_prefault(m->aend, f1 * sizeof *m->aend, t1 * sizeof *m->aend);
 }
 
@@ -122,15 +140,14 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority,
 {
     if (sk->cap > m->cap) {
         size_t c1 = sk->cap, c3 = 3 * (size_t)sk->cap;
-        if (!MERP_RESIZE(m->nbuds, c1) || !MERP_RESIZE(m->nint, c1) ||
-            !MERP_RESIZE(m->vin, c1) || !MERP_RESIZE(m->qb, c3) || !MERP_RESIZE(m->vb, c3) ||
+        if (!MERP_RESIZE(m->sub, c1) || !MERP_RESIZE(m->vin, c1) || !MERP_RESIZE(m->qb, c3) || !MERP_RESIZE(m->vb, c3) ||
             !MERP_RESIZE(m->quiet, c3) || !MERP_RESIZE(m->mark, c1))
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for nodes");
         m->cap = sk->cap;
     }
     if (priority && m->ax_cap < sk->n) {
-        if (!MERP_RESIZE(m->ax, sk->cap) || !MERP_RESIZE(m->afrom, sk->cap) ||
-            !MERP_RESIZE(m->aend, sk->cap) || !MERP_RESIZE(m->abase, sk->cap))
+        if (!MERP_RESIZE(m->ax, sk->cap) || !MERP_RESIZE(m->aend, sk->cap) ||
+            !MERP_RESIZE(m->abase, sk->cap))
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the axes");
         m->ax_cap = sk->cap;
     }
@@ -141,8 +158,7 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority,
             m->vb[3 * i + k] = 0.0f;
             m->quiet[3 * i + k] = 0;
         }
-        m->nbuds[i] = 0;
-        m->nint[i] = 1;
+        m->sub[i] = (merp_p09_sub){.q = 0.0f, .nbuds = 0, .nint = 1, .afrom = 0};
         m->vin[i] = 0.0f;
         m->mark[i] = 0;
     }
@@ -164,11 +180,8 @@ static void basipetal(merp_model *m, const merp_world *w)
         if (i >= MERP_P09_AHEAD) {
             uint32_t j = i - MERP_P09_AHEAD;
             merp_p09_fetch_children(m, sk, j, 0);
-            if (ax != NULL) { /* a record may straddle two cache lines */
+            if (ax != NULL) /* a record may straddle two cache lines */
                 __builtin_prefetch((const char *)(ax + j) + sizeof *ax - 1, 1);
-                if (sk->child[3 * j] != MER_NO_NODE)
-                    __builtin_prefetch(m->afrom + sk->child[3 * j]);
-            }
         }
         if (!sk->alive[i])
             continue;
@@ -180,11 +193,12 @@ static void basipetal(merp_model *m, const merp_world *w)
             qk[k] = 0.0f;
             nbk[k] = 0;
             if (c != MER_NO_NODE) {
-                qk[k] = sk->q[c];
-                nbk[k] = m->nbuds[c];
+                const merp_p09_sub *sc = m->sub + c;
+                qk[k] = sc->q;
+                nbk[k] = sc->nbuds;
                 q += qk[k];
                 nb += nbk[k];
-                ni += m->nint[c];
+                ni += sc->nint;
             } else if (merp_skel_bud_exists(sk, i, k, bpn)) {
                 qk[k] = m->qb[3 * i + k];
                 nbk[k] = 1;
@@ -193,8 +207,10 @@ static void basipetal(merp_model *m, const merp_world *w)
             }
         }
         sk->q[i] = q;
-        m->nbuds[i] = nb;
-        m->nint[i] = ni;
+        merp_p09_sub *s = m->sub + i;
+        s->q = q;
+        s->nbuds = nb;
+        s->nint = ni;
         if (ax != NULL) {
             merp_p09_axnode *a = ax + i;
             a->next = child[0] != MER_NO_NODE ? child[0] : nbk[0] ? MERP_AX_TIP_BUD : MERP_AX_TIP;
@@ -208,7 +224,7 @@ static void basipetal(merp_model *m, const merp_world *w)
                 a->q[k] = qk[k + 1];
                 items += child[k + 1] != MER_NO_NODE || nbk[k + 1] != 0;
             }
-            m->afrom[i] = items + (child[0] != MER_NO_NODE ? m->afrom[child[0]] : 0);
+            s->afrom = items + (child[0] != MER_NO_NODE ? m->sub[child[0]].afrom : 0);
         }
     }
 }

@@ -36,12 +36,21 @@ typedef struct merp_p09_axnode {
     float q_tip;        /* the terminal bud's Q (at a tip with one) */
 } merp_p09_axnode;
 
+/* What the basipetal pass reads of a node at its parent, in one record: a
+ * lateral child lies far from its parent (grown steps later), and one cache
+ * line read there beats three. */
+typedef struct merp_p09_sub {
+    float q;          /* the subtree's light Q (a copy of sk->q) */
+    uint32_t nbuds;   /* eligible buds in the subtree */
+    uint32_t nint;    /* live internodes in the subtree */
+    uint32_t afrom;   /* priority model: the items listed from the node to its axis's tip */
+} merp_p09_sub;
+
 struct merp_model {
     /* Per node, for the nodes [0, n) seen so far (p09_sync gives new ones their
      * starting values); the subtree light Q lives in the skeleton (sk->q). */
     uint32_t n, cap;
-    uint32_t *nbuds;   /* eligible buds in the subtree, last pass */
-    uint32_t *nint;    /* live internodes in the subtree, last pass */
+    merp_p09_sub *sub; /* the subtree's counts, last pass */
     float *vin;        /* resource entering the node, last pass */
     float *qb, *vb;    /* 3 per node: Q and v of each bud, last pass */
     uint32_t *quiet;   /* 3 per node: epoch + 1 when the bud's marker neighbourhood was empty */
@@ -58,11 +67,10 @@ struct merp_model {
     size_t bn, bcap;
     int v_deferred;    /* bv is not computed yet (merp_p09_directions) */
     /* per-round scratch under the priority model, [0, n): each node's axis
-     * record; the items listed from the node to its axis's tip (afrom, by the
-     * basipetal pass) and where they end in the round's lists (aend); the axes'
-     * bases in id order, abase[0, abase_n) */
+     * record; where the items from the node to its axis's tip (sub[].afrom) end
+     * in the round's lists (aend); the axes' bases in id order, abase[0, abase_n) */
     merp_p09_axnode *ax;
-    uint32_t *afrom, *aend, *abase;
+    uint32_t *aend, *abase;
     uint32_t ax_cap, abase_n;
     /* priority lists: every axis's items, pq, pbuds, ptarget [0, icap), axes by
      * their base's id, each from base to tip; and one axis's scratch, pcap long */
@@ -75,9 +83,9 @@ struct merp_model {
  * values of a node's children are asked of the memory. */
 #define MERP_P09_AHEAD 16
 
-/* Prefetches what such a pass reads of node i's children: their light Q, and
- * their bud and internode counts (basipetal) or their resource (acropetal, to
- * be written). A lateral child was grown steps after its parent, far from it in
+/* Prefetches what such a pass reads of node i's children: their light and
+ * counts (basipetal), or their light Q and their resource (acropetal, to be
+ * written). A lateral child was grown steps after its parent, far from it in
  * memory: asked ahead, the misses overlap instead of being waited on in turn. */
 static inline void merp_p09_fetch_children(const merp_model *m, const merp_skeleton *sk,
                                            uint32_t i, int acropetal)
@@ -86,12 +94,11 @@ static inline void merp_p09_fetch_children(const merp_model *m, const merp_skele
         uint32_t c = sk->child[3 * i + k];
         if (c == MER_NO_NODE)
             continue;
-        __builtin_prefetch(sk->q + c);
         if (acropetal) {
+            __builtin_prefetch(sk->q + c);
             __builtin_prefetch(m->vin + c, 1);
         } else {
-            __builtin_prefetch(m->nbuds + c);
-            __builtin_prefetch(m->nint + c);
+            __builtin_prefetch(m->sub + c);
         }
     }
 }

@@ -38,15 +38,19 @@ static int is_axis_base(const merp_skeleton *sk, uint32_t i)
     return sk->parent[i] == MER_NO_NODE || sk->slot[i] != 0;
 }
 
+/* The aend of an axis that is not allocated: a lateral one without light. */
+#define UNLISTED UINT32_MAX
+
 /* Lists the branches and buds along every axis (lateral ones node by node from
  * base to tip, the terminal bud last) into pq, pbuds, ptarget, one list after
  * another in the order of the axes' bases, and those bases into abase. One pass
  * over the nodes in id order: along an axis ids rise from base to tip (a node's
  * main child is grown after it), so a node's items go where its axis's list
- * ends less the items from it to the tip (afrom, the basipetal pass's) — the
+ * ends less the items from it to the tip (sub[].afrom, the basipetal pass's) — the
  * axis's end found at its base and handed up it (aend). Walking each axis from
  * its base instead would jump to a far record at every shoot, each jump waiting
- * on the one before. */
+ * on the one before. A lateral axis without light is not allocated (see below),
+ * so nothing of it is listed. */
 static void list_axes(merp_model *m, const merp_skeleton *sk)
 {
     const merp_p09_axnode *ax = m->ax;
@@ -59,13 +63,16 @@ static void list_axes(merp_model *m, const merp_skeleton *sk)
             continue;
         uint32_t end;
         if (is_axis_base(sk, i)) {
-            end = run += m->afrom[i];
             m->abase[nb++] = i;
+            int lit = sk->parent[i] == MER_NO_NODE || m->sub[i].q != 0.0f;
+            end = lit ? (run += m->sub[i].afrom) : UNLISTED;
         } else {
             end = m->aend[sk->parent[i]];
         }
         m->aend[i] = end;
-        uint32_t t = end - m->afrom[i];
+        if (end == UNLISTED)
+            continue;
+        uint32_t t = end - m->sub[i].afrom;
         const merp_p09_axnode *a = ax + i;
         for (uint32_t k = 0; k < 2; k++) {
             uint32_t c = a->child[k];
@@ -118,7 +125,7 @@ mer_result merp_p09_allocate_priority(merp_model *m, const merp_world *w, mer_er
             continue;
         }
         float v = root ? p->alpha * sk->q[b] : m->vin[b];
-        uint32_t n = m->afrom[b], first = m->aend[b] - n;
+        uint32_t n = m->sub[b].afrom, first = m->aend[b] - n;
         const uint32_t *target = m->ptarget + first;
         if (v == 0.0f) {
             for (uint32_t t = 0; t < n; t++)

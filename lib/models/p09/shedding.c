@@ -15,7 +15,7 @@ mer_result merp_p09_shed(merp_model *m, const merp_world *w, uint32_t *count, me
     for (uint32_t i = 0; i < sk->n; i++) {
         if (!sk->alive[i] || sk->slot[i] == 0 || sk->parent[i] == MER_NO_NODE)
             continue;
-        if (sk->q[i] / (float)m->nint[i] < th) {
+        if (sk->q[i] / (float)m->sub[i].nint < th) {
             mer_result rc = merp_skel_kill(sk, i, err);
             if (rc != MER_OK)
                 return rc;
