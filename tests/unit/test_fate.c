@@ -141,6 +141,53 @@ static void test_priority_sort_is_stable_and_complete(void **state)
     assert_close(sum, 10.0f);
 }
 
+/* Whether item a goes before item b in a priority list: higher light per bud
+ * first, equal keys (−0 and +0 among them) by index (meristem/fate.h). */
+static int goes_before(const float *key, uint32_t a, uint32_t b)
+{
+    return key[a] != key[b] ? key[a] > key[b] : a < b;
+}
+
+/* Every list length the short sorts take (networks up to 4, insertion to 16,
+ * the merge sort beyond), keys drawn from a few values so that ties are common,
+ * −0 among them: each list must come out in `before`'s order, a permutation. */
+static void test_priority_sort_orders_every_length(void **state)
+{
+    (void)state;
+    const float values[6] = {0.0f, -0.0f, 0.25f, 1.0f, 1.0f / 3.0f, 2.0f};
+    uint32_t seed = 12345;
+    for (uint32_t n = 1; n <= 20; n++) {
+        for (int trial = 0; trial < 200; trial++) {
+            float q[20], v[20], key[20];
+            uint32_t buds[20], rank[20], scratch[20], seen[20] = {0};
+            for (uint32_t i = 0; i < n; i++) {
+                seed = seed * 1103515245u + 12345u;
+                q[i] = values[(seed >> 16) % 6];
+                buds[i] = 1 + (seed >> 8) % 2;
+                key[i] = q[i] / (float)buds[i];
+            }
+            mer_priority_allocate(1.0f, n, q, buds, UINT32_MAX, 0, NULL, 1.0f, 0.1f, 0.5f, rank,
+                                  scratch, v);
+            for (uint32_t i = 0; i < n; i++) {
+                assert_true(rank[i] < n);
+                seen[rank[i]]++;
+                if (i > 0)
+                    assert_true(goes_before(key, rank[i - 1], rank[i]));
+            }
+            for (uint32_t i = 0; i < n; i++)
+                assert_int_equal(seen[i], 1);
+        }
+    }
+    /* +0 then −0: equal keys keep their index order (the sign bit must not rank −0 first) */
+    const float q[2] = {0.0f, -0.0f};
+    const uint32_t buds[2] = {1, 1};
+    uint32_t rank[2], scratch[2];
+    float v[2];
+    mer_priority_allocate(1.0f, 2, q, buds, UINT32_MAX, 0, NULL, 1.0f, 0.1f, 0.5f, rank, scratch, v);
+    assert_int_equal(rank[0], 0);
+    assert_int_equal(rank[1], 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -150,6 +197,7 @@ int main(void)
         cmocka_unit_test(test_priority_weights_fig8c),
         cmocka_unit_test(test_priority_fig8b_worked_example),
         cmocka_unit_test(test_priority_sort_is_stable_and_complete),
+        cmocka_unit_test(test_priority_sort_orders_every_length),
     };
     return cmocka_run_group_tests_name("fate", tests, NULL, NULL);
 }

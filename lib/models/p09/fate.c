@@ -1,8 +1,10 @@
 /* meristem — BH and priority allocation kernels (P09 §4.2). */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include <meristem/fate.h>
 
@@ -70,12 +72,73 @@ static int before(uint32_t a, uint32_t b, const float *key)
  * axes list a handful, where the merge sort's passes cost more than the sort. */
 #define INSERTION_MAX 16
 
+/* Puts the smaller of a and b in a, the larger in b, without a branch. */
+#define ORDER_PAIR(a, b)                       \
+    do {                                       \
+        uint64_t lo_ = (a) < (b) ? (a) : (b);  \
+        uint64_t hi_ = (a) < (b) ? (b) : (a);  \
+        (a) = lo_;                             \
+        (b) = hi_;                             \
+    } while (0)
+
+/* `before` for a short list whose keys are all ≥ 0, on one integer an item:
+ * the key's bits inverted above the index. The bits of floats ≥ 0 rise with
+ * their value (−0 is made +0 first: `before` takes them as equal), so a larger
+ * key makes a smaller integer and equal keys fall to the index. Lists of up to
+ * four items (most axes') go through a sorting network, with no branch to
+ * mispredict on the keys; longer ones by insertion. */
+static void sort_short(uint32_t n, const float *key, uint32_t *rank)
+{
+    assert(n <= INSERTION_MAX);
+    uint64_t item[INSERTION_MAX];
+    for (uint32_t i = 0; i < n; i++) {
+        float k = key[i] + 0.0f; /* −0 + 0 = +0 */
+        uint32_t bits;
+        memcpy(&bits, &k, sizeof bits);
+        item[i] = (uint64_t)~bits << 32 | i;
+    }
+    switch (n) {
+    case 0:
+    case 1:
+        break;
+    case 2:
+        ORDER_PAIR(item[0], item[1]);
+        break;
+    case 3:
+        ORDER_PAIR(item[0], item[1]);
+        ORDER_PAIR(item[1], item[2]);
+        ORDER_PAIR(item[0], item[1]);
+        break;
+    case 4:
+        ORDER_PAIR(item[0], item[1]);
+        ORDER_PAIR(item[2], item[3]);
+        ORDER_PAIR(item[0], item[2]);
+        ORDER_PAIR(item[1], item[3]);
+        ORDER_PAIR(item[1], item[2]);
+        break;
+    default:
+        for (uint32_t i = 1; i < n; i++) {
+            uint64_t x = item[i];
+            uint32_t j = i;
+            for (; j > 0 && x < item[j - 1]; j--)
+                item[j] = item[j - 1];
+            item[j] = x;
+        }
+    }
+    for (uint32_t i = 0; i < n; i++)
+        rank[i] = (uint32_t)item[i];
+}
+
 /* Orders rank[0, n) (the identity on entry) by `before`. Without NaN keys
  * `before` is a strict total order (ties go by index), so every sort gives
  * the same list; with one, the merge sort keeps its own answer. */
-static void sort_ranks(uint32_t n, const float *key, int has_nan, uint32_t *rank,
-                       uint32_t *scratch)
+static void sort_ranks(uint32_t n, const float *key, int has_nan, int has_negative,
+                       uint32_t *rank, uint32_t *scratch)
 {
+    if (n <= INSERTION_MAX && !has_nan && !has_negative) {
+        sort_short(n, key, rank);
+        return;
+    }
     if (n <= INSERTION_MAX && !has_nan) {
         for (uint32_t i = 1; i < n; i++) {
             uint32_t x = rank[i], j = i;
@@ -117,13 +180,14 @@ void mer_priority_allocate(float v, uint32_t n, const float *q, const uint32_t *
         return;
     /* The sort keys, light per bud, computed once into out_v (written last). */
     float *key = out_v;
-    int has_nan = 0;
+    int has_nan = 0, has_negative = 0;
     for (uint32_t i = 0; i < n; i++) {
         rank[i] = i;
         key[i] = q[i] / (float)(buds[i] > 0 ? buds[i] : 1);
         has_nan |= key[i] != key[i];
+        has_negative |= key[i] < 0.0f;
     }
-    sort_ranks(n, key, has_nan, rank, scratch);
+    sort_ranks(n, key, has_nan, has_negative, rank, scratch);
     if (apical && terminal < n) {
         /* Apical control: the terminal bud heads the list whatever its light. */
         uint32_t pos = 0;
