@@ -35,20 +35,6 @@ static void mark_constraint(merp_model *m, const merp_skeleton *sk)
     }
 }
 
-/* Whether bud k of node i may grow this round: in a sylleptic round only the
- * lateral buds made this step; under the brush constraint only buds at or above it. */
-static int may_grow(const merp_model *m, const merp_world *w, uint32_t i, uint32_t k,
-                    int syllepsis)
-{
-    const merp_skeleton *sk = w->sk;
-    int ok = 1;
-    if (syllepsis)
-        ok = k > 0 && sk->born[i] == w->step;
-    if (ok && sk->con_node != MER_NO_NODE)
-        ok = m->mark[i] || (i == sk->con_node && k == sk->con_slot);
-    return ok;
-}
-
 /* The voxel of every node's end (m->cell), under shadow propagation: computed
  * for the new nodes only while the epoch stays, as nothing else moves a bud then. */
 static mer_result update_cells(merp_model *m, const merp_world *w, mer_error *err)
@@ -73,47 +59,23 @@ static mer_result update_cells(merp_model *m, const merp_world *w, mer_error *er
     return MER_OK;
 }
 
-/* How many nodes ahead collect_lit asks the memory for a node's voxel. */
-#define READ_AHEAD 16
-
-/* Under shadow propagation while V waits: lists the buds that may grow (bkey)
- * and sets every live node's buds' Q (qb: the light of the node's voxel for a
- * listed bud, else 0) and v (vb: 0), in one walk that reads each node's voxel
- * in place. */
-static mer_result collect_lit(merp_model *m, const merp_world *w, int syllepsis,
-                              mer_error *err)
+/* Under shadow propagation while V waits: the voxels of the buds, and room
+ * for every bud in the list the basipetal pass makes as it reads their light
+ * (p09.c: it lists them downward from bkey[3n], each node's last slot first). */
+static mer_result defer_lit(merp_model *m, const merp_world *w, int syllepsis, mer_error *err)
 {
     const merp_skeleton *sk = w->sk;
     mer_result rc = update_cells(m, w, err);
+    if (rc == MER_OK)
+        rc = reserve_buds(m, 3 * (size_t)sk->n, err);
     if (rc != MER_OK)
         return rc;
-    const merp_light light = merp_env_light(w->env);
-    const uint32_t *cell = m->cell, bpn = w->p->buds_per_node, n = sk->n;
-    const uint8_t *alive = sk->alive;
-    float *qb = m->qb, *vb = m->vb;
-    int every = !syllepsis && sk->con_node == MER_NO_NODE; /* no bud held back */
-    size_t bn = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        if (i + READ_AHEAD < n)
-            merp_light_prefetch(&light, cell[i + READ_AHEAD]);
-        if (!alive[i])
-            continue;
-        if (bn + 3 > m->bcap && (rc = reserve_buds(m, bn + 3, err)) != MER_OK)
-            return rc;
-        float q = -1.0f; /* read on the first listed bud */
-        for (uint32_t k = 0; k < 3; k++) {
-            float qk = 0.0f;
-            if (merp_skel_bud_exists(sk, i, k, bpn) && (every || may_grow(m, w, i, k, syllepsis))) {
-                m->bkey[bn++] = 3 * i + k;
-                if (q < 0.0f)
-                    q = merp_light_at(&light, cell[i]);
-                qk = q;
-            }
-            qb[3 * i + k] = qk;
-            vb[3 * i + k] = 0.0f;
-        }
-    }
-    m->bn = bn;
+    m->light = merp_env_light(w->env);
+    m->lit_every = !syllepsis && sk->con_node == MER_NO_NODE;
+    m->lit_syllepsis = syllepsis;
+    m->lit_pending = 1;
+    m->bfirst = 3 * (size_t)sk->n;
+    m->bn = 0;
     return MER_OK;
 }
 
@@ -126,6 +88,7 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
     int markers = w->p->environment == MER_ENV_MARKERS;
     uint32_t quiet_now = merp_env_epoch(w->env) + 1;
     m->bn = 0;
+    m->bfirst = 0;
     for (uint32_t i = 0; i < sk->n; i++) {
         if (!sk->alive[i])
             continue;
@@ -134,7 +97,7 @@ static mer_result collect_buds(merp_model *m, const merp_world *w, int syllepsis
             m->vb[3 * i + k] = 0.0f;
             if (!merp_skel_bud_exists(sk, i, k, w->p->buds_per_node))
                 continue;
-            int ok = may_grow(m, w, i, k, syllepsis);
+            int ok = merp_p09_may_grow(m, w, i, k, syllepsis);
             /* A bud known to have no marker near it, with no marker added and no
              * bud moved since, can neither take nor remove one: Q = 0, skip it. */
             if (markers && m->quiet[3 * i + k] == quiet_now)
@@ -167,7 +130,7 @@ mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsi
      * that grow (merp_p09_directions), read from this same grid. */
     m->v_deferred = defer_v && w->p->environment == MER_ENV_SHADOW;
     if (m->v_deferred)
-        return collect_lit(m, w, syllepsis, err);
+        return defer_lit(m, w, syllepsis, err);
     mer_result rc = collect_buds(m, w, syllepsis, err);
     if (rc == MER_OK)
         rc = merp_env_perceive(w->env, m->bn, m->bpos, m->bdir, m->bq, m->bv, m->bquiet, err);
@@ -192,8 +155,9 @@ void merp_p09_directions(merp_model *m, const merp_world *w)
     /* Only the buds whose resource makes a shoot stay listed, in order (their V
      * moved along): the growth pass then reads no bud that cannot grow. */
     size_t g = 0;
+    const uint32_t *listed = m->bkey + m->bfirst; /* g ≤ b: each key read before it is overwritten */
     for (size_t b = 0; b < m->bn; b++) {
-        uint32_t key = m->bkey[b];
+        uint32_t key = listed[b];
         if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, NULL) == 0)
             continue;
         m->bkey[g] = key;
@@ -202,6 +166,7 @@ void merp_p09_directions(merp_model *m, const merp_world *w)
         g++;
     }
     m->bn = g;
+    m->bfirst = 0;
     /* V read from the grid now, for the few that grow; the voxels (m->cell) are
      * this round's, and each bud's 26 neighbours lie in nine rows far apart:
      * asked for a few buds ahead. */

@@ -166,25 +166,55 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority,
     return MER_OK;
 }
 
+/* The Q of node i's buds from the light of its voxel (m->light), for the buds
+ * that may grow (listed downward in m->bkey, from its last slot, so that the
+ * list reads upward in key order), 0 for the others; their v starts at 0. The
+ * environment input of a round whose V waits (environment.c). */
+static inline void read_light(merp_model *m, const merp_world *w, uint32_t i)
+{
+    const merp_skeleton *sk = w->sk;
+    float q = -1.0f; /* read on the first listed bud */
+    for (uint32_t k = 3; k-- > 0;) {
+        float qk = 0.0f;
+        if (merp_skel_bud_exists(sk, i, k, w->p->buds_per_node) &&
+            (m->lit_every || merp_p09_may_grow(m, w, i, k, m->lit_syllepsis))) {
+            m->bkey[--m->bfirst] = 3 * i + k;
+            if (q < 0.0f)
+                q = merp_light_at(&m->light, m->cell[i]);
+            qk = q;
+        }
+        m->qb[3 * i + k] = qk;
+        m->vb[3 * i + k] = 0.0f;
+    }
+}
+
 /* Basipetal pass: light Q of the buds that may grow, the number of living
  * (dormant) buds, and the internode count, per subtree. The priority model sorts
  * branches by Q per living bud (P09 Fig. 8b: 2.1/3), so shaded buds count. Under
  * the priority model it also leaves each node's axis record (m->ax), read while
- * its children's values are at hand. */
+ * its children's values are at hand. When the environment left the buds' light
+ * to it (m->lit_pending), it reads each node's first: the light's random reads
+ * of the shadow grid then overlap the sums' work instead of a pass of their own. */
 static void basipetal(merp_model *m, const merp_world *w)
 {
     merp_skeleton *sk = w->sk;
     uint32_t bpn = w->p->buds_per_node;
     merp_p09_axnode *ax = w->p->fate == MER_FATE_PRIORITY ? m->ax : NULL;
+    int lit = m->lit_pending;
+    size_t listed_end = m->bfirst;
     for (uint32_t i = sk->n; i-- > 0;) {
         if (i >= MERP_P09_AHEAD) {
             uint32_t j = i - MERP_P09_AHEAD;
             merp_p09_fetch_children(m, sk, j, 0);
             if (ax != NULL) /* a record may straddle two cache lines */
                 __builtin_prefetch((const char *)(ax + j) + sizeof *ax - 1, 1);
+            if (lit)
+                merp_light_prefetch(&m->light, m->cell[j]);
         }
         if (!sk->alive[i])
             continue;
+        if (lit)
+            read_light(m, w, i);
         float q = 0.0f, qk[3];
         uint32_t nb = 0, ni = 1, nbk[3];
         const uint32_t *child = sk->child + 3 * i;
@@ -226,6 +256,10 @@ static void basipetal(merp_model *m, const merp_world *w)
             }
             s->afrom = items + (child[0] != MER_NO_NODE ? m->sub[child[0]].afrom : 0);
         }
+    }
+    if (lit) {
+        m->bn = listed_end - m->bfirst;
+        m->lit_pending = 0;
     }
 }
 

@@ -60,12 +60,16 @@ struct merp_model {
     uint32_t *cell;
     uint32_t cell_n, cell_cap, cell_epoch;
 
-    /* per-round scratch: the buds that may grow */
+    /* per-round scratch: the buds that may grow, bkey[bfirst, bfirst + bn) */
     uint32_t *bkey;    /* 3·node + slot */
     float *bpos, *bdir, *bq, *bv;
     uint8_t *bquiet;
-    size_t bn, bcap;
+    size_t bn, bcap, bfirst;
     int v_deferred;    /* bv is not computed yet (merp_p09_directions) */
+    /* the buds' Q is left to the basipetal pass (shadow propagation while V
+     * waits), read from this view of the grid; lit_every: no bud held back */
+    int lit_pending, lit_every, lit_syllepsis;
+    merp_light light;
     /* per-round scratch under the priority model, [0, n): each node's axis
      * record; where the items from the node to its axis's tip (sub[].afrom) end
      * in the round's lists (aend); the axes' bases in id order, abase[0, abase_n) */
@@ -103,11 +107,27 @@ static inline void merp_p09_fetch_children(const merp_model *m, const merp_skele
     }
 }
 
+/* Whether bud k of node i may grow this round: in a sylleptic round only the
+ * lateral buds made this step; under the brush constraint only buds at or
+ * above it (m->mark). */
+static inline int merp_p09_may_grow(const merp_model *m, const merp_world *w, uint32_t i,
+                                    uint32_t k, int syllepsis)
+{
+    const merp_skeleton *sk = w->sk;
+    int ok = 1;
+    if (syllepsis)
+        ok = k > 0 && sk->born[i] == w->step;
+    if (ok && sk->con_node != MER_NO_NODE)
+        ok = m->mark[i] || (i == sk->con_node && k == sk->con_slot);
+    return ok;
+}
+
 /* environment.c */
 /* Q of every bud that may grow this round, and V too unless `defer_v` lets it
  * wait (shadow propagation only) until merp_p09_directions, which must run
  * before the shadow grid changes: between them nothing may cast or lift a
- * shadow. */
+ * shadow. While V waits, Q is read by the basipetal pass that follows
+ * (m->lit_pending), node by node beside the sums it feeds. */
 mer_result merp_p09_environment(merp_model *m, const merp_world *w, int syllepsis,
                                 int defer_v, mer_error *err);
 /* Keeps listed only the buds whose resource (m->vb) makes a shoot, in order, and
