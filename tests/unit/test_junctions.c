@@ -17,6 +17,7 @@
 
 #include <meristem.h>
 
+#include "scene_private.h"
 #include "trimesh_check.h"
 
 /* fig7-bh-0.54, seed 7, after `steps`, its internodes `thick` times as thick
@@ -294,6 +295,36 @@ static void fork_ages(void **state)
     mer_scene_free(s);
 }
 
+/* A fork whose parent thickens sharply below it, as below a dense whorl
+ * (the pipe model adds each lateral's d^n): P's internode is shorter than
+ * its radius, so the in cut lies below it, where the axis is twice as thick
+ * as at J. The cut's reach, the grid's shell and the ridge's fade follow
+ * the tube's radius at the cut, so the fork is still patched (sized by the
+ * radius at J, its cut would not reach round the tube and the fork would
+ * silently stay tubes), and the bark stays closed. */
+static void thick_below_the_fork_is_patched(void **state)
+{
+    (void)state;
+    mer_scene *s = grown_thick(12, 4.0f);
+    const uint32_t P = 10;
+    mer_error err;
+    mer_node p;
+    assert_int_equal(mer_scene_node(s, P, &p, &err), MER_OK);
+    assert_true(p.alive && p.lateral_child[0] != MER_NO_NODE && p.length < 0.5f * p.diameter);
+    assert_true(marks_at(s, P, p.lateral_child[0]).crotch > 0.9f);
+    /* Twice the diameter all the way down P's axis below it. */
+    merp_skeleton *sk = &s->sk;
+    const float twice = powf(2.0f, sk->pipe_n);
+    uint32_t thickened = 0;
+    for (uint32_t id = sk->parent[P], above = P; id != MER_NO_NODE && sk->child[3 * id] == above;
+         above = id, id = sk->parent[id], thickened++)
+        sk->dn[id] *= twice;
+    assert_true(thickened >= 2);
+    assert_true(marks_at(s, P, p.lateral_child[0]).crotch > 0.9f);
+    assert_true(closed_with_junctions(s) >= 5);
+    mer_scene_free(s);
+}
+
 /* Patches built on 1, 2, 3 and 8 threads give the same GLB, byte for byte
  * (patches land in their fork's own arrays and are written in fork order). */
 static void same_bytes_whatever_the_threads(void **state)
@@ -347,6 +378,7 @@ int main(void)
         cmocka_unit_test(seams_share_normals),
         cmocka_unit_test(same_bytes_and_default_unchanged),
         cmocka_unit_test(fork_ages),
+        cmocka_unit_test(thick_below_the_fork_is_patched),
         cmocka_unit_test(same_bytes_whatever_the_threads),
         cmocka_unit_test(bad_options),
     };
