@@ -206,10 +206,10 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
 /* jt's patch into m (room for either polygonizer): by dual contouring, which
  * keeps the branch bark ridge's crease sharp (G04 §3.2), or, where that patch
  * does not close (two sheets of a cell crossing one face twice on both its
- * sides, or two vertices at one position), by marching tetrahedra. *ring_first: the first of
- * the ring copies. MER_ERR_INVALID when neither closes. */
-static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_trimesh *m, uint32_t *ring_first,
-                                   mer_error *err)
+ * sides, or two vertices at one position), by marching tetrahedra. *ring_first: the
+ * first of the ring copies. MER_ERR_INVALID when neither closes. */
+static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_trimesh *m,
+                                   uint32_t *ring_first, mer_error *err)
 {
     mer_result rc = MER_ERR_INVALID;
     for (uint32_t sharp = 2; sharp-- > 0 && rc == MER_ERR_INVALID;) {

@@ -144,8 +144,8 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
  * the field: every internode boundary between them within STRAIGHT × r of
  * the line from J to the cut's centre (inside the shaft's tube), and the
  * cut's internode, whose tube goes on from the cut ring, along it. */
-static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first, uint32_t s, const float J[3],
-                     float r)
+static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first, uint32_t s,
+                     const float J[3], float r)
 {
     const float *dir = b->nodes[jt->node[s]].dir, *u = jt->n[s];
     float D = jt->d[s];
@@ -309,7 +309,8 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
     for (uint32_t k = 1; k < f->laterals; k++)
         born = born < b->nodes[first[2 + k]].born ? born : b->nodes[first[2 + k]].born;
     merp_junction_age(f, ridge_up, years_since(b, born));
-    f->scar_weight = b->nodes[C].born == p->born ? 0.0f : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
+    f->scar_weight = b->nodes[C].born == p->born ? 0.0f
+                                                 : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
     return true;
 }
 
