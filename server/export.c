@@ -3,16 +3,19 @@
 
 #include "server/export.h"
 
+#include <assert.h>
 #include <unistd.h>
 
+#define MAX_PATCH_THREADS 64 /* mer_mesh_options.threads' range */
+
 /* Implicit junction patches are independent and their bytes do not depend on
- * the thread count (mer_mesh_options.threads), so a mesh that asks for none is
- * given the machine's cores: one snapshot request or one offline export is
- * then meshed as fast as the machine allows. */
-static uint32_t patch_threads(void)
+ * the thread count (mer_mesh_options.threads), so they may take whatever
+ * cores the meshes running beside them leave. */
+uint32_t merd_export_patch_threads(uint32_t jobs)
 {
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1u : n > 64 ? 64u : (uint32_t)n;
+    assert(jobs >= 1);
+    long n = sysconf(_SC_NPROCESSORS_ONLN) / (long)jobs;
+    return n < 1 ? 1u : n > MAX_PATCH_THREADS ? MAX_PATCH_THREADS : (uint32_t)n;
 }
 
 mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh,
@@ -21,7 +24,7 @@ mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh
 {
     mer_mesh_options o = *mesh;
     if (o.junctions != MER_JUNCTIONS_TUBES && o.threads == 0)
-        o.threads = patch_threads();
+        o.threads = merd_export_patch_threads(1);
     mer_mesh *m = NULL;
     mer_result rc = mer_mesh_build(scene, &o, &m, err);
     if (rc != MER_OK)

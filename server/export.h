@@ -18,8 +18,15 @@ typedef struct merd_origin {
     uint64_t seed;
 } merd_origin;
 
-/* Meshes `scene` with `mesh` options (implicit junctions on as many threads as
- * the machine has cores when `mesh` asks for none) and encodes it with `gltf` options into
+/* The threads for the implicit junction patches of each of `jobs` meshes built
+ * at once (jobs ≥ 1): the machine's online cores shared among them, at least
+ * 1 and at most the library's 64, so that busy workers do not oversubscribe
+ * the cores. Cost: a sysconf call. */
+uint32_t merd_export_patch_threads(uint32_t jobs);
+
+/* Meshes `scene` with `mesh` options (implicit junctions on all the machine's
+ * cores, merd_export_patch_threads(1), when `mesh` asks for no thread count:
+ * one offline export) and encodes it with `gltf` options into
  * *bytes (*size; caller frees with mer_gltf_free). `*triangles` (may be NULL)
  * gets the mesh's triangle count, also on an encoding failure. MER_OK, or the
  * library's failure with `err` filled. Costs a full mesh build. */

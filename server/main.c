@@ -17,6 +17,7 @@
 
 #include "server/app.h"
 #include "server/clock.h"
+#include "server/export.h"
 #include "server/http.h"
 #include "server/io_hooks.h"
 #include "server/loader.h"
@@ -39,6 +40,8 @@ static merd_session_config session_config(const merd_settings *config)
         .max_seconds = (double)config->max_seconds,
         .checkpoint_every = (uint32_t)config->checkpoint_every,
         .compact = config->compact,
+        .patch_threads = config->patch_threads > 0 ? (uint32_t)config->patch_threads
+                                                   : merd_export_patch_threads((uint32_t)config->workers),
     };
 }
 

@@ -44,6 +44,8 @@ typedef struct merd_session_config {
     const atomic_int *stopping;  /* when set and non-zero: batches stop at the next whole step */
     uint32_t checkpoint_every;   /* revisions between checkpoints; 0: none */
     bool compact;                /* drop the journal records a checkpoint covers */
+    uint32_t patch_threads;      /* threads one snapshot's junction patches take (the
+                                    workers mesh at once); 0: all the cores */
 } merd_session_config;
 
 /* Creates a session with id `id` (32 hex digits) from a create request `spec`

@@ -51,8 +51,12 @@ int merd_session_build(merd_session *s, const mer_scene *scene, uint64_t revisio
     uint8_t *bytes = NULL;
     size_t size = 0;
     mer_error err = {0};
-    mer_result rc = merd_export_tree(scene, &options->mesh, &gopt, &origin, &bytes, &size,
-                                     NULL, &err);
+    /* Several workers may mesh at once: each snapshot's patches take their
+     * share of the cores (the bytes are the same whatever the count). */
+    mer_mesh_options mesh = options->mesh;
+    if (mesh.threads == 0)
+        mesh.threads = s->cfg->patch_threads;
+    mer_result rc = merd_export_tree(scene, &mesh, &gopt, &origin, &bytes, &size, NULL, &err);
     if (rc != MER_OK)
         return merd_refuse_lib(why, rc, &err, "");
     *out = merd_snapshot_new(bytes, size);

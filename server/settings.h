@@ -21,6 +21,7 @@ typedef struct merd_settings {
     long max_queue;         /* --max-queue: requests waiting for a worker before 503 */
     bool quiet;             /* --quiet: no request log */
     long workers;           /* --workers: threads that step and mesh */
+    long patch_threads;     /* --patch-threads: threads one mesh's junction patches take, 0: auto */
     long max_sessions;      /* --max-sessions */
     long max_internodes;    /* --max-internodes: per session */
     long max_markers;       /* --max-markers: per request */

@@ -1,5 +1,5 @@
 /* meristem — the marker set's storage, shared by its files (markers.c: the set,
- * the grid and removals; markers_colonize.c: P09's competition; markers_near.c:
+ * the grid, removals and P09's competition, mer_markers_colonize; markers_near.c:
  * the markers near a set of points). Not installed. */
 #ifndef MERISTEM_ENV_MARKERS_GRID_H
 #define MERISTEM_ENV_MARKERS_GRID_H

@@ -11,6 +11,21 @@
 #include "env/markers_grid.h"
 #include "env/markers_near.h"
 
+/* The index of b's lowest set bit (b ≠ 0): one instruction where the
+ * compiler has a builtin for it (GCC, Clang), else a shift loop. */
+static inline size_t lowest_bit(uint64_t b)
+{
+    assert(b != 0);
+#if defined(__GNUC__)
+    return (size_t)__builtin_ctzll(b); /* unsigned long long holds at least 64 bits */
+#else
+    size_t i = 0;
+    for (; (b & 1u) == 0; b >>= 1)
+        i++;
+    return i;
+#endif
+}
+
 /* A fresh stamp for m->stamp (cells): the cells stamped earlier read as unstamped. */
 static uint32_t next_stamp(mer_markers *m)
 {
@@ -112,7 +127,7 @@ mer_result merp_markers_near(mer_markers *m, const float *pts, size_t n, float r
     size_t j = 0;
     for (size_t w = 0; w < words && j < total; w++)
         for (uint64_t b = m->bits[w]; b != 0; b &= b - 1) {
-            size_t id = 64 * w + (size_t)__builtin_ctzll(b);
+            size_t id = 64 * w + lowest_bit(b);
             memcpy(*xyz + 3 * j++, m->p + 3 * id, 3 * sizeof **xyz);
             m->bits[w] = 0;
         }

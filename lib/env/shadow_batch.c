@@ -9,14 +9,18 @@
 #include "config.h"
 
 #include <assert.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "core/array.h"
 #include "env/env.h"
 
-/* The widest digit of the radix sort: 2¹² counts stay in the L1 cache, and a grid
- * of up to 2²⁴ voxels (256³) is sorted in two passes. */
+/* The widest digit of the radix sort: its 2¹² 32-bit counts (16 KB) leave room
+ * in a 32 KB L1 data cache for the keys streaming through, and a grid of up to
+ * 2²⁴ voxels (256³) is sorted in two passes. */
 #define RADIX_BITS_MAX 12
+/* The casts held back at most: the sort's counts are 32-bit. */
+#define PENDING_MAX UINT32_MAX
 
 void merp_env_batch_begin(merp_env *e)
 {
@@ -25,9 +29,13 @@ void merp_env_batch_begin(merp_env *e)
     e->npend = 0;
 }
 
-/* Holds a cast back; without memory to hold it, casts it now (same sum). */
+/* Holds a cast back; without memory or count to hold it, casts it now (same sum). */
 void merp_env_batch_cast(merp_env *e, const float p[3], int sign)
 {
+    if (e->npend == PENDING_MAX) {
+        mer_shadow_cast_at(e->shadow, p, sign);
+        return;
+    }
     if (e->npend == e->pend_cap) {
         size_t cap = e->pend_cap ? 2 * e->pend_cap : 4096;
         if (!MERP_RESIZE(e->pend, cap) || !MERP_RESIZE(e->pend_tmp, cap)) {
@@ -44,13 +52,14 @@ void merp_env_batch_cast(merp_env *e, const float p[3], int sign)
  * few passes of digits as wide as the grid's voxel count needs. */
 static uint64_t *sort_keys(uint64_t *a, uint64_t *tmp, size_t n, size_t cells)
 {
+    assert(n <= PENDING_MAX);
     unsigned bits = 0;
     while (bits < 64 && ((uint64_t)(cells - 1) >> bits) != 0)
         bits++;
     unsigned passes = (bits + RADIX_BITS_MAX - 1) / RADIX_BITS_MAX;
     unsigned width = passes ? (bits + passes - 1) / passes : 0;
     const uint64_t mask = ((uint64_t)1 << width) - 1;
-    size_t count[(1u << RADIX_BITS_MAX) + 1];
+    uint32_t count[(1u << RADIX_BITS_MAX) + 1];
     for (unsigned p = 0, shift = 1; p < passes; p++, shift += width) {
         memset(count, 0, ((mask + 2) * sizeof *count));
         for (size_t t = 0; t < n; t++)

@@ -57,7 +57,8 @@ static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, mer
     for (int k = 0; k < 3; k++)
         lo[k] = hi[k] = J[k];
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        float r = merp_node_radius(b, jt->start[s]);
+        /* The shaft's segment runs from its radius at J to the tube's at the cut. */
+        float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
         float e = SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
         for (int k = 0; k < 3; k++) {
             float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
@@ -156,7 +157,7 @@ static float mark_fade(const merp_builder *b, const merp_joint *jt, const float 
 {
     float w = 1.0f;
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        float q[3], r = merp_node_radius(b, jt->start[s]);
+        float q[3], r = merp_cut_radius(b, jt, s);
         for (int k = 0; k < 3; k++)
             q[k] = jt->o[s][k] - p[k];
         float x = v3_dot(q, jt->n[s]) / r;
@@ -205,10 +206,10 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
 /* jt's patch into m (room for either polygonizer): by dual contouring, which
  * keeps the branch bark ridge's crease sharp (G04 §3.2), or, where that patch
  * does not close (two sheets of a cell crossing one face twice on both its
- * sides, or two vertices at one position), by marching tetrahedra. *ring_first: the first of
- * the ring copies. MER_ERR_INVALID when neither closes. */
-static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_trimesh *m, uint32_t *ring_first,
-                                   mer_error *err)
+ * sides, or two vertices at one position), by marching tetrahedra. *ring_first: the
+ * first of the ring copies. MER_ERR_INVALID when neither closes. */
+static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_trimesh *m,
+                                   uint32_t *ring_first, mer_error *err)
 {
     mer_result rc = MER_ERR_INVALID;
     for (uint32_t sharp = 2; sharp-- > 0 && rc == MER_ERR_INVALID;) {
@@ -237,7 +238,7 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
         merp_cut *c = &pt.cut[s];
         memcpy(c->o, jt->o[s], sizeof c->o);
         memcpy(c->n, jt->n[s], sizeof c->n);
-        c->reach = MERP_JOINT_REACH * merp_node_radius(b, jt->start[s]) + h;
+        c->reach = MERP_JOINT_REACH * merp_cut_radius(b, jt, s) + h; /* the tube's there (plan_one) */
         c->ring = jt->ring[s];
         c->sides = jt->sides[s];
     }

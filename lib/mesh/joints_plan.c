@@ -18,6 +18,7 @@
 #define STRAIGHT 0.5f        /* a shaft's axis stays within this × its radius of one line ... */
 #define STRAIGHT_COS 0.9f    /* ... and its cut's internode within 25° of it */
 #define EXTEND 3.0f          /* a shaft's segment reaches this many cells past its cut */
+#define REPLANS 4u           /* a fork's cuts are placed at most this many times (plan_one) */
 #define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
@@ -143,8 +144,8 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
  * the field: every internode boundary between them within STRAIGHT × r of
  * the line from J to the cut's centre (inside the shaft's tube), and the
  * cut's internode, whose tube goes on from the cut ring, along it. */
-static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first, uint32_t s, const float J[3],
-                     float r)
+static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first, uint32_t s,
+                     const float J[3], float r)
 {
     const float *dir = b->nodes[jt->node[s]].dir, *u = jt->n[s];
     float D = jt->d[s];
@@ -173,10 +174,7 @@ static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first
 static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t s, const float J[3], float r0,
                           float h, merp_seg *g)
 {
-    const mer_node *n = &b->nodes[jt->node[s]];
-    float f = n->length > 0.0f ? jt->at[s] / n->length : 0.0f;
-    float r_base = merp_node_radius(b, jt->node[s]);
-    float r_cut = r_base + f * (merp_node_end_radius(b, jt->node[s]) - r_base);
+    float r_cut = merp_cut_radius(b, jt, s);
     float D = jt->d[s], E = D + EXTEND * h;
     float r_far = fmaxf(r0 + (r_cut - r0) * E / D, 0.5f * r_cut), Q[3];
     for (int k = 0; k < 3; k++)
@@ -268,20 +266,39 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
         R[s] = SUPPORT_SEEN * merp_seg_support(g);
         first[s] = jt->start[s];
     }
-    for (uint32_t s = 0; s < jt->cuts; s++) {
-        float r = merp_node_radius(b, jt->start[s]), rho = MERP_JOINT_REACH * r + h, d = r;
-        for (uint32_t o = 0; o < jt->cuts; o++) {
-            if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
-                continue;
-            float c = clear_of(dir[s], dir[o], R[o], rho);
-            if (c < 0.0f)
-                return false;
-            d = fmaxf(d, c);
+    /* Each cut's reach is sized by the tube's radius at the cut (joints.c),
+     * which is known only once the cut is placed: first the radius at J, then,
+     * while a cut lands where its axis is thicker, again with that radius
+     * (the cut moves out, clear of the others by the wider reach). */
+    float r_reach[MERP_PATCH_CUTS];
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        r_reach[s] = merp_node_radius(b, jt->start[s]);
+    for (uint32_t pass = 0;; pass++) {
+        for (uint32_t s = 0; s < jt->cuts; s++) {
+            float r = merp_node_radius(b, jt->start[s]), rho = MERP_JOINT_REACH * r_reach[s] + h, d = r;
+            for (uint32_t o = 0; o < jt->cuts; o++) {
+                if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
+                    continue;
+                float c = clear_of(dir[s], dir[o], R[o], rho);
+                if (c < 0.0f)
+                    return false;
+                d = fmaxf(d, c);
+            }
+            need[s] = d + 2.0f * h;
         }
-        need[s] = d + 2.0f * h;
+        if (!place_cuts(b, cl, first, need, h, false, jt))
+            return false;
+        bool thicker = false;
+        for (uint32_t s = 0; s < jt->cuts; s++) {
+            float r = merp_cut_radius(b, jt, s);
+            if (r > r_reach[s])
+                r_reach[s] = r, thicker = true;
+        }
+        if (!thicker)
+            break;
+        if (pass + 1 == REPLANS)
+            return false; /* still thickening: the axis is no shaft for a patch */
     }
-    if (!place_cuts(b, cl, first, need, h, false, jt))
-        return false;
     place_cuts(b, cl, first, need, h, true, jt);
     float ridge_up[3];
     memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
@@ -292,7 +309,8 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
     for (uint32_t k = 1; k < f->laterals; k++)
         born = born < b->nodes[first[2 + k]].born ? born : b->nodes[first[2 + k]].born;
     merp_junction_age(f, ridge_up, years_since(b, born));
-    f->scar_weight = b->nodes[C].born == p->born ? 0.0f : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
+    f->scar_weight = b->nodes[C].born == p->born ? 0.0f
+                                                 : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
     return true;
 }
 

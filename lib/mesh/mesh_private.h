@@ -181,6 +181,20 @@ static inline float merp_node_end_radius(const merp_builder *b, uint32_t id)
     return c != MER_NO_NODE && b->nodes[c].alive ? merp_node_radius(b, c) : merp_node_radius(b, id);
 }
 
+/* The radius of the tube at jt's cut s: its internode's, linear from base to
+ * end, as tube.c's cut ring and the shaft's field segment have it. A cut
+ * across several internodes can lie where the axis is thicker than at J
+ * (the parent below a dense whorl), so a cut's reach, shell and fade are
+ * sized by this, not by the shaft's radius at J. */
+static inline float merp_cut_radius(const merp_builder *b, const merp_joint *jt, uint32_t s)
+{
+    assert(s < jt->cuts);
+    const uint32_t id = jt->node[s];
+    const mer_node *n = &b->nodes[id];
+    const float f = n->length > 0.0f ? jt->at[s] / n->length : 0.0f, r = merp_node_radius(b, id);
+    return r + f * (merp_node_end_radius(b, id) - r);
+}
+
 /* joints_plan.c: plans the forks to patch into b->joints, their cuts and
  * fields, and the node maps tube.c follows (joint_at, lateral_in, cut_end,
  * cut_begin). Errors: MER_ERR_NOMEM. */

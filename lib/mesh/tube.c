@@ -81,15 +81,25 @@ static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center
  * tilted by `slope` (the local taper, so a cone shades as a cone), UV v `v`,
  * joined by quads to the last ring when `join`. A cut ring of joint `jt`
  * (mesh.h, Junctions) is recorded there on a dry run and copied from there
- * otherwise, with the normal the patch gave its copy, so the two match bit
- * for bit and shade alike. */
+ * otherwise, frame and all, with the normal the patch gave its copy, so the
+ * two match bit for bit and shade alike. */
 static void emit_ring(merp_builder *b, tube *tb, const float center[3], const float t[3],
                       float radius, float slope, float v, const mer_node *owner, bool join,
                       merp_joint *jt, uint32_t cut)
 {
     merp_cursor *c = &b->bark;
     const uint32_t sides = tb->sides, stride = tb->stride;
-    transport(tb->normal, tb->t_prev, t);
+    if (jt != NULL && !b->dry) {
+        /* The recorded ring's frame, not the one carried here: the dry run
+         * had every fork planned, and a fork unplanned since (its patch
+         * failed, so its shafts are tubes again) carried the frame along
+         * other tangents, to a frame turned from the ring the patch was
+         * stitched to. The rings beyond go on from the recorded one. */
+        assert(jt->ok && jt->sides[cut] == sides);
+        memcpy(tb->normal, jt->frame[cut][0], sizeof tb->normal);
+    } else {
+        transport(tb->normal, tb->t_prev, t);
+    }
     memcpy(tb->t_prev, t, sizeof tb->t_prev);
     float bin[3];
     v3_cross(t, tb->normal, bin);

@@ -2,11 +2,13 @@
 // snapshot.glb?junctions=implicit (issue 18): forks of thick branches as
 // implicit patches, a `_RIDGE` attribute, a GLB the Khronos validator passes,
 // its own ETag and cache variant; a bad value is a problem+json naming the
-// field; the default snapshot is the tubes' one.
+// field; the default snapshot is the tubes' one. --patch-threads sets the
+// threads one snapshot's patches take, and the bytes do not depend on it.
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const path = require('node:path');
+const { spawnSync } = require('node:child_process');
 const { validates } = require('../support/gltf.js');
 const { startDaemon, api } = require('../support/daemon.js');
 
@@ -45,4 +47,38 @@ test('junctions=implicit gives a valid GLB with the ridge; a bad value is refuse
   assert.equal(bad.body.type, 'urn:meristem:problem:out-of-range');
   assert.equal(bad.body.field, 'junctions');
   assert.match(bad.body.detail, /junctions must be tubes or implicit/);
+});
+
+// The thread count is each daemon's (--patch-threads, or the cores shared among
+// the workers by default): a snapshot's bytes are the same whatever it is.
+test('implicit junctions give the same bytes whatever --patch-threads; a bad count is refused', async () => {
+  const glb = async (daemon) => {
+    const call = (method, p, body) => api(daemon.url, method, p, body);
+    const made = await call('POST', '/v1/sessions', { preset: 'fig7-bh-0.54', seed: 7 });
+    assert.equal(made.status, 201, JSON.stringify(made.body));
+    const stepped = await call('POST', `/v1/sessions/${made.body.id}/edits`, { op: 'step', count: 12 });
+    assert.equal(stepped.status, 200);
+    const res = await fetch(`${daemon.url}/v1/sessions/${made.body.id}/snapshot.glb?junctions=implicit`);
+    assert.equal(res.status, 200);
+    // All but the session's id (asset.extras), which each daemon makes anew.
+    const bytes = Buffer.from(await res.arrayBuffer());
+    const doc = gltfJson(bytes);
+    assert.equal(doc.asset.extras.session, made.body.id);
+    delete doc.asset.extras.session;
+    return Buffer.concat([Buffer.from(JSON.stringify(doc)), bytes.subarray(20 + bytes.readUInt32LE(12))]);
+  };
+  const auto = await glb(d);
+  for (const threads of ['1', '7']) {
+    const other = await startDaemon(['--max-steps', '200', '--patch-threads', threads]);
+    try {
+      assert.ok((await glb(other)).equals(auto), `--patch-threads ${threads} gives the default's bytes`);
+    } finally {
+      await other.stop();
+    }
+  }
+  const help = spawnSync(process.env.MERISTEMD, ['--help'], { encoding: 'utf8' });
+  assert.match(help.stdout, /--patch-threads=VALUE.*\(default 0\) \[0\.\.64\]/);
+  const bad = spawnSync(process.env.MERISTEMD, ['--patch-threads', '65'], { encoding: 'utf8' });
+  assert.equal(bad.status, 2);
+  assert.match(bad.stderr, /--patch-threads wants an integer from 0 to 64, got '65'/);
 });

@@ -149,12 +149,11 @@ static int closest(const merp_model *m, const grid *g, const float p[3], float d
 }
 
 mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, mer_markers *mk,
-                                  float d_i, float d_k, size_t *npts, size_t *killed,
-                                  mer_error *err)
+                                  float d_i, float d_k, size_t *killed, mer_error *err)
 {
-    assert(m != NULL && sk != NULL && mk != NULL && npts != NULL && killed != NULL);
+    assert(m != NULL && sk != NULL && mk != NULL && killed != NULL);
     assert(m->node_cap >= sk->n && d_k > 0.0f && d_k < d_i);
-    *npts = *killed = 0;
+    *killed = 0;
     grid g;
     grid_shape(sk, d_i, &g);
     mer_result rc = grid_build(m, sk, &g, err);
@@ -190,7 +189,6 @@ mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, mer_ma
             m->sum[3 * best + a] += (p[a] - end[a]) * inv;
         m->count[best]++;
     }
-    *npts = n;
     *killed = k;
     return MER_OK;
 }

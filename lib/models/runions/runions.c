@@ -139,9 +139,9 @@ static mer_result runions_step(merp_model *m, const merp_world *w, mer_error *er
     mer_result rc = ensure_nodes(m, n, err);
     if (rc == MER_OK)
         rc = mark_eligible(m, sk, err);
-    size_t npts, killed;
+    size_t killed;
     if (rc == MER_OK)
-        rc = merp_runions_associate(m, sk, mk, w->p->d_i, w->p->d_k, &npts, &killed, err);
+        rc = merp_runions_associate(m, sk, mk, w->p->d_i, w->p->d_k, &killed, err);
     if (rc != MER_OK)
         return rc;
     /* A point is removed where it lies: a sphere of radius 0 around it. */

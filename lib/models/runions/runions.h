@@ -68,11 +68,10 @@ struct merp_model {
 /* associate.c: steps 1 and 2 of the header for the live markers of `mk`: fills
  * m->sum and m->count for the nodes m->ok marks, and copies the markers within
  * d_i of a live node's end (and some farther, which no node takes) into m->pts,
- * in index order, `*npts` of them, those within d_k of any live node moved to
- * the front: `*killed` of them. Needs m's per-node arrays sized for the
- * skeleton. MER_ERR_NOMEM. */
+ * in index order, those within d_k of any live node moved to the front:
+ * `*killed` of them (the step removes those; the rest only steer). Needs m's
+ * per-node arrays sized for the skeleton. MER_ERR_NOMEM. */
 mer_result merp_runions_associate(merp_model *m, const merp_skeleton *sk, mer_markers *mk,
-                                  float d_i, float d_k, size_t *npts, size_t *killed,
-                                  mer_error *err);
+                                  float d_i, float d_k, size_t *killed, mer_error *err);
 
 #endif
