@@ -203,57 +203,65 @@ static void join(int *parent, int a, int b)
         parent[a > b ? a : b] = a < b ? a : b;
 }
 
-/* The cell's sheets: its crossed edges grouped by the segments the surface
- * draws on each face. A face with four crossed edges (corners alternating in
- * sign) is decided by the asymptotic decider (Nielson & Hamann 1991): the
- * inside corners are joined across the face when the bilinear interpolant's
- * saddle is inside. Both cells of a face see its four values alike, so they
- * agree on its segments and their sheets meet edge to edge: the dual mesh is
- * a manifold (where a sheet does not cross one face twice on both sides).
- * Returns the number of sheets; sheet[e] for each crossed edge e. */
-static int cell_sheet_split(const float cf[8], uint8_t mask, uint8_t sheet[12])
+/* A cell's six faces (−x, +x, −y, +y, −z, +z): their corners in order
+ * round the face, and the edge from each corner to the next (edge_of). */
+static const uint8_t face_corner[6][4] = {
+    {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 4, 5, 1}, {2, 6, 7, 3}, {0, 1, 3, 2}, {4, 5, 7, 6},
+};
+static const uint8_t face_edge[6][4] = {
+    {4, 10, 6, 8}, {5, 11, 7, 9}, {8, 2, 9, 0}, {10, 3, 11, 1}, {0, 5, 1, 4}, {2, 7, 3, 6},
+};
+
+/* The cell edges whose corners differ in sign under `mask`, as bits. */
+static uint16_t crossed_edges(uint8_t mask)
+{
+    uint16_t x = 0;
+    for (int e = 0; e < 12; e++)
+        x |= (uint16_t)(((mask >> cube_edge[e][0]) ^ (mask >> cube_edge[e][1])) & 1u) << e;
+    return x;
+}
+
+/* The cell's sheets: its crossed edges (`x`, as crossed_edges gives them)
+ * grouped by the segments the surface draws on each face. A face with four
+ * crossed edges (corners alternating in sign) is decided by the asymptotic
+ * decider (Nielson & Hamann 1991): the inside corners are joined across the
+ * face when the bilinear interpolant's saddle is inside. Both cells of a
+ * face see its four values alike, so they agree on its segments and their
+ * sheets meet edge to edge: the dual mesh is a manifold (where a sheet does
+ * not cross one face twice on both sides). Returns the number of sheets;
+ * sheet[e] for each crossed edge e, numbered by their lowest edge (join
+ * keeps the lowest edge as a set's root, so the order of the joins does not
+ * matter). */
+static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12])
 {
     int parent[12];
     for (int e = 0; e < 12; e++)
         parent[e] = e;
-    for (int a = 0; a < 3; a++)
-        for (int side = 0; side < 2; side++) {
-            int b = (a + 1) % 3, c = (a + 2) % 3;
-            uint8_t k[4];
-            k[0] = (uint8_t)(side << a), k[1] = (uint8_t)(k[0] | 1 << b), k[2] = (uint8_t)(k[1] | 1 << c),
-            k[3] = (uint8_t)(k[0] | 1 << c);
-            int fe[4], crossed = 0;
-            for (int t = 0; t < 4; t++) {
-                bool x = (mask >> k[t] & 1) != (mask >> k[(t + 1) % 4] & 1);
-                fe[t] = x ? edge_of(k[t], k[(t + 1) % 4]) : -1;
-                crossed += x;
-            }
-            if (crossed == 2) {
-                int e0 = -1;
-                for (int t = 0; t < 4; t++) {
-                    if (fe[t] >= 0 && e0 >= 0)
-                        join(parent, e0, fe[t]);
-                    else if (fe[t] >= 0)
-                        e0 = fe[t];
-                }
-            } else if (crossed == 4) {
-                float v[4];
-                for (int t = 0; t < 4; t++)
-                    v[t] = cf[k[t]] - MERP_ISO;
-                float num = v[0] * v[2] - v[1] * v[3], den = v[0] + v[2] - v[1] - v[3];
-                bool saddle_in = den > 0.0f ? num >= 0.0f : num <= 0.0f;
-                /* Cut off each corner of the side that is not joined: corner
-                 * t's edges are fe[t − 1] and fe[t]. */
-                bool cut_in = !saddle_in;
-                for (int t = 0; t < 4; t++)
-                    if ((bool)(mask >> k[t] & 1) == cut_in)
-                        join(parent, fe[(t + 3) % 4], fe[t]);
-            }
+    for (int face = 0; face < 6; face++) {
+        const uint8_t *k = face_corner[face], *fe = face_edge[face];
+        int at[4], crossed = 0;
+        for (int t = 0; t < 4; t++)
+            if (x >> fe[t] & 1)
+                at[crossed++] = t;
+        if (crossed == 2) {
+            join(parent, fe[at[0]], fe[at[1]]);
+        } else if (crossed == 4) {
+            float v[4];
+            for (int t = 0; t < 4; t++)
+                v[t] = cf[k[t]] - MERP_ISO;
+            float num = v[0] * v[2] - v[1] * v[3], den = v[0] + v[2] - v[1] - v[3];
+            bool saddle_in = den > 0.0f ? num >= 0.0f : num <= 0.0f;
+            /* Cut off each corner of the side that is not joined: corner
+             * t's edges are fe[t − 1] and fe[t]. */
+            bool cut_in = !saddle_in;
+            for (int t = 0; t < 4; t++)
+                if ((bool)(mask >> k[t] & 1) == cut_in)
+                    join(parent, fe[(t + 3) % 4], fe[t]);
         }
+    }
     int n = 0, id[12];
     for (int e = 0; e < 12; e++) {
-        uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
-        if ((mask >> c1 & 1) == (mask >> c2 & 1))
+        if (!(x >> e & 1))
             continue;
         int r = find(parent, e);
         if (r == e)
@@ -295,7 +303,8 @@ static void sheet_vertex(dc *d, const uint32_t cell[3], const crossing *const *x
 static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8], uint8_t mask)
 {
     cell_sheets *cs = &d->sheets[d->nsheets];
-    int n = cell_sheet_split(cf, mask, cs->sheet);
+    uint16_t crossed = crossed_edges(mask);
+    int n = cell_sheet_split(cf, mask, crossed, cs->sheet);
     cs->first = d->out->vertex_count;
     if (!crossing_room(d, 12))
         return MER_ERR_NOMEM;
@@ -304,12 +313,11 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         int nx = 0;
         uint8_t corners = 0;
         for (int e = 0; e < 12; e++) {
-            uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
-            if ((mask >> c1 & 1) == (mask >> c2 & 1) || cs->sheet[e] != s)
+            if (!(crossed >> e & 1) || cs->sheet[e] != s)
                 continue;
             if ((x[nx++] = edge_crossing(d, cell, cf, e)) == NULL)
                 return MER_ERR_NOMEM;
-            corners |= (uint8_t)(1u << c1 | 1u << c2);
+            corners |= (uint8_t)(1u << cube_edge[e][0] | 1u << cube_edge[e][1]);
         }
         sheet_vertex(d, cell, x, nx, corners);
     }
