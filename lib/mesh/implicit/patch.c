@@ -274,8 +274,10 @@ static int cap_of_sheet(const clipped *cl, merp_dc_source src)
         float clip = INFINITY;
         int by = -1;
         for (uint32_t i = 0; i < cl->pt->cuts; i++) {
-            float dist;
-            if (in_reach(&cl->pt->cut[i], p, &dist) && MERP_ISO - cl->kappa * dist < clip)
+            /* On the junction's side of its plane a cut's term is at least
+             * c, so it clips nothing: the plane first, the reach after. */
+            float dist = cut_distance(&cl->pt->cut[i], p);
+            if (dist > 0.0f && in_reach(&cl->pt->cut[i], p, &dist) && MERP_ISO - cl->kappa * dist < clip)
                 clip = MERP_ISO - cl->kappa * dist, by = (int)i;
         }
         if (clip >= MERP_ISO)
