@@ -395,8 +395,9 @@ static void dc_free(merp_walk *w, dc *d)
     merp_free(d->edges.slot), merp_free(d->edges.value);
 }
 
-mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
-                              uint32_t nseeds, merp_trimesh *out, merp_dc_source *src, mer_error *err)
+mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad, const void *data,
+                              const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out, merp_dc_source *src,
+                              mer_error *err)
 {
     merp_walk w;
     dc d = {.w = &w, .out = out, .src = src};
@@ -404,6 +405,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *d
     assert(3 * (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1) < UINT32_MAX); /* edge keys */
     if (merp_walk_begin(&w, g, f, data, seeds, nseeds, cells, &d.cell_v, out, err) != MER_OK)
         return MER_ERR_NOMEM;
+    w.grad = grad;
     d.sheets = merp_malloc(cells * sizeof *d.sheets);
     mer_result rc = d.sheets != NULL ? MER_OK : MER_ERR_NOMEM;
     uint32_t cell[3];

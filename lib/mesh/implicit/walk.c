@@ -29,7 +29,7 @@ mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, con
     assert(g->n[0] >= 1 && g->n[1] >= 1 && g->n[2] >= 1 && g->h > 0.0f);
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
     assert(samples < UINT32_MAX);
-    *w = (merp_walk){g, f, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
+    *w = (merp_walk){g, f, NULL, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
     uint32_t cells = cell_count(g);
     w->value = merp_malloc((size_t)samples * sizeof(float));
     w->known = merp_calloc((size_t)(samples / 32 + 1), sizeof(uint32_t));
@@ -163,11 +163,17 @@ bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
 
 void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const float fallback[3], float n[3])
 {
-    float e = w->g->h * 0.02f;
-    for (int a = 0; a < 3; a++) {
-        float q[3] = {p[0], p[1], p[2]};
-        q[a] += e;
-        n[a] = fp - w->f(q, w->data);
+    if (w->grad != NULL) {
+        w->grad(p, w->data, n);
+        for (int a = 0; a < 3; a++)
+            n[a] = -n[a];
+    } else {
+        float e = w->g->h * 0.02f;
+        for (int a = 0; a < 3; a++) {
+            float q[3] = {p[0], p[1], p[2]};
+            q[a] += e;
+            n[a] = fp - w->f(q, w->data);
+        }
     }
     if (!v3_normalize(n)) {
         memcpy(n, fallback, sizeof(float) * 3);
