@@ -87,7 +87,8 @@ typedef struct crossing {
 /* A crossed cell's sheets: its first vertex and, per cell edge, the sheet
  * (so the vertex first + sheet) that crosses it. */
 typedef struct cell_sheets {
-    uint32_t first;
+    uint32_t cell, first; /* the cell's index, its first vertex */
+    uint8_t mask;         /* its corners inside (merp_walk_corners) */
     uint8_t sheet[12];
 } cell_sheets;
 
@@ -306,6 +307,7 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
     uint16_t crossed = crossed_edges(mask);
     int n = cell_sheet_split(cf, mask, crossed, cs->sheet);
     cs->first = d->out->vertex_count;
+    cs->mask = mask;
     if (!crossing_room(d, 12))
         return MER_ERR_NOMEM;
     for (int s = 0; s < n; s++) {
@@ -322,7 +324,8 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         sheet_vertex(d, cell, x, nx, corners);
     }
     const merp_grid *g = d->w->g;
-    d->cell_v[cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2])] = ++d->nsheets;
+    cs->cell = cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]);
+    d->cell_v[cs->cell] = ++d->nsheets;
     return MER_OK;
 }
 
@@ -413,14 +416,11 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
     uint8_t mask;
     while (rc == MER_OK && merp_walk_next(&w, cell, cf, &mask))
         rc = cell_vertices(&d, cell, cf, mask);
-    /* Every crossed cell has its vertices: now the quads, in the walk's order. */
-    for (uint32_t i = 0; i < w.tail && rc == MER_OK; i++) {
-        uint32_t c = w.queue[i];
-        merp_walk_cell(&w, c, cell);
-        if (d.cell_v[c] == 0)
-            continue;
-        mask = merp_walk_corners(&w, cell, cf);
-        cell_quads(&d, cell, mask);
+    /* Every crossed cell has its vertices: now the quads, in the walk's
+     * order (that of d.sheets), from the masks the cells kept. */
+    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK; i++) {
+        merp_walk_cell(&w, d.sheets[i].cell, cell);
+        cell_quads(&d, cell, d.sheets[i].mask);
     }
     dc_free(&w, &d);
     if (rc != MER_OK)

@@ -27,36 +27,46 @@ static dual d_max(dual a, dual b) /* b when b > a, as junction.c's maxima */
     return b.v > a.v ? b : a;
 }
 
-/* The closest point's offset q = p − s(t), its parameter t, and ∂t/∂p (zero
- * where t is clamped to an end). */
-static float closest(const float a[3], const float b[3], const float p[3], float q[3], float dt[3])
+/* The closest point's offset q = p − s(t) and its parameter t. */
+static float closest(const float a[3], const float b[3], const float p[3], float q[3])
 {
     float ab[3], ap[3];
     for (int k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], ap[k] = p[k] - a[k], dt[k] = 0.0f;
+        ab[k] = b[k] - a[k], ap[k] = p[k] - a[k];
     float len2 = v3_dot(ab, ab), u = 0.0f;
     if (len2 > 0.0f) {
         u = v3_dot(ap, ab) / len2;
-        if (u <= 0.0f || u >= 1.0f)
-            u = u < 0.0f ? 0.0f : u > 1.0f ? 1.0f : u;
-        else
-            for (int k = 0; k < 3; k++)
-                dt[k] = ab[k] / len2;
+        u = u < 0.0f ? 0.0f : u > 1.0f ? 1.0f : u;
     }
     for (int k = 0; k < 3; k++)
         q[k] = ap[k] - u * ab[k];
     return u;
 }
 
+/* ∂t/∂p of closest's t: zero where t is clamped to an end. Asked only
+ * inside a field's support, as most points of a patch lie outside most
+ * primitives'. */
+static void closest_dt(const float a[3], const float b[3], float t, float dt[3])
+{
+    float ab[3];
+    for (int k = 0; k < 3; k++)
+        ab[k] = b[k] - a[k], dt[k] = 0.0f;
+    float len2 = v3_dot(ab, ab);
+    if (len2 > 0.0f && t > 0.0f && t < 1.0f)
+        for (int k = 0; k < 3; k++)
+            dt[k] = ab[k] / len2;
+}
+
 /* merp_seg_field with its gradient: f = (1 − x²)³, x² = d² / R(t)². */
 static dual seg(const merp_seg *s, const float p[3])
 {
     float q[3], dt[3];
-    float t = closest(s->a, s->b, p, q, dt), d2 = v3_dot(q, q);
-    float R = ((1.0f - t) * s->ra + t * s->rb) / merp_seg_xc(), x2 = d2 / (R * R);
+    float t = closest(s->a, s->b, p, q), d2 = v3_dot(q, q);
+    float R = ((1.0f - t) * s->ra + t * s->rb) / MERP_SEG_XC, x2 = d2 / (R * R);
     if (x2 >= 1.0f)
         return ZERO;
-    float u = 1.0f - x2, dR = (s->rb - s->ra) / merp_seg_xc();
+    closest_dt(s->a, s->b, t, dt);
+    float u = 1.0f - x2, dR = (s->rb - s->ra) / MERP_SEG_XC;
     dual f = {u * u * u, {0, 0, 0}};
     for (int k = 0; k < 3; k++) /* ∇x² = 2q / R² − 2d² ∇R / R³ */
         f.g[k] = -3.0f * u * u * (2.0f * q[k] / (R * R) - 2.0f * d2 * dR * dt[k] / (R * R * R));
@@ -66,8 +76,8 @@ static dual seg(const merp_seg *s, const float p[3])
 /* merp_bound_field with its gradient: ((1 − s²)²)³ of s = (d − r_in)/(r_out − r_in). */
 static dual bound(const merp_bound *b, const float p[3])
 {
-    float q[3], dt[3];
-    closest(b->a, b->b, p, q, dt);
+    float q[3];
+    closest(b->a, b->b, p, q);
     float d2 = v3_dot(q, q);
     if (d2 >= b->r_out * b->r_out)
         return ZERO;
