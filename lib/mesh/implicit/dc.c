@@ -176,16 +176,15 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float 
         return &d->x[d->edges.value[slot]];
     assert(d->nx < d->xcap);
     crossing *x = &d->x[d->nx];
-    float p1[3], p2[3], dir[3];
+    float p1[3], p2[3];
     for (int k = 0; k < 3; k++) {
         p1[k] = g->origin[k] + (float)(cell[k] + (c1 >> k & 1)) * g->h;
         p2[k] = g->origin[k] + (float)(cell[k] + (c2 >> k & 1)) * g->h;
     }
-    bool in1 = cf[c1] >= MERP_ISO;
-    float fp = in1 ? merp_walk_solve(d->w, p1, cf[c1], p2, cf[c2], x->p) : merp_walk_solve(d->w, p2, cf[c2], p1, cf[c1], x->p);
-    for (int k = 0; k < 3; k++)
-        dir[k] = in1 ? p2[k] - p1[k] : p1[k] - p2[k];
-    merp_walk_normal(d->w, x->p, fp, dir, x->n);
+    if (cf[c1] >= MERP_ISO)
+        merp_walk_crossing(d->w, p1, cf[c1], p2, cf[c2], x->p, x->n);
+    else
+        merp_walk_crossing(d->w, p2, cf[c2], p1, cf[c1], x->p, x->n);
     d->edges.slot[slot] = key + 1, d->edges.value[slot] = d->nx++, d->edges.n++;
     return x;
 }
