@@ -60,16 +60,19 @@ static void closest_dt(const float a[3], const float b[3], float t, float dt[3])
 /* merp_seg_field with its gradient: f = (1 − x²)³, x² = d² / R(t)². */
 static dual seg(const merp_seg *s, const float p[3])
 {
-    float q[3], dt[3];
+    float q[3], dt[3] = {0.0f, 0.0f, 0.0f};
     float t = closest(s->a, s->b, p, q), d2 = v3_dot(q, q);
-    float R = ((1.0f - t) * s->ra + t * s->rb) / MERP_SEG_XC, x2 = d2 / (R * R);
+    float R = ((1.0f - t) * s->ra + t * s->rb) / MERP_SEG_XC, R2 = R * R, x2 = d2 / R2;
     if (x2 >= 1.0f)
         return ZERO;
-    closest_dt(s->a, s->b, t, dt);
     float u = 1.0f - x2, dR = (s->rb - s->ra) / MERP_SEG_XC;
+    if (dR != 0.0f) /* ∇R = dR ∇t: only a tapered segment's radius moves */
+        closest_dt(s->a, s->b, t, dt);
+    /* ∇f = −3u² ∇x², ∇x² = 2q / R² − 2d² ∇R / R³: two factors, a division each. */
+    float cq = -6.0f * u * u / R2, ct = 6.0f * u * u * d2 * dR / (R2 * R);
     dual f = {u * u * u, {0, 0, 0}};
-    for (int k = 0; k < 3; k++) /* ∇x² = 2q / R² − 2d² ∇R / R³ */
-        f.g[k] = -3.0f * u * u * (2.0f * q[k] / (R * R) - 2.0f * d2 * dR * dt[k] / (R * R * R));
+    for (int k = 0; k < 3; k++)
+        f.g[k] = cq * q[k] + ct * dt[k];
     return f;
 }
 
@@ -87,9 +90,11 @@ static dual bound(const merp_bound *b, const float p[3])
     if (sn >= 1.0f)
         return ZERO;
     float r = sn * sn, u = (1.0f - r) * (1.0f - r), w = 1.0f - r;
+    /* dF/ds = −12 s (1 − s²)⁵, ∇s = q / (d · span) */
+    float c = -12.0f * sn * w * w * w * w * w / (d * span);
     dual f = {u * u * u, {0, 0, 0}};
-    for (int k = 0; k < 3; k++) /* dF/ds = −12 s (1 − s²)⁵, ∇s = q / (d · span) */
-        f.g[k] = -12.0f * sn * w * w * w * w * w * q[k] / (d * span);
+    for (int k = 0; k < 3; k++)
+        f.g[k] = c * q[k];
     return f;
 }
 
