@@ -17,18 +17,18 @@ typedef struct dual {
 
 static const dual ZERO = {0.0f, {0.0f, 0.0f, 0.0f}};
 
-static dual d_lin(float a, dual x, float b, dual y) /* a·x + b·y */
+static inline dual d_lin(float a, dual x, float b, dual y) /* a·x + b·y */
 {
     return (dual){a * x.v + b * y.v, {a * x.g[0] + b * y.g[0], a * x.g[1] + b * y.g[1], a * x.g[2] + b * y.g[2]}};
 }
 
-static dual d_max(dual a, dual b) /* b when b > a, as junction.c's maxima */
+static inline dual d_max(dual a, dual b) /* b when b > a, as junction.c's maxima */
 {
     return b.v > a.v ? b : a;
 }
 
 /* The closest point's offset q = p − s(t) and its parameter t. */
-static float closest(const float a[3], const float b[3], const float p[3], float q[3])
+static inline float closest(const float a[3], const float b[3], const float p[3], float q[3])
 {
     float ab[3], ap[3];
     for (int k = 0; k < 3; k++)
@@ -46,7 +46,7 @@ static float closest(const float a[3], const float b[3], const float p[3], float
 /* ∂t/∂p of closest's t: zero where t is clamped to an end. Asked only
  * inside a field's support, as most points of a patch lie outside most
  * primitives'. */
-static void closest_dt(const float a[3], const float b[3], float t, float dt[3])
+static inline void closest_dt(const float a[3], const float b[3], float t, float dt[3])
 {
     float ab[3];
     for (int k = 0; k < 3; k++)
@@ -58,7 +58,7 @@ static void closest_dt(const float a[3], const float b[3], float t, float dt[3])
 }
 
 /* merp_seg_field with its gradient: f = (1 − x²)³, x² = d² / R(t)². */
-static dual seg(const merp_seg *s, const float p[3])
+static inline dual seg(const merp_seg *s, const float p[3])
 {
     float q[3], dt[3] = {0.0f, 0.0f, 0.0f};
     float t = closest(s->a, s->b, p, q), d2 = v3_dot(q, q);
@@ -77,7 +77,7 @@ static dual seg(const merp_seg *s, const float p[3])
 }
 
 /* merp_bound_field with its gradient: ((1 − s²)²)³ of s = (d − r_in)/(r_out − r_in). */
-static dual bound(const merp_bound *b, const float p[3])
+static inline dual bound(const merp_bound *b, const float p[3])
 {
     float q[3];
     closest(b->a, b->b, p, q);
@@ -99,7 +99,7 @@ static dual bound(const merp_bound *b, const float p[3])
 }
 
 /* Δ(c − x) of PCM (merp_pcm_delta) with its gradient. */
-static dual delta_of(dual x, float w)
+static inline dual delta_of(dual x, float w)
 {
     float y = MERP_ISO - x.v;
     if (y < 0.0f)
@@ -111,7 +111,7 @@ static dual delta_of(dual x, float w)
 }
 
 /* F_b·b1 + (1 − F_b)·b2 with the product rule (eq. 4). */
-static dual gbb(dual F, dual b1, dual b2)
+static inline dual gbb(dual F, dual b1, dual b2)
 {
     dual r = {merp_gbb(F.v, b1.v, b2.v), {0, 0, 0}};
     for (int k = 0; k < 3; k++)
@@ -120,7 +120,7 @@ static dual gbb(dual F, dual b1, dual b2)
 }
 
 /* The parent's axis A = max(in, out), with the scar's bounded blend. */
-static dual axis(const merp_junction *j, const float p[3])
+static inline dual axis(const merp_junction *j, const float p[3])
 {
     dual f_in = seg(&j->in, p), A = f_in, f_out = ZERO;
     if (j->out.ra > 0.0f) {
