@@ -240,6 +240,7 @@ static void crossing_newton(const merp_walk *w, const float pa[3], float fa, con
 void merp_walk_crossing(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3],
                         float n[3])
 {
+    assert(fa >= MERP_ISO && fb < MERP_ISO);
     float out[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
     if (w->grad == NULL) {
         merp_walk_normal(w, p, merp_walk_solve(w, pa, fa, pb, fb, p), out, n);
