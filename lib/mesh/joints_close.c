@@ -55,23 +55,28 @@ static bool positions_repeat(const merp_trimesh *m, uint32_t *t, size_t mask)
 
 bool merp_patch_closes(const merp_trimesh *m, uint32_t ring_first)
 {
-    size_t e = 3 * (size_t)m->triangle_count, size = table_size(e > m->vertex_count ? e : m->vertex_count);
+    size_t e = 3 * (size_t)m->triangle_count, vsize = table_size(m->vertex_count), size = table_size(e);
+    uint32_t *v = merp_malloc(vsize * sizeof *v);
     uint64_t *t = merp_calloc(size, sizeof *t);
-    if (t == NULL)
-        return false;
-    bool ok = !positions_repeat(m, (uint32_t *)t, size - 1);
-    memset(t, 0, size * sizeof *t);
-    for (size_t k = 0; k < e && ok; k++) {
-        uint32_t a = m->triangles[k], b = m->triangles[k - k % 3 + (k + 1) % 3];
-        size_t i = edge_slot(t, size - 1, (uint64_t)a << 32 | b);
-        ok = a != b && t[i] == 0; /* no directed edge twice */
-        t[i] = ((uint64_t)a << 32 | b) + 1;
+    bool ok = v != NULL && t != NULL && !positions_repeat(m, v, vsize - 1);
+    for (size_t f = 0; f < m->triangle_count && ok; f++) {
+        const uint32_t *c = m->triangles + 3 * f;
+        for (int k = 0; k < 3 && ok; k++) {
+            uint32_t a = c[k], b = c[(k + 1) % 3];
+            size_t i = edge_slot(t, size - 1, (uint64_t)a << 32 | b);
+            ok = a != b && t[i] == 0; /* no directed edge twice */
+            t[i] = ((uint64_t)a << 32 | b) + 1;
+        }
     }
     /* Every edge has its reverse, except along the rings. */
-    for (size_t k = 0; k < e && ok; k++) {
-        uint32_t a = m->triangles[k], b = m->triangles[k - k % 3 + (k + 1) % 3];
-        ok = (a >= ring_first && b >= ring_first) || t[edge_slot(t, size - 1, (uint64_t)b << 32 | a)] != 0;
+    for (size_t f = 0; f < m->triangle_count && ok; f++) {
+        const uint32_t *c = m->triangles + 3 * f;
+        for (int k = 0; k < 3 && ok; k++) {
+            uint32_t a = c[k], b = c[(k + 1) % 3];
+            ok = (a >= ring_first && b >= ring_first) || t[edge_slot(t, size - 1, (uint64_t)b << 32 | a)] != 0;
+        }
     }
+    merp_free(v);
     merp_free(t);
     return ok;
 }

@@ -68,7 +68,7 @@ static void dc(const merp_grid *g, merp_field_fn f, const void *data, mesh_out *
     merp_dc_bound(g, &v, &t);
     mesh_alloc(o, v, t);
     mer_error err;
-    assert_int_equal(merp_dc_polygonize(g, f, data, NULL, 0, &o->m, NULL, &err), MER_OK);
+    assert_int_equal(merp_dc_polygonize(g, f, NULL, data, NULL, 0, &o->m, NULL, &err), MER_OK);
     assert_true(o->m.vertex_count <= o->vmax && o->m.triangle_count <= o->tmax);
     assert_true(o->m.triangle_count > 100);
 }

@@ -87,7 +87,8 @@ typedef struct crossing {
 /* A crossed cell's sheets: its first vertex and, per cell edge, the sheet
  * (so the vertex first + sheet) that crosses it. */
 typedef struct cell_sheets {
-    uint32_t first;
+    uint32_t cell, first; /* the cell's index, its first vertex */
+    uint8_t mask;         /* its corners inside (merp_walk_corners) */
     uint8_t sheet[12];
 } cell_sheets;
 
@@ -175,16 +176,15 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float 
         return &d->x[d->edges.value[slot]];
     assert(d->nx < d->xcap);
     crossing *x = &d->x[d->nx];
-    float p1[3], p2[3], dir[3];
+    float p1[3], p2[3];
     for (int k = 0; k < 3; k++) {
         p1[k] = g->origin[k] + (float)(cell[k] + (c1 >> k & 1)) * g->h;
         p2[k] = g->origin[k] + (float)(cell[k] + (c2 >> k & 1)) * g->h;
     }
-    bool in1 = cf[c1] >= MERP_ISO;
-    float fp = in1 ? merp_walk_solve(d->w, p1, cf[c1], p2, cf[c2], x->p) : merp_walk_solve(d->w, p2, cf[c2], p1, cf[c1], x->p);
-    for (int k = 0; k < 3; k++)
-        dir[k] = in1 ? p2[k] - p1[k] : p1[k] - p2[k];
-    merp_walk_normal(d->w, x->p, fp, dir, x->n);
+    if (cf[c1] >= MERP_ISO)
+        merp_walk_crossing(d->w, p1, cf[c1], p2, cf[c2], x->p, x->n);
+    else
+        merp_walk_crossing(d->w, p2, cf[c2], p1, cf[c1], x->p, x->n);
     d->edges.slot[slot] = key + 1, d->edges.value[slot] = d->nx++, d->edges.n++;
     return x;
 }
@@ -203,57 +203,65 @@ static void join(int *parent, int a, int b)
         parent[a > b ? a : b] = a < b ? a : b;
 }
 
-/* The cell's sheets: its crossed edges grouped by the segments the surface
- * draws on each face. A face with four crossed edges (corners alternating in
- * sign) is decided by the asymptotic decider (Nielson & Hamann 1991): the
- * inside corners are joined across the face when the bilinear interpolant's
- * saddle is inside. Both cells of a face see its four values alike, so they
- * agree on its segments and their sheets meet edge to edge: the dual mesh is
- * a manifold (where a sheet does not cross one face twice on both sides).
- * Returns the number of sheets; sheet[e] for each crossed edge e. */
-static int cell_sheet_split(const float cf[8], uint8_t mask, uint8_t sheet[12])
+/* A cell's six faces (−x, +x, −y, +y, −z, +z): their corners in order
+ * round the face, and the edge from each corner to the next (edge_of). */
+static const uint8_t face_corner[6][4] = {
+    {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 4, 5, 1}, {2, 6, 7, 3}, {0, 1, 3, 2}, {4, 5, 7, 6},
+};
+static const uint8_t face_edge[6][4] = {
+    {4, 10, 6, 8}, {5, 11, 7, 9}, {8, 2, 9, 0}, {10, 3, 11, 1}, {0, 5, 1, 4}, {2, 7, 3, 6},
+};
+
+/* The cell edges whose corners differ in sign under `mask`, as bits. */
+static uint16_t crossed_edges(uint8_t mask)
+{
+    uint16_t x = 0;
+    for (int e = 0; e < 12; e++)
+        x |= (uint16_t)(((mask >> cube_edge[e][0]) ^ (mask >> cube_edge[e][1])) & 1u) << e;
+    return x;
+}
+
+/* The cell's sheets: its crossed edges (`x`, as crossed_edges gives them)
+ * grouped by the segments the surface draws on each face. A face with four
+ * crossed edges (corners alternating in sign) is decided by the asymptotic
+ * decider (Nielson & Hamann 1991): the inside corners are joined across the
+ * face when the bilinear interpolant's saddle is inside. Both cells of a
+ * face see its four values alike, so they agree on its segments and their
+ * sheets meet edge to edge: the dual mesh is a manifold (where a sheet does
+ * not cross one face twice on both sides). Returns the number of sheets;
+ * sheet[e] for each crossed edge e, numbered by their lowest edge (join
+ * keeps the lowest edge as a set's root, so the order of the joins does not
+ * matter). */
+static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12])
 {
     int parent[12];
     for (int e = 0; e < 12; e++)
         parent[e] = e;
-    for (int a = 0; a < 3; a++)
-        for (int side = 0; side < 2; side++) {
-            int b = (a + 1) % 3, c = (a + 2) % 3;
-            uint8_t k[4];
-            k[0] = (uint8_t)(side << a), k[1] = (uint8_t)(k[0] | 1 << b), k[2] = (uint8_t)(k[1] | 1 << c),
-            k[3] = (uint8_t)(k[0] | 1 << c);
-            int fe[4], crossed = 0;
-            for (int t = 0; t < 4; t++) {
-                bool x = (mask >> k[t] & 1) != (mask >> k[(t + 1) % 4] & 1);
-                fe[t] = x ? edge_of(k[t], k[(t + 1) % 4]) : -1;
-                crossed += x;
-            }
-            if (crossed == 2) {
-                int e0 = -1;
-                for (int t = 0; t < 4; t++) {
-                    if (fe[t] >= 0 && e0 >= 0)
-                        join(parent, e0, fe[t]);
-                    else if (fe[t] >= 0)
-                        e0 = fe[t];
-                }
-            } else if (crossed == 4) {
-                float v[4];
-                for (int t = 0; t < 4; t++)
-                    v[t] = cf[k[t]] - MERP_ISO;
-                float num = v[0] * v[2] - v[1] * v[3], den = v[0] + v[2] - v[1] - v[3];
-                bool saddle_in = den > 0.0f ? num >= 0.0f : num <= 0.0f;
-                /* Cut off each corner of the side that is not joined: corner
-                 * t's edges are fe[t − 1] and fe[t]. */
-                bool cut_in = !saddle_in;
-                for (int t = 0; t < 4; t++)
-                    if ((bool)(mask >> k[t] & 1) == cut_in)
-                        join(parent, fe[(t + 3) % 4], fe[t]);
-            }
+    for (int face = 0; face < 6; face++) {
+        const uint8_t *k = face_corner[face], *fe = face_edge[face];
+        int at[4], crossed = 0;
+        for (int t = 0; t < 4; t++)
+            if (x >> fe[t] & 1)
+                at[crossed++] = t;
+        if (crossed == 2) {
+            join(parent, fe[at[0]], fe[at[1]]);
+        } else if (crossed == 4) {
+            float v[4];
+            for (int t = 0; t < 4; t++)
+                v[t] = cf[k[t]] - MERP_ISO;
+            float num = v[0] * v[2] - v[1] * v[3], den = v[0] + v[2] - v[1] - v[3];
+            bool saddle_in = den > 0.0f ? num >= 0.0f : num <= 0.0f;
+            /* Cut off each corner of the side that is not joined: corner
+             * t's edges are fe[t − 1] and fe[t]. */
+            bool cut_in = !saddle_in;
+            for (int t = 0; t < 4; t++)
+                if ((bool)(mask >> k[t] & 1) == cut_in)
+                    join(parent, fe[(t + 3) % 4], fe[t]);
         }
+    }
     int n = 0, id[12];
     for (int e = 0; e < 12; e++) {
-        uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
-        if ((mask >> c1 & 1) == (mask >> c2 & 1))
+        if (!(x >> e & 1))
             continue;
         int r = find(parent, e);
         if (r == e)
@@ -295,8 +303,10 @@ static void sheet_vertex(dc *d, const uint32_t cell[3], const crossing *const *x
 static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8], uint8_t mask)
 {
     cell_sheets *cs = &d->sheets[d->nsheets];
-    int n = cell_sheet_split(cf, mask, cs->sheet);
+    uint16_t crossed = crossed_edges(mask);
+    int n = cell_sheet_split(cf, mask, crossed, cs->sheet);
     cs->first = d->out->vertex_count;
+    cs->mask = mask;
     if (!crossing_room(d, 12))
         return MER_ERR_NOMEM;
     for (int s = 0; s < n; s++) {
@@ -304,17 +314,17 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         int nx = 0;
         uint8_t corners = 0;
         for (int e = 0; e < 12; e++) {
-            uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
-            if ((mask >> c1 & 1) == (mask >> c2 & 1) || cs->sheet[e] != s)
+            if (!(crossed >> e & 1) || cs->sheet[e] != s)
                 continue;
             if ((x[nx++] = edge_crossing(d, cell, cf, e)) == NULL)
                 return MER_ERR_NOMEM;
-            corners |= (uint8_t)(1u << c1 | 1u << c2);
+            corners |= (uint8_t)(1u << cube_edge[e][0] | 1u << cube_edge[e][1]);
         }
         sheet_vertex(d, cell, x, nx, corners);
     }
     const merp_grid *g = d->w->g;
-    d->cell_v[cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2])] = ++d->nsheets;
+    cs->cell = cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]);
+    d->cell_v[cs->cell] = ++d->nsheets;
     return MER_OK;
 }
 
@@ -387,8 +397,9 @@ static void dc_free(merp_walk *w, dc *d)
     merp_free(d->edges.slot), merp_free(d->edges.value);
 }
 
-mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
-                              uint32_t nseeds, merp_trimesh *out, merp_dc_source *src, mer_error *err)
+mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad, const void *data,
+                              const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out, merp_dc_source *src,
+                              mer_error *err)
 {
     merp_walk w;
     dc d = {.w = &w, .out = out, .src = src};
@@ -396,6 +407,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *d
     assert(3 * (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1) < UINT32_MAX); /* edge keys */
     if (merp_walk_begin(&w, g, f, data, seeds, nseeds, cells, &d.cell_v, out, err) != MER_OK)
         return MER_ERR_NOMEM;
+    w.grad = grad;
     d.sheets = merp_malloc(cells * sizeof *d.sheets);
     mer_result rc = d.sheets != NULL ? MER_OK : MER_ERR_NOMEM;
     uint32_t cell[3];
@@ -403,14 +415,11 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *d
     uint8_t mask;
     while (rc == MER_OK && merp_walk_next(&w, cell, cf, &mask))
         rc = cell_vertices(&d, cell, cf, mask);
-    /* Every crossed cell has its vertices: now the quads, in the walk's order. */
-    for (uint32_t i = 0; i < w.tail && rc == MER_OK; i++) {
-        uint32_t c = w.queue[i];
-        merp_walk_cell(&w, c, cell);
-        if (d.cell_v[c] == 0)
-            continue;
-        mask = merp_walk_corners(&w, cell, cf);
-        cell_quads(&d, cell, mask);
+    /* Every crossed cell has its vertices: now the quads, in the walk's
+     * order (that of d.sheets), from the masks the cells kept. */
+    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK; i++) {
+        merp_walk_cell(&w, d.sheets[i].cell, cell);
+        cell_quads(&d, cell, d.sheets[i].mask);
     }
     dc_free(&w, &d);
     if (rc != MER_OK)

@@ -17,57 +17,70 @@ typedef struct dual {
 
 static const dual ZERO = {0.0f, {0.0f, 0.0f, 0.0f}};
 
-static dual d_lin(float a, dual x, float b, dual y) /* a·x + b·y */
+static inline dual d_lin(float a, dual x, float b, dual y) /* a·x + b·y */
 {
     return (dual){a * x.v + b * y.v, {a * x.g[0] + b * y.g[0], a * x.g[1] + b * y.g[1], a * x.g[2] + b * y.g[2]}};
 }
 
-static dual d_max(dual a, dual b) /* b when b > a, as junction.c's maxima */
+static inline dual d_max(dual a, dual b) /* b when b > a, as junction.c's maxima */
 {
     return b.v > a.v ? b : a;
 }
 
-/* The closest point's offset q = p − s(t), its parameter t, and ∂t/∂p (zero
- * where t is clamped to an end). */
-static float closest(const float a[3], const float b[3], const float p[3], float q[3], float dt[3])
+/* The closest point's offset q = p − s(t) and its parameter t. */
+static inline float closest(const float a[3], const float b[3], const float p[3], float q[3])
 {
     float ab[3], ap[3];
     for (int k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], ap[k] = p[k] - a[k], dt[k] = 0.0f;
+        ab[k] = b[k] - a[k], ap[k] = p[k] - a[k];
     float len2 = v3_dot(ab, ab), u = 0.0f;
     if (len2 > 0.0f) {
         u = v3_dot(ap, ab) / len2;
-        if (u <= 0.0f || u >= 1.0f)
-            u = u < 0.0f ? 0.0f : u > 1.0f ? 1.0f : u;
-        else
-            for (int k = 0; k < 3; k++)
-                dt[k] = ab[k] / len2;
+        u = u < 0.0f ? 0.0f : u > 1.0f ? 1.0f : u;
     }
     for (int k = 0; k < 3; k++)
         q[k] = ap[k] - u * ab[k];
     return u;
 }
 
-/* merp_seg_field with its gradient: f = (1 − x²)³, x² = d² / R(t)². */
-static dual seg(const merp_seg *s, const float p[3])
+/* ∂t/∂p of closest's t: zero where t is clamped to an end. Asked only
+ * inside a field's support, as most points of a patch lie outside most
+ * primitives'. */
+static inline void closest_dt(const float a[3], const float b[3], float t, float dt[3])
 {
-    float q[3], dt[3];
-    float t = closest(s->a, s->b, p, q, dt), d2 = v3_dot(q, q);
-    float R = ((1.0f - t) * s->ra + t * s->rb) / merp_seg_xc(), x2 = d2 / (R * R);
+    float ab[3];
+    for (int k = 0; k < 3; k++)
+        ab[k] = b[k] - a[k], dt[k] = 0.0f;
+    float len2 = v3_dot(ab, ab);
+    if (len2 > 0.0f && t > 0.0f && t < 1.0f)
+        for (int k = 0; k < 3; k++)
+            dt[k] = ab[k] / len2;
+}
+
+/* merp_seg_field with its gradient: f = (1 − x²)³, x² = d² / R(t)². */
+static inline dual seg(const merp_seg *s, const float p[3])
+{
+    float q[3], dt[3] = {0.0f, 0.0f, 0.0f};
+    float t = closest(s->a, s->b, p, q), d2 = v3_dot(q, q);
+    float R = ((1.0f - t) * s->ra + t * s->rb) / MERP_SEG_XC, R2 = R * R, x2 = d2 / R2;
     if (x2 >= 1.0f)
         return ZERO;
-    float u = 1.0f - x2, dR = (s->rb - s->ra) / merp_seg_xc();
+    float u = 1.0f - x2, dR = (s->rb - s->ra) / MERP_SEG_XC;
+    if (dR != 0.0f) /* ∇R = dR ∇t: only a tapered segment's radius moves */
+        closest_dt(s->a, s->b, t, dt);
+    /* ∇f = −3u² ∇x², ∇x² = 2q / R² − 2d² ∇R / R³: two factors, a division each. */
+    float cq = -6.0f * u * u / R2, ct = 6.0f * u * u * d2 * dR / (R2 * R);
     dual f = {u * u * u, {0, 0, 0}};
-    for (int k = 0; k < 3; k++) /* ∇x² = 2q / R² − 2d² ∇R / R³ */
-        f.g[k] = -3.0f * u * u * (2.0f * q[k] / (R * R) - 2.0f * d2 * dR * dt[k] / (R * R * R));
+    for (int k = 0; k < 3; k++)
+        f.g[k] = cq * q[k] + ct * dt[k];
     return f;
 }
 
 /* merp_bound_field with its gradient: ((1 − s²)²)³ of s = (d − r_in)/(r_out − r_in). */
-static dual bound(const merp_bound *b, const float p[3])
+static inline dual bound(const merp_bound *b, const float p[3])
 {
-    float q[3], dt[3];
-    closest(b->a, b->b, p, q, dt);
+    float q[3];
+    closest(b->a, b->b, p, q);
     float d2 = v3_dot(q, q);
     if (d2 >= b->r_out * b->r_out)
         return ZERO;
@@ -77,14 +90,16 @@ static dual bound(const merp_bound *b, const float p[3])
     if (sn >= 1.0f)
         return ZERO;
     float r = sn * sn, u = (1.0f - r) * (1.0f - r), w = 1.0f - r;
+    /* dF/ds = −12 s (1 − s²)⁵, ∇s = q / (d · span) */
+    float c = -12.0f * sn * w * w * w * w * w / (d * span);
     dual f = {u * u * u, {0, 0, 0}};
-    for (int k = 0; k < 3; k++) /* dF/ds = −12 s (1 − s²)⁵, ∇s = q / (d · span) */
-        f.g[k] = -12.0f * sn * w * w * w * w * w * q[k] / (d * span);
+    for (int k = 0; k < 3; k++)
+        f.g[k] = c * q[k];
     return f;
 }
 
 /* Δ(c − x) of PCM (merp_pcm_delta) with its gradient. */
-static dual delta_of(dual x, float w)
+static inline dual delta_of(dual x, float w)
 {
     float y = MERP_ISO - x.v;
     if (y < 0.0f)
@@ -96,7 +111,7 @@ static dual delta_of(dual x, float w)
 }
 
 /* F_b·b1 + (1 − F_b)·b2 with the product rule (eq. 4). */
-static dual gbb(dual F, dual b1, dual b2)
+static inline dual gbb(dual F, dual b1, dual b2)
 {
     dual r = {merp_gbb(F.v, b1.v, b2.v), {0, 0, 0}};
     for (int k = 0; k < 3; k++)
@@ -105,7 +120,7 @@ static dual gbb(dual F, dual b1, dual b2)
 }
 
 /* The parent's axis A = max(in, out), with the scar's bounded blend. */
-static dual axis(const merp_junction *j, const float p[3])
+static inline dual axis(const merp_junction *j, const float p[3])
 {
     dual f_in = seg(&j->in, p), A = f_in, f_out = ZERO;
     if (j->out.ra > 0.0f) {

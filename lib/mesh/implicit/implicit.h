@@ -140,6 +140,10 @@ static inline float merp_gbb(float F_b, float b1, float b2)
 /* A field to polygonize: f(p) with user data; the solid is f ≥ MERP_ISO. */
 typedef float (*merp_field_fn)(const float p[3], const void *data);
 
+/* Its gradient: ∇f(p) into g (one side's where f is not differentiable);
+ * returns f(p). */
+typedef float (*merp_gradient_fn)(const float p[3], const void *data, float g[3]);
+
 /* A regular grid of (n[0]+1)·(n[1]+1)·(n[2]+1) samples from `origin` with
  * spacing h. */
 typedef struct merp_grid {
@@ -223,11 +227,14 @@ typedef struct merp_dc_source {
  * both sides of it, are the exception). With `seeds` NULL every cell is
  * looked at; else only the surface reached from the seeds (as
  * merp_mtet_polygonize_seeded). Normals are −∇f at the vertices (one side's,
- * on a crease). `out` holds merp_dc_bound's counts; `src` (NULL, or room for
- * as many vertices) gets each vertex's source. Errors: MER_ERR_NOMEM. Cost:
- * O(crossed cells) evaluations: each crossed edge is solved once. */
-mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, const void *data, const float (*seeds)[3],
-                              uint32_t nseeds, merp_trimesh *out, merp_dc_source *src, mer_error *err);
+ * on a crease): from `grad` in closed form, or with `grad` NULL by forward
+ * differences (three evaluations). `out` holds merp_dc_bound's counts; `src`
+ * (NULL, or room for as many vertices) gets each vertex's source. Errors:
+ * MER_ERR_NOMEM. Cost: O(crossed cells) evaluations: each crossed edge is
+ * solved once. */
+mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad, const void *data,
+                              const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out, merp_dc_source *src,
+                              mer_error *err);
 
 /* ------------------------------------------------------------ junction.c */
 

@@ -48,6 +48,24 @@ static float clipped_field(const float p[3], const void *data)
     return f;
 }
 
+/* ∇ of clipped_field: ∇F_g in closed form, or −κ·n where cut i's term is
+ * the smaller (as clipped_field picks it). */
+static float clipped_gradient(const float p[3], const void *data, float g[3])
+{
+    const clipped *cl = data;
+    float f = merp_junction_gradient(cl->pt->j, p, g);
+    for (uint32_t i = 0; i < cl->pt->cuts; i++) {
+        const merp_cut *c = &cl->pt->cut[i];
+        float t = MERP_ISO - cl->kappa * cut_distance(c, p), dist;
+        if (t < f && in_reach(c, p, &dist)) {
+            f = t;
+            for (int k = 0; k < 3; k++)
+                g[k] = -cl->kappa * c->n[k];
+        }
+    }
+    return f;
+}
+
 void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
 {
     if (pt->sharp)
@@ -274,8 +292,10 @@ static int cap_of_sheet(const clipped *cl, merp_dc_source src)
         float clip = INFINITY;
         int by = -1;
         for (uint32_t i = 0; i < cl->pt->cuts; i++) {
-            float dist;
-            if (in_reach(&cl->pt->cut[i], p, &dist) && MERP_ISO - cl->kappa * dist < clip)
+            /* On the junction's side of its plane a cut's term is at least
+             * c, so it clips nothing: the plane first, the reach after. */
+            float dist = cut_distance(&cl->pt->cut[i], p);
+            if (dist > 0.0f && in_reach(&cl->pt->cut[i], p, &dist) && MERP_ISO - cl->kappa * dist < clip)
                 clip = MERP_ISO - cl->kappa * dist, by = (int)i;
         }
         if (clip >= MERP_ISO)
@@ -355,8 +375,9 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
     }
     const float(*s)[3] = (const float(*)[3])seeds;
-    mer_result rc = pt->sharp ? merp_dc_polygonize(&pt->grid, clipped_field, &cl, s, 1 + pt->cuts, out, cells, err)
-                              : merp_mtet_polygonize_seeded(&pt->grid, clipped_field, &cl, s, 1 + pt->cuts, out, err);
+    mer_result rc =
+        pt->sharp ? merp_dc_polygonize(&pt->grid, clipped_field, clipped_gradient, &cl, s, 1 + pt->cuts, out, cells, err)
+                  : merp_mtet_polygonize_seeded(&pt->grid, clipped_field, &cl, s, 1 + pt->cuts, out, err);
     if (rc == MER_OK) {
         if (pt->sharp)
             snap_cuts(out, &cl, cells, on_cut);

@@ -29,7 +29,7 @@ mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, con
     assert(g->n[0] >= 1 && g->n[1] >= 1 && g->n[2] >= 1 && g->h > 0.0f);
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
     assert(samples < UINT32_MAX);
-    *w = (merp_walk){g, f, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
+    *w = (merp_walk){g, f, NULL, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
     uint32_t cells = cell_count(g);
     w->value = merp_malloc((size_t)samples * sizeof(float));
     w->known = merp_calloc((size_t)(samples / 32 + 1), sizeof(uint32_t));
@@ -163,11 +163,17 @@ bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
 
 void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const float fallback[3], float n[3])
 {
-    float e = w->g->h * 0.02f;
-    for (int a = 0; a < 3; a++) {
-        float q[3] = {p[0], p[1], p[2]};
-        q[a] += e;
-        n[a] = fp - w->f(q, w->data);
+    if (w->grad != NULL) {
+        w->grad(p, w->data, n);
+        for (int a = 0; a < 3; a++)
+            n[a] = -n[a];
+    } else {
+        float e = w->g->h * 0.02f;
+        for (int a = 0; a < 3; a++) {
+            float q[3] = {p[0], p[1], p[2]};
+            q[a] += e;
+            n[a] = fp - w->f(q, w->data);
+        }
     }
     if (!v3_normalize(n)) {
         memcpy(n, fallback, sizeof(float) * 3);
@@ -207,3 +213,44 @@ float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const flo
     return w->f(p, w->data);
 }
 
+
+/* merp_walk_crossing with w->grad: Newton's method in the bracket. */
+static void crossing_newton(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
+                            float p[3], float g[3])
+{
+    float d[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+    float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
+    float t = ga != gb ? ga / (ga - gb) : 0.5f;
+    for (int it = 0; it < REFINE_STEPS; it++) {
+        for (int k = 0; k < 3; k++)
+            p[k] = pa[k] + t * d[k];
+        float gt = w->grad(p, w->data, g) - MERP_ISO;
+        /* merp_walk_solve's test: within REFINE_TOL of the edge's length. */
+        if (fabsf(gt) * (tb - ta) < REFINE_TOL * fabsf(ga - gb))
+            return;
+        if (gt >= 0.0f)
+            ta = t, ga = gt;
+        else
+            tb = t, gb = gt;
+        float slope = v3_dot(g, d), tn = slope != 0.0f ? t - gt / slope : -1.0f;
+        t = tn > ta && tn < tb ? tn : ta + (tb - ta) * ga / (ga - gb);
+    }
+}
+
+void merp_walk_crossing(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3],
+                        float n[3])
+{
+    assert(fa >= MERP_ISO && fb < MERP_ISO);
+    float out[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+    if (w->grad == NULL) {
+        merp_walk_normal(w, p, merp_walk_solve(w, pa, fa, pb, fb, p), out, n);
+        return;
+    }
+    crossing_newton(w, pa, fa, pb, fb, p, n);
+    for (int k = 0; k < 3; k++)
+        n[k] = -n[k];
+    if (!v3_normalize(n)) {
+        memcpy(n, out, sizeof out);
+        v3_normalize(n);
+    }
+}

@@ -14,6 +14,7 @@
 typedef struct merp_walk {
     const merp_grid *g;
     merp_field_fn f;
+    merp_gradient_fn grad; /* ∇f, or NULL: merp_walk_normal differences f */
     const void *data;
     uint32_t sx, sy;  /* samples along x, y */
     float *value;     /* per sample, valid where `known` has its bit */
@@ -80,8 +81,20 @@ bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask);
  * Returns f(p). Cost: a few evaluations. */
 float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3]);
 
-/* −∇f / |∇f| at p, where f(p) = fp, by forward differences over h / 50
- * (three evaluations); `fallback` (normalized) where ∇f vanishes. */
+/* The surface point p on the segment from pa (inside, fa ≥ c) to pb
+ * (outside) and the normal n = −∇f / |∇f| there (pb − pa, normalized,
+ * where ∇f vanishes), to merp_walk_solve's tolerance. Without w->grad,
+ * merp_walk_solve and merp_walk_normal. With it, each step evaluates f and
+ * ∇f together and takes Newton's step along the segment, or regula falsi's
+ * where Newton's would leave the bracket, and n is the last step's: about
+ * two gradient evaluations, where solving and differencing took six field
+ * evaluations. */
+void merp_walk_crossing(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3],
+                        float n[3]);
+
+/* −∇f / |∇f| at p, where f(p) = fp: from w->grad, or without it by forward
+ * differences over h / 50 (three evaluations); `fallback` (normalized)
+ * where ∇f vanishes. */
 void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const float fallback[3], float n[3]);
 
 #endif
