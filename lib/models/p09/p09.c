@@ -105,9 +105,9 @@ static mer_result p09_load(merp_bytes_in *in, uint32_t nodes, merp_model **out, 
     if (n > nodes) /* it has seen at most the skeleton's nodes */
         in->bad = 1;
     size_t n1 = n, n3 = 3 * (size_t)n;
-    (void)(get_counts(in, &m->sub, n1) && MERP_GET_ARRAY(in, m->vin, n1) && MERP_GET_ARRAY(in, m->qb, n3) &&
-           MERP_GET_ARRAY(in, m->vb, n3) && MERP_GET_ARRAY(in, m->quiet, n3) &&
-           MERP_GET_ARRAY(in, m->mark, n1));
+    (void)(get_counts(in, &m->sub, n1) && MERP_GET_ARRAY(in, m->vin, n1) &&
+           MERP_GET_ARRAY(in, m->qb, n3) && MERP_GET_ARRAY(in, m->vb, n3) &&
+           MERP_GET_ARRAY(in, m->quiet, n3) && MERP_GET_ARRAY(in, m->mark, n1));
     if (in->bad) {
         p09_free(m);
         return in->bad == 2 ? mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the P09 model")
@@ -140,8 +140,8 @@ static mer_result p09_sync(merp_model *m, const merp_skeleton *sk, int priority,
 {
     if (sk->cap > m->cap) {
         size_t c1 = sk->cap, c3 = 3 * (size_t)sk->cap;
-        if (!MERP_RESIZE(m->sub, c1) || !MERP_RESIZE(m->vin, c1) || !MERP_RESIZE(m->qb, c3) || !MERP_RESIZE(m->vb, c3) ||
-            !MERP_RESIZE(m->quiet, c3) || !MERP_RESIZE(m->mark, c1))
+        if (!MERP_RESIZE(m->sub, c1) || !MERP_RESIZE(m->vin, c1) || !MERP_RESIZE(m->qb, c3) ||
+            !MERP_RESIZE(m->vb, c3) || !MERP_RESIZE(m->quiet, c3) || !MERP_RESIZE(m->mark, c1))
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for nodes");
         m->cap = sk->cap;
     }

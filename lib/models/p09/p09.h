@@ -51,7 +51,7 @@ struct merp_model {
      * starting values); the subtree light Q lives in the skeleton (sk->q). */
     uint32_t n, cap;
     merp_p09_sub *sub; /* the subtree's counts, last pass */
-    float *vin;        /* resource entering the node, last pass (0 where no shoot could grow: priority.c) */
+    float *vin;        /* resource entering the node, last pass (0 where none could grow) */
     float *qb, *vb;    /* 3 per node: Q and v of each bud, last pass */
     uint32_t *quiet;   /* 3 per node: epoch + 1 when the bud's marker neighbourhood was empty */
     uint8_t *mark;     /* scratch: under the brush constraint */
