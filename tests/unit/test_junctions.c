@@ -143,6 +143,7 @@ static void short_internodes_get_patches(void **state)
 static bool *disk_vertices(const mer_mesh_part *b)
 {
     bool *disk = calloc(b->vertex_count, sizeof *disk);
+    assert_non_null(disk);
     for (uint32_t c = 0; c < b->chunk_count; c++) {
         const mer_mesh_chunk *ch = &b->chunks[c];
         for (uint32_t k = 0; k + 2 < ch->index_count; k += 3) {

@@ -155,10 +155,8 @@ void merp_p09_directions(merp_model *m, const merp_world *w)
     /* Only the buds whose resource makes a shoot stay listed, in order (their V
      * moved along): the growth pass then reads no bud that cannot grow. */
     size_t g = 0;
-    /* g ≤ b: each key is read before it is overwritten */
-    const uint32_t *listed = m->bkey + m->bfirst;
     for (size_t b = 0; b < m->bn; b++) {
-        uint32_t key = listed[b];
+        uint32_t key = m->bkey[m->bfirst + b]; /* read before bkey[g ≤ b] is written */
         if (mer_shoot_size(m->vb[key], w->p->max_shoot, w->p->internode_length, NULL) == 0)
             continue;
         m->bkey[g] = key;

@@ -129,8 +129,10 @@ static void map_nodes(merp_model *m, uint32_t from, uint32_t to)
     merp_prefault(m->vb, f3 * sizeof *m->vb, t3 * sizeof *m->vb);
     merp_prefault(m->quiet, f3 * sizeof *m->quiet, t3 * sizeof *m->quiet);
     merp_prefault(m->mark, f1, t1);
-    merp_prefault(m->ax, f1 * sizeof *m->ax, t1 * sizeof *m->ax);
-    merp_prefault(m->aend, f1 * sizeof *m->aend, t1 * sizeof *m->aend);
+    if (to <= m->ax_cap) { /* the axes' arrays, under the priority model */
+        merp_prefault(m->ax, f1 * sizeof *m->ax, t1 * sizeof *m->ax);
+        merp_prefault(m->aend, f1 * sizeof *m->aend, t1 * sizeof *m->aend);
+    }
 }
 
 /* Gives the nodes made since the last round (by the model's shoots, new plants)
@@ -254,7 +256,7 @@ static void basipetal(merp_model *m, const merp_world *w)
                 a->q[k] = qk[k + 1];
                 items += child[k + 1] != MER_NO_NODE || nbk[k + 1] != 0;
             }
-            s->afrom = items + (child[0] != MER_NO_NODE ? m->sub[child[0]].afrom : 0);
+            s->afrom = items + (merp_p09_continues(sk, i, child[0]) ? m->sub[child[0]].afrom : 0);
         }
     }
     if (lit) {

@@ -122,6 +122,17 @@ static inline int merp_p09_may_grow(const merp_model *m, const merp_world *w, ui
     return ok;
 }
 
+/* Whether node c, the main child of node i (i's first child slot), goes on
+ * i's axis: alive, and i's main child by its own links too. Always so in a
+ * skeleton the model grew; checked because a checkpoint that says otherwise
+ * may still load, and the axis lists (priority.c) place a node's items by its
+ * axis's count (sub[].afrom) only when both passes agree on who goes on which
+ * axis. */
+static inline int merp_p09_continues(const merp_skeleton *sk, uint32_t i, uint32_t c)
+{
+    return c != MER_NO_NODE && sk->alive[c] && sk->parent[c] == i && sk->slot[c] == 0;
+}
+
 /* environment.c */
 /* Q of every bud that may grow this round, and V too unless `defer_v` lets it
  * wait (shadow propagation only) until merp_p09_directions, which must run

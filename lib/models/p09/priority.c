@@ -57,17 +57,23 @@ static void list_axes(merp_model *m, const merp_skeleton *sk)
     uint32_t run = 0, nb = 0;
     for (uint32_t i = 0; i < sk->n; i++) {
         uint32_t ahead = i + AHEAD;
-        if (ahead < sk->n && sk->parent[ahead] != MER_NO_NODE)
+        if (ahead < sk->n && sk->parent[ahead] != MER_NO_NODE) {
             __builtin_prefetch(m->aend + sk->parent[ahead]);
+            __builtin_prefetch(sk->child + 3 * (size_t)sk->parent[ahead]);
+        }
         if (!sk->alive[i])
             continue;
         uint32_t end;
         if (is_axis_base(sk, i)) {
             m->abase[nb++] = i;
-            int lit = sk->parent[i] == MER_NO_NODE || m->sub[i].q != 0.0f;
+            int lit = sk->parent[i] == MER_NO_NODE || sk->q[i] != 0.0f;
             end = lit ? (run += m->sub[i].afrom) : UNLISTED;
         } else {
-            end = m->aend[sk->parent[i]];
+            /* on its parent's axis, as the basipetal pass counted it (only a
+             * damaged checkpoint's links could say otherwise: then unlisted) */
+            uint32_t p = sk->parent[i];
+            int on = sk->alive[p] && sk->child[3 * (size_t)p] == i && merp_p09_continues(sk, p, i);
+            end = on ? m->aend[p] : UNLISTED;
         }
         m->aend[i] = end;
         if (end == UNLISTED)
@@ -107,10 +113,10 @@ static void list_axes(merp_model *m, const merp_skeleton *sk)
  * branches 0 and its buds keep the 0 the environment gave them, without a sort:
  * no bud of it or of the branches it bears could grow. Each share is
  * v · qw / Σ with qw ≤ Σ (a float sum of terms ≥ 0 is at least each term), so
- * in floats it is at most v (1 + 2⁻²³)² < 1 for v < 0.5, and a branch's share
- * below 1 leaves everything it bears below 1: n = ⌊v⌋ is 0 for all of them
- * either way, and only the last round's record of their v (m->vin, m->vb),
- * never read again, reads 0 instead of a fraction. */
+ * in floats it is at most v (1 + 2⁻²³)²: from v < 0.5 down a branch order at
+ * a time, a share would need some 2²¹ orders to reach 1. n = ⌊v⌋ is 0 for all
+ * of them either way; only the round's record of their v (m->vin, m->vb: a
+ * checkpoint's model state, read by no later round) says 0, not a fraction. */
 mer_result merp_p09_allocate_priority(merp_model *m, const merp_world *w, mer_error *err)
 {
     assert(m != NULL && w != NULL && m->n == w->sk->n);
