@@ -178,9 +178,11 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
     uint32_t ring_first = m->vertex_count;
     for (uint32_t s = 0; s < jt->cuts; s++)
         ring_first -= jt->sides[s];
+    merp_jprep jp;
+    merp_jprep_init(&jp, &jt->field);
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
-        merp_junction_gradient(&jt->field, p, nr);
+        merp_jprep_gradient(&jp, p, nr);
         for (int k = 0; k < 3; k++)
             nr[k] = -nr[k];
         if (!v3_normalize(nr))
