@@ -95,7 +95,7 @@ typedef struct merp_row {
     float a[3][MERP_ROW], ab[3][MERP_ROW];
     float len2[MERP_ROW], den[MERP_ROW]; /* |b − a|², and it or 1 where 0 */
     float dt[3][MERP_ROW];               /* ∇t = (b − a) / den where t is not clamped */
-    float ra[MERP_ROW], rb[MERP_ROW];
+    float ra[MERP_ROW], rb[MERP_ROW], rb2[MERP_ROW]; /* rb2 = rb²: a bound's support */
 } merp_row;
 
 /* A point's closest points on a row's segments: parameters t, offsets
@@ -154,7 +154,16 @@ float merp_blend_sum(const float *f, uint32_t n);
  * sets its width: the bulge spans c − w ≤ f2 < c. The contact pair as one solid is B1 = max(f1', f2'), whose
  * surface has a crease where the two deformed surfaces meet: the branch bark
  * ridge (G04 Figs. 4, 5). */
-float merp_pcm_delta(float x, float w);
+static inline float merp_pcm_delta(float x, float w) /* inline: a few per field sample */
+{
+    assert(w > 0.0f && w <= MERP_ISO);
+    if (x < 0.0f)
+        return x; /* interpenetration: compressed onto the contact surface */
+    if (x > w)
+        return 0.0f;
+    float u = 1.0f - x / w;
+    return x * u * u; /* propagation: the C¹ bulge */
+}
 
 /* f1' and f2' of the pair (f1, f2) with bulge width w (see above). */
 void merp_pcm_pair(float f1, float f2, float w, float *f1d, float *f2d);

@@ -36,7 +36,7 @@ void merp_row_set(merp_row *r, int l, const float a[3], const float b[3], float 
     r->den[l] = len2 > 0.0f ? len2 : 1.0f;
     for (int k = 0; k < 3; k++)
         r->dt[k][l] = ab[k] / r->den[l];
-    r->ra[l] = ra, r->rb[l] = rb;
+    r->ra[l] = ra, r->rb[l] = rb, r->rb2[l] = rb * rb;
 }
 
 VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
@@ -109,19 +109,29 @@ VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_r
 VECTORIZE static void bound_lanes(const merp_row *r, const merp_row_point *c, float F[MERP_ROW],
                                   float cg[MERP_ROW])
 {
+    /* Most samples of a patch lie beyond every bound's support: then F_b is
+     * 0 in each lane, and neither square roots nor the rest are needed. */
+    int any = 0;
+    for (int l = 0; l < MERP_ROW; l++)
+        any |= c->d2[l] < r->rb2[l];
+    if (!any) {
+        for (int l = 0; l < MERP_ROW; l++)
+            F[l] = cg[l] = 0.0f;
+        return;
+    }
     float s[MERP_ROW], den[MERP_ROW], in[MERP_ROW], dist[MERP_ROW];
     /* Scalar: sqrtf sets errno, so GCC keeps a branch per call (an
      * optimize attribute does not lift that) and the loop would not
      * vectorize. */
     for (int l = 0; l < MERP_ROW; l++)
-        dist[l] = sqrtf(c->d2[l]);
+        dist[l] = c->d2[l] < r->rb2[l] ? sqrtf(c->d2[l]) : 0.0f;
     for (int l = 0; l < MERP_ROW; l++) {
         float r_in = r->ra[l], r_out = r->rb[l], d2 = c->d2[l];
         float d = dist[l], span = r_out - r_in, sn = (d - r_in) / span;
         sn = sn > 0.0f ? sn : 0.0f;
         s[l] = sn < 1.0f ? sn : 1.0f;
-        in[l] = d2 < r_out * r_out ? 1.0f : 0.0f;
-        den[l] = d > 0.0f ? d * span : 1.0f; /* d = 0 only where s = 0 */
+        in[l] = d2 < r->rb2[l] ? 1.0f : 0.0f;
+        den[l] = d > 0.0f ? d * span : 1.0f; /* d = 0 only where s = 0 or out */
     }
     /* Apart from the loop above: as one, the selects become branches. */
     for (int l = 0; l < MERP_ROW; l++) {
