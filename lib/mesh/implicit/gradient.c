@@ -86,14 +86,22 @@ float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3])
     for (uint32_t k = 0; k < j->laterals; k++) {
         L[k] = lane(&seg, MERP_JSEG_LATERAL + (int)k);
         b2 = d_lin(1.0f, b2, 1.0f, L[k]);
-        A_d = d_lin(1.0f, A_d, 1.0f, delta_of(L[k], j->w));
+        if (j->bound[k].r_out > 1e-5f)
+            F_b = d_max(F_b, lane(&bnd, MERP_JBOUND_LATERAL + (int)k));
     }
+    /* Beyond the ridge (most samples) F_b and ∇F_b are 0 and eq. (4) is B2:
+     * exactly, as no component of B2's gradient is −0 (each lane's is +0
+     * where it is zero), so 0·x + 1·B2 is B2 to the bit. */
+    if (F_b.v == 0.0f) {
+        for (int k = 0; k < 3; k++)
+            g[k] = b2.g[k];
+        return b2.v;
+    }
+    for (uint32_t k = 0; k < j->laterals; k++)
+        A_d = d_lin(1.0f, A_d, 1.0f, delta_of(L[k], j->w));
     for (uint32_t k = 0; k < j->laterals; k++)
         b1 = d_max(b1, d_lin(1.0f, L[k], 1.0f, delta_of(A, j->w)));
     b1 = d_max(b1, A_d);
-    for (uint32_t k = 0; k < j->laterals; k++)
-        if (j->bound[k].r_out > 1e-5f)
-            F_b = d_max(F_b, lane(&bnd, MERP_JBOUND_LATERAL + (int)k));
     dual F = gbb(F_b, b1, b2);
     for (int k = 0; k < 3; k++)
         g[k] = F.g[k];

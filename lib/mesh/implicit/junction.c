@@ -169,12 +169,10 @@ void merp_jprep_init(merp_jprep *jp, const merp_junction *j)
     }
 }
 
-static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
+/* The parent's axis A (with its scar's bounded blend) from the segments'
+ * lanes fs and the bounds' Fb, and the scar's terms into *t. */
+static float axis_terms(const merp_junction *j, const float fs[MERP_ROW], const float Fb[MERP_ROW], terms *t)
 {
-    const merp_junction *j = jp->j;
-    float fs[MERP_ROW], Fb[MERP_ROW];
-    merp_row_seg_field(&jp->seg, p, fs);
-    merp_row_bound_field(&jp->bound, p, Fb);
     /* A lane left out is 0: f_out without a continuation, F_s without a scar. */
     float f_in = fs[MERP_JSEG_IN], f_out = fs[MERP_JSEG_OUT], A = f_out > f_in ? f_out : f_in;
     t->F_s = t->scar_diff = 0.0f;
@@ -186,29 +184,59 @@ static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
             A = merp_gbb(t->F_s, a1, A);
         }
     }
-    const float *L = fs + MERP_JSEG_LATERAL;
-    float f[1 + MERP_JUNCTION_LATERALS] = {A};
-    float A_d = A, b1 = 0.0f, F_b = 0.0f;
+    return A;
+}
+
+/* B2 = A + Σ L_k (eq. 3) and F_b = max_k F_b,k (merp_junction_ridge). */
+static void blend_terms(const merp_junction *j, float A, const float fs[MERP_ROW], const float Fb[MERP_ROW], terms *t)
+{
+    float f[1 + MERP_JUNCTION_LATERALS] = {A}, F_b = 0.0f;
     for (uint32_t k = 0; k < j->laterals; k++) {
-        f[1 + k] = L[k];
-        A_d += merp_pcm_delta(MERP_ISO - L[k], j->w);
-    }
-    for (uint32_t k = 0; k < j->laterals; k++) {
-        float L_d = L[k] + merp_pcm_delta(MERP_ISO - A, j->w);
-        b1 = L_d > b1 ? L_d : b1;
-        float v = Fb[MERP_JBOUND_LATERAL + k]; /* merp_junction_ridge */
+        f[1 + k] = fs[MERP_JSEG_LATERAL + k];
+        float v = Fb[MERP_JBOUND_LATERAL + k];
         F_b = v > F_b ? v : F_b;
     }
-    t->b1 = A_d > b1 ? A_d : b1;
     t->b2 = merp_blend_sum(f, 1 + j->laterals);
     t->F_b = F_b;
 }
 
+/* B1 = max(A', L_k') of PCM (eq. 2). */
+static float pcm_term(const merp_junction *j, float A, const float fs[MERP_ROW])
+{
+    const float *L = fs + MERP_JSEG_LATERAL;
+    float A_d = A, b1 = 0.0f;
+    for (uint32_t k = 0; k < j->laterals; k++)
+        A_d += merp_pcm_delta(MERP_ISO - L[k], j->w);
+    for (uint32_t k = 0; k < j->laterals; k++) {
+        float L_d = L[k] + merp_pcm_delta(MERP_ISO - A, j->w);
+        b1 = L_d > b1 ? L_d : b1;
+    }
+    return A_d > b1 ? A_d : b1;
+}
+
+static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
+{
+    float fs[MERP_ROW], Fb[MERP_ROW];
+    merp_row_seg_field(&jp->seg, p, fs);
+    merp_row_bound_field(&jp->bound, p, Fb);
+    float A = axis_terms(jp->j, fs, Fb, t);
+    blend_terms(jp->j, A, fs, Fb, t);
+    t->b1 = pcm_term(jp->j, A, fs);
+}
+
 float merp_jprep_field(const merp_jprep *jp, const float p[3])
 {
+    float fs[MERP_ROW], Fb[MERP_ROW];
+    merp_row_seg_field(&jp->seg, p, fs);
+    merp_row_bound_field(&jp->bound, p, Fb);
     terms t;
-    junction_terms(jp, p, &t);
-    return merp_gbb(t.F_b, t.b1, t.b2);
+    float A = axis_terms(jp->j, fs, Fb, &t);
+    blend_terms(jp->j, A, fs, Fb, &t);
+    /* Beyond the ridge (most samples) F_b = 0 and eq. (4) is B2 exactly
+     * (0·B1 + 1·B2, B2 ≥ +0), without B1. */
+    if (t.F_b == 0.0f)
+        return t.b2;
+    return merp_gbb(t.F_b, pcm_term(jp->j, A, fs), t.b2);
 }
 
 float merp_junction_field(const float p[3], const void *data)
