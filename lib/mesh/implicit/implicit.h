@@ -96,6 +96,7 @@ typedef struct merp_row {
     float len2[MERP_ROW], den[MERP_ROW]; /* |b − a|², and it or 1 where 0 */
     float dt[3][MERP_ROW];               /* ∇t = (b − a) / den where t is not clamped */
     float ra[MERP_ROW], rb[MERP_ROW], rb2[MERP_ROW]; /* rb2 = rb²: a bound's support */
+    float span[MERP_ROW], dR[MERP_ROW];              /* rb − ra, and over x_c: a segment's R'(t) */
 } merp_row;
 
 /* A point's closest points on a row's segments: parameters t, offsets

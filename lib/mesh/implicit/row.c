@@ -1,7 +1,10 @@
 /* meristem — a row of skeletal segments as a structure of arrays
- * (implicit.h): one point's closest points on four segments in one pass of
- * 4-wide loops that GCC vectorizes (SSE2 at -O2), each lane's arithmetic
- * in merp_seg_d2's order, so a lane's value is the scalar one to the bit. */
+ * (implicit.h): one point's closest points on four segments, and their
+ * capsules' or bounds' fields and gradients, in 4-wide loops that GCC
+ * vectorizes (SSE2 at -O2). Each lane does the scalar code's arithmetic in
+ * its order (merp_seg_d2, merp_seg_field, merp_bound_field, gradient.c's
+ * closed form), so a lane's value is the scalar one to the bit
+ * (test_implicit's row_lanes_match_scalar). */
 #include "config.h"
 
 #include <assert.h>
@@ -37,6 +40,7 @@ void merp_row_set(merp_row *r, int l, const float a[3], const float b[3], float 
     for (int k = 0; k < 3; k++)
         r->dt[k][l] = ab[k] / r->den[l];
     r->ra[l] = ra, r->rb[l] = rb, r->rb2[l] = rb * rb;
+    r->span[l] = rb - ra, r->dR[l] = r->span[l] / MERP_SEG_XC;
 }
 
 VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
@@ -74,7 +78,8 @@ VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_r
     /* Two loops, the selects apart from the arithmetic: as one, GCC's
      * partial redundancy elimination turns the selects into branches and
      * the loop no longer vectorizes. */
-    float R[MERP_ROW], R2[MERP_ROW], u[MERP_ROW], dR[MERP_ROW], m[MERP_ROW];
+    float R[MERP_ROW], R2[MERP_ROW], u[MERP_ROW], m[MERP_ROW];
+    const float *dR = r->dR;
     for (int l = 0; l < MERP_ROW; l++) {
         float t = c.t[l];
         R[l] = ((1.0f - t) * r->ra[l] + t * r->rb[l]) / MERP_SEG_XC, R2[l] = R[l] * R[l];
@@ -82,7 +87,6 @@ VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_r
         /* Outside the support x² ≥ 1: taken as 1 there, u = 0 makes f and
          * ∇f 0 (and finite) without a branch. */
         u[l] = 1.0f - (x2 < 1.0f ? x2 : 1.0f);
-        dR[l] = (r->rb[l] - r->ra[l]) / MERP_SEG_XC;
         /* ∇R = dR ∇t where t moves with p (m = 1), not where it is clamped. */
         float moves = dR[l] != 0.0f ? 1.0f : 0.0f;
         moves = r->len2[l] > 0.0f ? moves : 0.0f;
@@ -103,9 +107,9 @@ VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_r
 }
 
 /* F_b of each lane from its closest point into F, and the factor cg of
- * its gradient ∇F_b = cg·q into cg. The scalar code's
- * branches (beyond r_out: 0; s ≤ 0: 1; s ≥ 1: 0) as selects and a clamp of
- * s to [0, 1], which gives the same values there. */
+ * its gradient ∇F_b = cg·q into cg. The scalar code's branches (beyond
+ * r_out: 0; s ≤ 0: 1; s ≥ 1: 0) as selects and a clamp of s to [0, 1],
+ * which gives the same values there. */
 VECTORIZE static void bound_lanes(const merp_row *r, const merp_row_point *c, float F[MERP_ROW],
                                   float cg[MERP_ROW])
 {
@@ -126,8 +130,8 @@ VECTORIZE static void bound_lanes(const merp_row *r, const merp_row_point *c, fl
     for (int l = 0; l < MERP_ROW; l++)
         dist[l] = c->d2[l] < r->rb2[l] ? sqrtf(c->d2[l]) : 0.0f;
     for (int l = 0; l < MERP_ROW; l++) {
-        float r_in = r->ra[l], r_out = r->rb[l], d2 = c->d2[l];
-        float d = dist[l], span = r_out - r_in, sn = (d - r_in) / span;
+        float r_in = r->ra[l], d2 = c->d2[l];
+        float d = dist[l], span = r->span[l], sn = (d - r_in) / span;
         sn = sn > 0.0f ? sn : 0.0f;
         s[l] = sn < 1.0f ? sn : 1.0f;
         in[l] = d2 < r->rb2[l] ? 1.0f : 0.0f;
