@@ -7,9 +7,7 @@
 #include "config.h"
 
 #include <assert.h>
-#include <math.h>
 
-#include "core/vec.h"
 #include "mesh/implicit/implicit.h"
 
 typedef struct dual {

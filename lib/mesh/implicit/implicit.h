@@ -351,8 +351,10 @@ float merp_junction_scar_weight(float years);
  * laterals) and its bounds (the scar, the laterals') in rows, each lane
  * that does not take part (no continuation, no scar, one lateral, a bound
  * of no ridge) cleared to a field of 0. Its fields and gradients are the
- * junction's to the bit, at about a third of the cost of preparing the
- * primitives on every sample; a patch prepares its junction once. */
+ * junction's to the bit (merp_junction_field and merp_junction_gradient
+ * prepare one on every call); a patch prepares its junction once for all
+ * its samples. Where F_b = 0 (beyond the ridge, most samples) F_g is B2
+ * exactly, and B1 is not evaluated. */
 typedef struct merp_jprep {
     const merp_junction *j;
     merp_row seg;   /* in, out, lateral 0, lateral 1 */
