@@ -122,6 +122,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/joints_plan.c \
 	lib/mesh/implicit/implicit.h \
 	lib/mesh/implicit/segment.c \
+	lib/mesh/implicit/row.c \
 	lib/mesh/implicit/blend.c \
 	lib/mesh/implicit/pcm.c \
 	lib/mesh/implicit/bounded.c \

@@ -78,14 +78,18 @@ static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, mer
 }
 
 /* The shaft nearest p: the smallest distance in units of the shaft's radius. */
-static uint32_t nearest_shaft(const merp_joint *jt, const float p[3])
+static uint32_t nearest_shaft(const merp_joint *jt, const merp_jprep *jp, const float p[3])
 {
     const merp_junction *f = &jt->field;
+    /* The shafts' lanes of jp's segment row: in, out, the laterals. */
+    _Static_assert(MERP_JSEG_IN == 0 && MERP_JSEG_OUT == 1 && MERP_JSEG_LATERAL == 2, "shaft s is lane s");
+    merp_row_point c;
+    merp_row_closest(&jp->seg, p, &c);
     uint32_t best = 0;
     float best_x = INFINITY;
     for (uint32_t s = 0; s < jt->cuts; s++) {
         const merp_seg *g = s == 0 ? &f->in : s == 1 ? &f->out : &f->lateral[s - 2];
-        float t, d = merp_seg_distance(g, p, &t), x = d / ((1.0f - t) * g->ra + t * g->rb);
+        float t = c.t[s], d = sqrtf(c.d2[s]), x = d / ((1.0f - t) * g->ra + t * g->rb);
         if (x < best_x)
             best_x = x, best = s;
     }
@@ -142,11 +146,15 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
 /* b of the bark at p (mesh.h, Junctions): the laterals' F_b and the parent's
  * bud scale scar, σ(y)·F_b of its band (G04 §3.2: the bounding field marks
  * the PCM region's texture, Fig. 7: the scar fades). */
-static float bark_mark(const merp_junction *f, const float p[3])
+static float bark_mark(const merp_jprep *jp, const float p[3])
 {
-    float b = merp_junction_ridge(f, p);
+    const merp_junction *f = jp->j;
+    float F[MERP_ROW], b = 0.0f;
+    merp_row_bound_field(&jp->bound, p, F); /* a bound left out is 0 */
+    for (uint32_t k = 0; k < f->laterals; k++) /* merp_junction_ridge */
+        b = F[MERP_JBOUND_LATERAL + k] > b ? F[MERP_JBOUND_LATERAL + k] : b;
     if (f->scar_weight > 0.0f && f->out.ra > 0.0f)
-        b = fmaxf(b, f->scar_weight * merp_bound_field(&f->scar, p));
+        b = fmaxf(b, f->scar_weight * F[MERP_JBOUND_SCAR]);
     return b;
 }
 
@@ -178,15 +186,17 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
     uint32_t ring_first = m->vertex_count;
     for (uint32_t s = 0; s < jt->cuts; s++)
         ring_first -= jt->sides[s];
+    merp_jprep jp;
+    merp_jprep_init(&jp, &jt->field);
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
-        merp_junction_gradient(&jt->field, p, nr);
+        merp_jprep_gradient(&jp, p, nr);
         for (int k = 0; k < 3; k++)
             nr[k] = -nr[k];
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
-        jt->ridge[v] = bark_mark(&jt->field, p) * mark_fade(b, jt, p);
-        uint32_t s = nearest_shaft(jt, p);
+        jt->ridge[v] = bark_mark(&jp, p) * mark_fade(b, jt, p);
+        uint32_t s = nearest_shaft(jt, &jp, p);
         uint32_t r = v - ring_first, j = r;
         if (v >= ring_first) /* a ring copy: its cut and place on the ring */
             for (s = 0; j >= jt->sides[s]; s++)

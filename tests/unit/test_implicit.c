@@ -258,6 +258,47 @@ static void gradient_matches_differences(void **state)
     }
 }
 
+/* A row's lanes are the scalar fields to the bit (row.c keeps their
+ * arithmetic's order): a tapered segment, a ball, a bound of each kind and
+ * cleared lanes, at points inside, on and beyond their supports. */
+static void row_lanes_match_scalar(void **state)
+{
+    (void)state;
+    const merp_seg ball = {{1, 1, 0}, {1, 1, 0}, 0.3f, 0.3f};
+    const merp_bound ring = {{0.5f, 0, 0}, {0.5f, 0, 0.4f}, 0.0f, 0.3f};
+    merp_row segs, bounds;
+    merp_row_clear(&segs);
+    merp_row_clear(&bounds);
+    merp_row_set(&segs, 0, seg_x.a, seg_x.b, seg_x.ra, seg_x.rb);
+    merp_row_set(&segs, 2, ball.a, ball.b, ball.ra, ball.rb);
+    merp_row_set(&bounds, 1, bound_y.a, bound_y.b, bound_y.r_in, bound_y.r_out);
+    merp_row_set(&bounds, 3, ring.a, ring.b, ring.r_in, ring.r_out);
+    uint32_t x = 12345u;
+    for (int i = 0; i < 20000; i++) {
+        float p[3];
+        for (int k = 0; k < 3; k++) {
+            x = x * 1664525u + 1013904223u;
+            p[k] = -1.0f + 3.5f * (float)(x >> 8) / 16777216.0f;
+        }
+        float f[MERP_ROW], F[MERP_ROW];
+        merp_row_grad sg, bg;
+        merp_row_seg_field(&segs, p, f);
+        merp_row_seg_gradient(&segs, p, &sg);
+        merp_row_bound_field(&bounds, p, F);
+        merp_row_bound_gradient(&bounds, p, &bg);
+        const float want_f[MERP_ROW] = {merp_seg_field(&seg_x, p), 0, merp_seg_field(&ball, p), 0};
+        const float want_F[MERP_ROW] = {0, merp_bound_field(&bound_y, p), 0, merp_bound_field(&ring, p)};
+        for (int l = 0; l < MERP_ROW; l++) {
+            assert_true(f[l] == want_f[l] && sg.f[l] == want_f[l]);
+            assert_true(F[l] == want_F[l] && bg.f[l] == want_F[l]);
+            if (want_f[l] == 0.0f)
+                assert_true(sg.g[0][l] == 0 && sg.g[1][l] == 0 && sg.g[2][l] == 0);
+            if (want_F[l] == 0.0f || want_F[l] == 1.0f)
+                assert_true(bg.g[0][l] == 0 && bg.g[1][l] == 0 && bg.g[2][l] == 0);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -270,6 +311,7 @@ int main(void)
         cmocka_unit_test(gbb_reduces),
         cmocka_unit_test(ageing),
         cmocka_unit_test(gradient_matches_differences),
+        cmocka_unit_test(row_lanes_match_scalar),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,13 +2,12 @@
  * patch from one pass over the primitives, where central differences took six
  * evaluations of the field. Mirrors junction.c's terms operation for
  * operation, each value carried with its gradient (forward-mode
- * differentiation by hand). */
+ * differentiation by hand); the primitives' own gradients come 4-wide from
+ * row.c. */
 #include "config.h"
 
 #include <assert.h>
-#include <math.h>
 
-#include "core/vec.h"
 #include "mesh/implicit/implicit.h"
 
 typedef struct dual {
@@ -27,75 +26,10 @@ static inline dual d_max(dual a, dual b) /* b when b > a, as junction.c's maxima
     return b.v > a.v ? b : a;
 }
 
-/* The closest point's offset q = p − s(t) and its parameter t. */
-static inline float closest(const float a[3], const float b[3], const float p[3], float q[3])
+/* Lane l of a row's values and gradients as a dual number. */
+static inline dual lane(const merp_row_grad *r, int l)
 {
-    float ab[3], ap[3];
-    for (int k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], ap[k] = p[k] - a[k];
-    float len2 = v3_dot(ab, ab), u = 0.0f;
-    if (len2 > 0.0f) {
-        u = v3_dot(ap, ab) / len2;
-        u = u < 0.0f ? 0.0f : u > 1.0f ? 1.0f : u;
-    }
-    for (int k = 0; k < 3; k++)
-        q[k] = ap[k] - u * ab[k];
-    return u;
-}
-
-/* ∂t/∂p of closest's t: zero where t is clamped to an end. Asked only
- * inside a field's support, as most points of a patch lie outside most
- * primitives'. */
-static inline void closest_dt(const float a[3], const float b[3], float t, float dt[3])
-{
-    float ab[3];
-    for (int k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], dt[k] = 0.0f;
-    float len2 = v3_dot(ab, ab);
-    if (len2 > 0.0f && t > 0.0f && t < 1.0f)
-        for (int k = 0; k < 3; k++)
-            dt[k] = ab[k] / len2;
-}
-
-/* merp_seg_field with its gradient: f = (1 − x²)³, x² = d² / R(t)². */
-static inline dual seg(const merp_seg *s, const float p[3])
-{
-    float q[3], dt[3] = {0.0f, 0.0f, 0.0f};
-    float t = closest(s->a, s->b, p, q), d2 = v3_dot(q, q);
-    float R = ((1.0f - t) * s->ra + t * s->rb) / MERP_SEG_XC, R2 = R * R, x2 = d2 / R2;
-    if (x2 >= 1.0f)
-        return ZERO;
-    float u = 1.0f - x2, dR = (s->rb - s->ra) / MERP_SEG_XC;
-    if (dR != 0.0f) /* ∇R = dR ∇t: only a tapered segment's radius moves */
-        closest_dt(s->a, s->b, t, dt);
-    /* ∇f = −3u² ∇x², ∇x² = 2q / R² − 2d² ∇R / R³: two factors, a division each. */
-    float cq = -6.0f * u * u / R2, ct = 6.0f * u * u * d2 * dR / (R2 * R);
-    dual f = {u * u * u, {0, 0, 0}};
-    for (int k = 0; k < 3; k++)
-        f.g[k] = cq * q[k] + ct * dt[k];
-    return f;
-}
-
-/* merp_bound_field with its gradient: ((1 − s²)²)³ of s = (d − r_in)/(r_out − r_in). */
-static inline dual bound(const merp_bound *b, const float p[3])
-{
-    float q[3];
-    closest(b->a, b->b, p, q);
-    float d2 = v3_dot(q, q);
-    if (d2 >= b->r_out * b->r_out)
-        return ZERO;
-    float d = sqrtf(d2), span = b->r_out - b->r_in, sn = (d - b->r_in) / span;
-    if (sn <= 0.0f)
-        return (dual){1.0f, {0, 0, 0}};
-    if (sn >= 1.0f)
-        return ZERO;
-    float r = sn * sn, u = (1.0f - r) * (1.0f - r), w = 1.0f - r;
-    /* dF/ds = −12 s (1 − s²)⁵, ∇s = q / (d · span) */
-    float c = -12.0f * sn * w * w * w * w * w / (d * span);
-    dual f = {u * u * u, {0, 0, 0}};
-    for (int k = 0; k < 3; k++)
-        f.g[k] = c * q[k];
-    return f;
+    return (dual){r->f[l], {r->g[0][l], r->g[1][l], r->g[2][l]}};
 }
 
 /* Δ(c − x) of PCM (merp_pcm_delta) with its gradient. */
@@ -119,16 +53,17 @@ static inline dual gbb(dual F, dual b1, dual b2)
     return r;
 }
 
-/* The parent's axis A = max(in, out), with the scar's bounded blend. */
-static inline dual axis(const merp_junction *j, const float p[3])
+/* The parent's axis A = max(in, out), with the scar's bounded blend, from
+ * the segments' and bounds' lanes. */
+static inline dual axis(const merp_junction *j, const merp_row_grad *seg, const merp_row_grad *bnd)
 {
-    dual f_in = seg(&j->in, p), A = f_in, f_out = ZERO;
+    dual f_in = lane(seg, MERP_JSEG_IN), A = f_in, f_out = ZERO;
     if (j->out.ra > 0.0f) {
-        f_out = seg(&j->out, p);
+        f_out = lane(seg, MERP_JSEG_OUT);
         A = d_max(A, f_out);
     }
     if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
-        dual F_s = d_lin(j->scar_weight, bound(&j->scar, p), 0.0f, ZERO);
+        dual F_s = d_lin(j->scar_weight, lane(bnd, MERP_JBOUND_SCAR), 0.0f, ZERO);
         if (F_s.v > 0.0f) {
             dual a = d_lin(1.0f, f_in, 1.0f, delta_of(f_out, MERP_ISO));
             dual b = d_lin(1.0f, f_out, 1.0f, delta_of(f_in, MERP_ISO));
@@ -138,24 +73,42 @@ static inline dual axis(const merp_junction *j, const float p[3])
     return A;
 }
 
-float merp_junction_gradient(const merp_junction *j, const float p[3], float g[3])
+float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3])
 {
-    assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
-    dual A = axis(j, p), L[MERP_JUNCTION_LATERALS];
+    const merp_junction *j = jp->j;
+    merp_row_grad seg, bnd;
+    merp_row_seg_gradient(&jp->seg, p, &seg);
+    merp_row_bound_gradient(&jp->bound, p, &bnd);
+    dual A = axis(j, &seg, &bnd), L[MERP_JUNCTION_LATERALS];
     dual A_d = A, b1 = ZERO, b2 = A, F_b = ZERO;
     for (uint32_t k = 0; k < j->laterals; k++) {
-        L[k] = seg(&j->lateral[k], p);
+        L[k] = lane(&seg, MERP_JSEG_LATERAL + (int)k);
         b2 = d_lin(1.0f, b2, 1.0f, L[k]);
-        A_d = d_lin(1.0f, A_d, 1.0f, delta_of(L[k], j->w));
+        if (j->bound[k].r_out > 1e-5f)
+            F_b = d_max(F_b, lane(&bnd, MERP_JBOUND_LATERAL + (int)k));
     }
+    /* Beyond the ridge (most samples) F_b and ∇F_b are 0 and eq. (4) is B2:
+     * exactly, as no component of B2's gradient is −0 (each lane's is +0
+     * where it is zero), so 0·x + 1·B2 is B2 to the bit. */
+    if (F_b.v == 0.0f) {
+        for (int k = 0; k < 3; k++)
+            g[k] = b2.g[k];
+        return b2.v;
+    }
+    for (uint32_t k = 0; k < j->laterals; k++)
+        A_d = d_lin(1.0f, A_d, 1.0f, delta_of(L[k], j->w));
     for (uint32_t k = 0; k < j->laterals; k++)
         b1 = d_max(b1, d_lin(1.0f, L[k], 1.0f, delta_of(A, j->w)));
     b1 = d_max(b1, A_d);
-    for (uint32_t k = 0; k < j->laterals; k++)
-        if (j->bound[k].r_out > 1e-5f)
-            F_b = d_max(F_b, bound(&j->bound[k], p));
     dual F = gbb(F_b, b1, b2);
     for (int k = 0; k < 3; k++)
         g[k] = F.g[k];
     return F.v;
+}
+
+float merp_junction_gradient(const merp_junction *j, const float p[3], float g[3])
+{
+    merp_jprep jp;
+    merp_jprep_init(&jp, j);
+    return merp_jprep_gradient(&jp, p, g);
 }

@@ -80,6 +80,58 @@ static inline float merp_seg_field(const merp_seg *s, const float p[3])
 /* The largest distance from the segment at which s's field is not 0. */
 float merp_seg_support(const merp_seg *s);
 
+/* ---------------------------------------------------------------- row.c */
+
+#define MERP_ROW 4 /* lanes of a row: SSE2's four floats */
+
+/* Up to MERP_ROW segments as a structure of arrays, lane by lane, with what
+ * every sample of them needs precomputed once (b − a, |b − a|², ∇t): a point's
+ * fields of all of them are then one pass of 4-wide loops, which GCC
+ * vectorizes, where four scalar evaluations each recomputed the constants.
+ * A lane's arithmetic is merp_seg_d2's, merp_seg_field's and
+ * merp_bound_field's in their order, so it gives their values to the bit.
+ * ra, rb are a segment's radii at a, b, or a bound's r_in, r_out. */
+typedef struct merp_row {
+    float a[3][MERP_ROW], ab[3][MERP_ROW];
+    float len2[MERP_ROW], den[MERP_ROW]; /* |b − a|², and it or 1 where 0 */
+    float dt[3][MERP_ROW];               /* ∇t = (b − a) / den where t is not clamped */
+    float ra[MERP_ROW], rb[MERP_ROW], rb2[MERP_ROW]; /* rb2 = rb²: a bound's support */
+    float span[MERP_ROW], dR[MERP_ROW];              /* rb − ra, and over x_c: a segment's R'(t) */
+} merp_row;
+
+/* A point's closest points on a row's segments: parameters t, offsets
+ * q = p − s(t) and their squares d² = |q|². */
+typedef struct merp_row_point {
+    float t[MERP_ROW], q[3][MERP_ROW], d2[MERP_ROW];
+} merp_row_point;
+
+/* Each lane's value f and gradient g (by coordinate, then lane). */
+typedef struct merp_row_grad {
+    float f[MERP_ROW], g[3][MERP_ROW];
+} merp_row_grad;
+
+/* Fills every lane with a segment whose fields are 0 everywhere. */
+void merp_row_clear(merp_row *r);
+
+/* Lane l (< MERP_ROW) ← the segment a→b with ra, rb (see merp_row). */
+void merp_row_set(merp_row *r, int l, const float a[3], const float b[3], float ra, float rb);
+
+/* p's closest points on the row's segments into *c. */
+void merp_row_closest(const merp_row *r, const float p[3], merp_row_point *c);
+
+/* merp_seg_field of each lane at p (segments: ra, rb > 0). */
+void merp_row_seg_field(const merp_row *r, const float p[3], float f[MERP_ROW]);
+
+/* The same with each lane's gradient, as gradient.c's closed form: 0
+ * outside the lane's support. */
+void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_row_grad *out);
+
+/* merp_bound_field of each lane at p (bounds: ra = r_in < rb = r_out). */
+void merp_row_bound_field(const merp_row *r, const float p[3], float F[MERP_ROW]);
+
+/* The same with each lane's gradient (0 where F_b is 0 or 1). */
+void merp_row_bound_gradient(const merp_row *r, const float p[3], merp_row_grad *out);
+
 /* --------------------------------------------------------------- blend.c */
 
 /* B2 of G04 §3.1: summation blending, Σ f_i (Blinn's and Wyvill's blend): two
@@ -103,7 +155,16 @@ float merp_blend_sum(const float *f, uint32_t n);
  * sets its width: the bulge spans c − w ≤ f2 < c. The contact pair as one solid is B1 = max(f1', f2'), whose
  * surface has a crease where the two deformed surfaces meet: the branch bark
  * ridge (G04 Figs. 4, 5). */
-float merp_pcm_delta(float x, float w);
+static inline float merp_pcm_delta(float x, float w) /* inline: a few per field sample */
+{
+    assert(w > 0.0f && w <= MERP_ISO);
+    if (x < 0.0f)
+        return x; /* interpenetration: compressed onto the contact surface */
+    if (x > w)
+        return 0.0f;
+    float u = 1.0f - x / w;
+    return x * u * u; /* propagation: the C¹ bulge */
+}
 
 /* f1' and f2' of the pair (f1, f2) with bulge width w (see above). */
 void merp_pcm_pair(float f1, float f2, float w, float *f1d, float *f2d);
@@ -285,6 +346,30 @@ void merp_junction_age(merp_junction *j, const float up[3], float years);
 
 /* σ(y) of merp_junction_age: 1 up to year 1, e^(−(y − 1)/3) after. */
 float merp_junction_scar_weight(float years);
+
+/* A junction made ready for many samples: its segments (in, out, the
+ * laterals) and its bounds (the scar, the laterals') in rows, each lane
+ * that does not take part (no continuation, no scar, one lateral, a bound
+ * of no ridge) cleared to a field of 0. Its fields and gradients are the
+ * junction's to the bit (merp_junction_field and merp_junction_gradient
+ * prepare one on every call); a patch prepares its junction once for all
+ * its samples. Where F_b = 0 (beyond the ridge, most samples) F_g is B2
+ * exactly, and B1 is not evaluated. */
+typedef struct merp_jprep {
+    const merp_junction *j;
+    merp_row seg;   /* in, out, lateral 0, lateral 1 */
+    merp_row bound; /* scar, bound 0, bound 1, none */
+} merp_jprep;
+
+enum { MERP_JSEG_IN, MERP_JSEG_OUT, MERP_JSEG_LATERAL };  /* merp_jprep.seg's lanes */
+enum { MERP_JBOUND_SCAR, MERP_JBOUND_LATERAL };          /* merp_jprep.bound's */
+
+/* Prepares jp for j, which must outlive it and not change meanwhile. */
+void merp_jprep_init(merp_jprep *jp, const merp_junction *j);
+
+/* merp_junction_field and merp_junction_gradient of jp's junction. */
+float merp_jprep_field(const merp_jprep *jp, const float p[3]);
+float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3]);
 
 /* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
 float merp_junction_field(const float p[3], const void *data);

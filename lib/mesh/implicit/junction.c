@@ -148,51 +148,110 @@ typedef struct terms {
  * widest (MERP_ISO), so the ring shows. */
 #define SCAR_W MERP_ISO
 
-static void junction_terms(const merp_junction *j, const float p[3], terms *t)
+void merp_jprep_init(merp_jprep *jp, const merp_junction *j)
 {
     assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
-    float f_in = merp_seg_field(&j->in, p), A = f_in;
-    float f_out = 0.0f;
-    if (j->out.ra > 0.0f) {
-        f_out = merp_seg_field(&j->out, p);
-        A = f_out > A ? f_out : A;
+    assert(j->in.ra > 0.0f && j->in.rb > 0.0f);
+    jp->j = j;
+    merp_row_clear(&jp->seg);
+    merp_row_clear(&jp->bound);
+    merp_row_set(&jp->seg, MERP_JSEG_IN, j->in.a, j->in.b, j->in.ra, j->in.rb);
+    if (j->out.ra > 0.0f)
+        merp_row_set(&jp->seg, MERP_JSEG_OUT, j->out.a, j->out.b, j->out.ra, j->out.rb);
+    if (j->scar_weight > 0.0f && j->out.ra > 0.0f)
+        merp_row_set(&jp->bound, MERP_JBOUND_SCAR, j->scar.a, j->scar.b, j->scar.r_in, j->scar.r_out);
+    for (uint32_t k = 0; k < j->laterals; k++) {
+        const merp_seg *l = &j->lateral[k];
+        const merp_bound *b = &j->bound[k];
+        merp_row_set(&jp->seg, MERP_JSEG_LATERAL + (int)k, l->a, l->b, l->ra, l->rb);
+        if (b->r_out > 1e-5f) /* merp_junction_ridge's test: a bound of no ridge is 0 */
+            merp_row_set(&jp->bound, MERP_JBOUND_LATERAL + (int)k, b->a, b->b, b->r_in, b->r_out);
     }
+}
+
+/* The parent's axis A (with its scar's bounded blend) from the segments'
+ * lanes fs and the bounds' Fb, and the scar's terms into *t. */
+static float axis_terms(const merp_junction *j, const float fs[MERP_ROW], const float Fb[MERP_ROW], terms *t)
+{
+    /* A lane left out is 0: f_out without a continuation, F_s without a scar. */
+    float f_in = fs[MERP_JSEG_IN], f_out = fs[MERP_JSEG_OUT], A = f_out > f_in ? f_out : f_in;
     t->F_s = t->scar_diff = 0.0f;
     if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
-        t->F_s = j->scar_weight * merp_bound_field(&j->scar, p);
+        t->F_s = j->scar_weight * Fb[MERP_JBOUND_SCAR];
         if (t->F_s > 0.0f) {
             float a1 = merp_pcm_union(f_in, f_out, SCAR_W);
             t->scar_diff = fabsf(a1 - A);
             A = merp_gbb(t->F_s, a1, A);
         }
     }
-    float L[MERP_JUNCTION_LATERALS], f[1 + MERP_JUNCTION_LATERALS] = {A};
-    float A_d = A, b1 = 0.0f;
+    return A;
+}
+
+/* B2 = A + Σ L_k (eq. 3) and F_b = max_k F_b,k (merp_junction_ridge). */
+static void blend_terms(const merp_junction *j, float A, const float fs[MERP_ROW], const float Fb[MERP_ROW], terms *t)
+{
+    float f[1 + MERP_JUNCTION_LATERALS] = {A}, F_b = 0.0f;
     for (uint32_t k = 0; k < j->laterals; k++) {
-        L[k] = merp_seg_field(&j->lateral[k], p);
-        f[1 + k] = L[k];
-        A_d += merp_pcm_delta(MERP_ISO - L[k], j->w);
+        f[1 + k] = fs[MERP_JSEG_LATERAL + k];
+        float v = Fb[MERP_JBOUND_LATERAL + k];
+        F_b = v > F_b ? v : F_b;
     }
+    t->b2 = merp_blend_sum(f, 1 + j->laterals);
+    t->F_b = F_b;
+}
+
+/* B1 = max(A', L_k') of PCM (eq. 2). */
+static float pcm_term(const merp_junction *j, float A, const float fs[MERP_ROW])
+{
+    const float *L = fs + MERP_JSEG_LATERAL;
+    float A_d = A, b1 = 0.0f;
+    for (uint32_t k = 0; k < j->laterals; k++)
+        A_d += merp_pcm_delta(MERP_ISO - L[k], j->w);
     for (uint32_t k = 0; k < j->laterals; k++) {
         float L_d = L[k] + merp_pcm_delta(MERP_ISO - A, j->w);
         b1 = L_d > b1 ? L_d : b1;
     }
-    t->b1 = A_d > b1 ? A_d : b1;
-    t->b2 = merp_blend_sum(f, 1 + j->laterals);
-    t->F_b = merp_junction_ridge(j, p);
+    return A_d > b1 ? A_d : b1;
+}
+
+static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
+{
+    float fs[MERP_ROW], Fb[MERP_ROW];
+    merp_row_seg_field(&jp->seg, p, fs);
+    merp_row_bound_field(&jp->bound, p, Fb);
+    float A = axis_terms(jp->j, fs, Fb, t);
+    blend_terms(jp->j, A, fs, Fb, t);
+    t->b1 = pcm_term(jp->j, A, fs);
+}
+
+float merp_jprep_field(const merp_jprep *jp, const float p[3])
+{
+    float fs[MERP_ROW], Fb[MERP_ROW];
+    merp_row_seg_field(&jp->seg, p, fs);
+    merp_row_bound_field(&jp->bound, p, Fb);
+    terms t;
+    float A = axis_terms(jp->j, fs, Fb, &t);
+    blend_terms(jp->j, A, fs, Fb, &t);
+    /* Beyond the ridge (most samples) F_b = 0 and eq. (4) is B2 exactly
+     * (0·B1 + 1·B2, B2 ≥ +0), without B1. */
+    if (t.F_b == 0.0f)
+        return t.b2;
+    return merp_gbb(t.F_b, pcm_term(jp->j, A, fs), t.b2);
 }
 
 float merp_junction_field(const float p[3], const void *data)
 {
-    terms t;
-    junction_terms(data, p, &t);
-    return merp_gbb(t.F_b, t.b1, t.b2);
+    merp_jprep jp;
+    merp_jprep_init(&jp, data);
+    return merp_jprep_field(&jp, p);
 }
 
 void merp_junction_strength(const merp_junction *j, const float p[3], float *scar, float *ridge)
 {
+    merp_jprep jp;
+    merp_jprep_init(&jp, j);
     terms t;
-    junction_terms(j, p, &t);
+    junction_terms(&jp, p, &t);
     *scar = t.F_s * t.scar_diff;
     *ridge = t.F_b * fabsf(t.b1 - t.b2);
 }

@@ -15,7 +15,8 @@
 
 typedef struct clipped {
     const merp_patch *pt;
-    float kappa; /* the slope of each cut's half-space field, per unit length */
+    float kappa;    /* the slope of each cut's half-space field, per unit length */
+    merp_jprep jp;  /* pt->j, prepared once for the patch's samples */
 } clipped;
 
 static float cut_distance(const merp_cut *c, const float p[3])
@@ -38,7 +39,7 @@ static bool in_reach(const merp_cut *c, const float p[3], float *dist)
 static float clipped_field(const float p[3], const void *data)
 {
     const clipped *cl = data;
-    float f = merp_junction_field(p, cl->pt->j);
+    float f = merp_jprep_field(&cl->jp, p);
     for (uint32_t i = 0; i < cl->pt->cuts; i++) {
         /* The plane first: the reach only matters where the cut would win. */
         float g = MERP_ISO - cl->kappa * cut_distance(&cl->pt->cut[i], p), dist;
@@ -53,7 +54,7 @@ static float clipped_field(const float p[3], const void *data)
 static float clipped_gradient(const float p[3], const void *data, float g[3])
 {
     const clipped *cl = data;
-    float f = merp_junction_gradient(cl->pt->j, p, g);
+    float f = merp_jprep_gradient(&cl->jp, p, g);
     for (uint32_t i = 0; i < cl->pt->cuts; i++) {
         const merp_cut *c = &cl->pt->cut[i];
         float t = MERP_ISO - cl->kappa * cut_distance(c, p), dist;
@@ -300,7 +301,7 @@ static int cap_of_sheet(const clipped *cl, merp_dc_source src)
         }
         if (clip >= MERP_ISO)
             continue; /* no cut clips it: inside or outside by F_g alone */
-        float f = merp_junction_field(p, cl->pt->j);
+        float f = merp_jprep_field(&cl->jp, p);
         if (clip < f && f >= MERP_ISO)
             cap = by;
     }
@@ -358,7 +359,8 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int8_t *on_c
 mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *err)
 {
     assert(pt->cuts >= 1 && pt->cuts <= MERP_PATCH_CUTS);
-    clipped cl = {pt, 1.0f / pt->grid.h};
+    clipped cl = {.pt = pt, .kappa = 1.0f / pt->grid.h};
+    merp_jprep_init(&cl.jp, pt->j);
     /* Seeds inside the solid: the junction point and each shaft halfway to
      * its cut; the clipped surface is one piece, so the walk finds it all. */
     float seeds[1 + MERP_PATCH_CUTS][3];

@@ -7,17 +7,6 @@
 
 #include "mesh/implicit/implicit.h"
 
-float merp_pcm_delta(float x, float w)
-{
-    assert(w > 0.0f && w <= MERP_ISO);
-    if (x < 0.0f)
-        return x; /* interpenetration: compressed onto the contact surface */
-    if (x > w)
-        return 0.0f;
-    float u = 1.0f - x / w;
-    return x * u * u; /* propagation: the C¹ bulge */
-}
-
 void merp_pcm_pair(float f1, float f2, float w, float *f1d, float *f2d)
 {
     *f1d = f1 + merp_pcm_delta(MERP_ISO - f2, w);
