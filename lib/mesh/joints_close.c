@@ -73,7 +73,8 @@ bool merp_patch_closes(const merp_trimesh *m, uint32_t ring_first)
         const uint32_t *c = m->triangles + 3 * f;
         for (int k = 0; k < 3 && ok; k++) {
             uint32_t a = c[k], b = c[(k + 1) % 3];
-            ok = (a >= ring_first && b >= ring_first) || t[edge_slot(t, size - 1, (uint64_t)b << 32 | a)] != 0;
+            ok = (a >= ring_first && b >= ring_first) ||
+                 t[edge_slot(t, size - 1, (uint64_t)b << 32 | a)] != 0;
         }
     }
     merp_free(v);

@@ -309,8 +309,9 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
     for (uint32_t k = 1; k < f->laterals; k++)
         born = born < b->nodes[first[2 + k]].born ? born : b->nodes[first[2 + k]].born;
     merp_junction_age(f, ridge_up, years_since(b, born));
-    f->scar_weight = b->nodes[C].born == p->born ? 0.0f
-                                                 : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
+    f->scar_weight = b->nodes[C].born == p->born
+                         ? 0.0f
+                         : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
     return true;
 }
 

@@ -293,7 +293,9 @@ static void sheet_vertex(dc *d, const uint32_t cell[3], const crossing *const *x
                              v_[2] - q.mass[2] / (float)q.count};
         if (!v3_normalize(fallback))
             fallback[0] = 1.0f;
-        merp_walk_normal(d->w, v_, d->w->f(v_, d->w->data), fallback, o->normals + 3 * (size_t)v);
+        /* f(v) only for the differences: the gradient, where there is one, needs none */
+        float fv = d->w->grad != NULL ? 0.0f : d->w->f(v_, d->w->data);
+        merp_walk_normal(d->w, v_, fv, fallback, o->normals + 3 * (size_t)v);
     }
     if (d->src != NULL)
         d->src[v] = (merp_dc_source){cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]), corners};
@@ -397,9 +399,9 @@ static void dc_free(merp_walk *w, dc *d)
     merp_free(d->edges.slot), merp_free(d->edges.value);
 }
 
-mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad, const void *data,
-                              const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out, merp_dc_source *src,
-                              mer_error *err)
+mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad,
+                              const void *data, const float (*seeds)[3], uint32_t nseeds,
+                              merp_trimesh *out, merp_dc_source *src, mer_error *err)
 {
     merp_walk w;
     dc d = {.w = &w, .out = out, .src = src};

@@ -18,7 +18,8 @@ static const dual ZERO = {0.0f, {0.0f, 0.0f, 0.0f}};
 
 static inline dual d_lin(float a, dual x, float b, dual y) /* a·x + b·y */
 {
-    return (dual){a * x.v + b * y.v, {a * x.g[0] + b * y.g[0], a * x.g[1] + b * y.g[1], a * x.g[2] + b * y.g[2]}};
+    return (dual){a * x.v + b * y.v,
+                  {a * x.g[0] + b * y.g[0], a * x.g[1] + b * y.g[1], a * x.g[2] + b * y.g[2]}};
 }
 
 static inline dual d_max(dual a, dual b) /* b when b > a, as junction.c's maxima */

@@ -293,9 +293,9 @@ typedef struct merp_dc_source {
  * (NULL, or room for as many vertices) gets each vertex's source. Errors:
  * MER_ERR_NOMEM. Cost: O(crossed cells) evaluations: each crossed edge is
  * solved once. */
-mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad, const void *data,
-                              const float (*seeds)[3], uint32_t nseeds, merp_trimesh *out, merp_dc_source *src,
-                              mer_error *err);
+mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad,
+                              const void *data, const float (*seeds)[3], uint32_t nseeds,
+                              merp_trimesh *out, merp_dc_source *src, mer_error *err);
 
 /* ------------------------------------------------------------ junction.c */
 

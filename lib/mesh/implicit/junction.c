@@ -188,7 +188,8 @@ static float axis_terms(const merp_junction *j, const float fs[MERP_ROW], const 
 }
 
 /* B2 = A + Σ L_k (eq. 3) and F_b = max_k F_b,k (merp_junction_ridge). */
-static void blend_terms(const merp_junction *j, float A, const float fs[MERP_ROW], const float Fb[MERP_ROW], terms *t)
+static void blend_terms(const merp_junction *j, float A, const float fs[MERP_ROW],
+                        const float Fb[MERP_ROW], terms *t)
 {
     float f[1 + MERP_JUNCTION_LATERALS] = {A}, F_b = 0.0f;
     for (uint32_t k = 0; k < j->laterals; k++) {

@@ -377,9 +377,11 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory stitching a junction");
     }
     const float(*s)[3] = (const float(*)[3])seeds;
+    uint32_t nseeds = 1 + pt->cuts;
     mer_result rc =
-        pt->sharp ? merp_dc_polygonize(&pt->grid, clipped_field, clipped_gradient, &cl, s, 1 + pt->cuts, out, cells, err)
-                  : merp_mtet_polygonize_seeded(&pt->grid, clipped_field, &cl, s, 1 + pt->cuts, out, err);
+        pt->sharp
+            ? merp_dc_polygonize(&pt->grid, clipped_field, clipped_gradient, &cl, s, nseeds, out, cells, err)
+            : merp_mtet_polygonize_seeded(&pt->grid, clipped_field, &cl, s, nseeds, out, err);
     if (rc == MER_OK) {
         if (pt->sharp)
             snap_cuts(out, &cl, cells, on_cut);

@@ -213,7 +213,6 @@ float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const flo
     return w->f(p, w->data);
 }
 
-
 /* merp_walk_crossing with w->grad: Newton's method in the bracket. */
 static void crossing_newton(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
                             float p[3], float g[3])
@@ -237,10 +236,11 @@ static void crossing_newton(const merp_walk *w, const float pa[3], float fa, con
     }
 }
 
-void merp_walk_crossing(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3],
-                        float n[3])
+void merp_walk_crossing(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
+                        float p[3], float n[3])
 {
-    assert(fa >= MERP_ISO && fb < MERP_ISO);
+    /* outside as merp_walk_corners has it: a NaN value counts as outside */
+    assert(fa >= MERP_ISO && !(fb >= MERP_ISO));
     float out[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
     if (w->grad == NULL) {
         merp_walk_normal(w, p, merp_walk_solve(w, pa, fa, pb, fb, p), out, n);

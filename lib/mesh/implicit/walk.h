@@ -89,8 +89,8 @@ float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const flo
  * where Newton's would leave the bracket, and n is the last step's: about
  * two gradient evaluations, where solving and differencing took six field
  * evaluations. */
-void merp_walk_crossing(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3],
-                        float n[3]);
+void merp_walk_crossing(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
+                        float p[3], float n[3]);
 
 /* −∇f / |∇f| at p, where f(p) = fp: from w->grad, or without it by forward
  * differences over h / 50 (three evaluations); `fallback` (normalized)
