@@ -13,10 +13,15 @@
 
 #include "mesh/implicit/implicit.h"
 
-/* The loops below are 4-wide on purpose: ask for the vectorizer here, where
+/* The loops below are 4-wide on purpose: ask GCC's vectorizer here, where
  * it pays, with no traps assumed from floating point (which changes no
- * value), so that the selects of a lane can be if-converted. */
+ * value), so that the selects of a lane can be if-converted. Clang has no
+ * such attribute and vectorizes these loops at -O2 by itself. */
+#if defined(__GNUC__) && !defined(__clang__)
 #define VECTORIZE __attribute__((optimize("tree-vectorize", "no-trapping-math")))
+#else
+#define VECTORIZE
+#endif
 
 /* A lane no segment fills: a ball so far away that every field of it is 0
  * (x² ≥ 1, d² ≥ r_out²), with radii 1/2, 1 that divide nothing by zero. */
