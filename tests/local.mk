@@ -27,10 +27,8 @@ AM_TESTS_ENVIRONMENT = \
 
 # The whole suite, longest first: automake starts the tests in the order
 # listed, so under make -j the long ones (a minute or more each) run beside
-# the many short ones instead of alone at the end. The unit tests
-# (tests/unit/local.mk) start after these in practice whatever their place:
-# make puts off every target that depends on config.h (whose empty rule runs
-# in each make) until it has been through this list once.
+# the many short ones instead of alone at the end. TESTS lists the unit tests
+# (tests/unit/local.mk, the two long ones first) before these.
 SUITE_TESTS = \
 	tests/golden/golden.test.js \
 	tests/api/crashloop.test.js \
@@ -96,6 +94,14 @@ TESTS += tests/check-dist.sh \
 else
 TESTS += $(SUITE_TESTS)
 endif
+
+# Every test waits for config.h. Its rule (empty, but a recipe) runs in each
+# make, and every unit test program depends on it; without this make starts
+# all the node and shell tests first and the unit tests last, whatever their
+# place in TESTS, so test_clone (about a minute under ASan, the longest test)
+# ran alone at the end of the sanitizer check. With it the tests start in the
+# order of TESTS.
+$(TEST_LOGS): config.h
 
 # The conformance test validates every GLB the other tests leave behind, so it runs last.
 tests/conformance/validate.test.log: tests/unit/test_gltf.log tests/unit/test_mesh.log \
