@@ -122,15 +122,15 @@ static inline int merp_p09_may_grow(const merp_model *m, const merp_world *w, ui
     return ok;
 }
 
-/* Whether node c, the main child of node i (i's first child slot), goes on
- * i's axis: alive, and i's main child by its own links too. Always so in a
- * skeleton the model grew; checked because a checkpoint that says otherwise
- * may still load, and the axis lists (priority.c) place a node's items by its
- * axis's count (sub[].afrom) only when both passes agree on who goes on which
- * axis. */
+/* Whether node c goes on node i's axis, by both links: both alive, c in i's
+ * first child slot, i c's parent with c in slot 0. Always so in a skeleton the
+ * model grew; checked because a checkpoint that says otherwise may still load,
+ * and the axis lists (priority.c) place a node's items by its axis's count
+ * (sub[].afrom) only when both passes agree on who goes on which axis. */
 static inline int merp_p09_continues(const merp_skeleton *sk, uint32_t i, uint32_t c)
 {
-    return c != MER_NO_NODE && sk->alive[c] && sk->parent[c] == i && sk->slot[c] == 0;
+    return c != MER_NO_NODE && sk->alive[i] && sk->alive[c] && sk->child[3 * (size_t)i] == c &&
+           sk->parent[c] == i && sk->slot[c] == 0;
 }
 
 /* environment.c */

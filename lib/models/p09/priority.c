@@ -72,8 +72,7 @@ static void list_axes(merp_model *m, const merp_skeleton *sk)
             /* on its parent's axis, as the basipetal pass counted it (only a
              * damaged checkpoint's links could say otherwise: then unlisted) */
             uint32_t p = sk->parent[i];
-            int on = sk->alive[p] && sk->child[3 * (size_t)p] == i && merp_p09_continues(sk, p, i);
-            end = on ? m->aend[p] : UNLISTED;
+            end = merp_p09_continues(sk, p, i) ? m->aend[p] : UNLISTED;
         }
         m->aend[i] = end;
         if (end == UNLISTED)
