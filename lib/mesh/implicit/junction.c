@@ -215,24 +215,29 @@ static float pcm_term(const merp_junction *j, float A, const float fs[MERP_ROW])
     return A_d > b1 ? A_d : b1;
 }
 
-static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
+/* Every term at p but B1 into *t, the segments' lanes into fs; returns A. */
+static float row_terms(const merp_jprep *jp, const float p[3], float fs[MERP_ROW], terms *t)
 {
-    float fs[MERP_ROW], Fb[MERP_ROW];
+    float Fb[MERP_ROW];
     merp_row_seg_field(&jp->seg, p, fs);
     merp_row_bound_field(&jp->bound, p, Fb);
     float A = axis_terms(jp->j, fs, Fb, t);
     blend_terms(jp->j, A, fs, Fb, t);
+    return A;
+}
+
+static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
+{
+    float fs[MERP_ROW];
+    float A = row_terms(jp, p, fs, t);
     t->b1 = pcm_term(jp->j, A, fs);
 }
 
 float merp_jprep_field(const merp_jprep *jp, const float p[3])
 {
-    float fs[MERP_ROW], Fb[MERP_ROW];
-    merp_row_seg_field(&jp->seg, p, fs);
-    merp_row_bound_field(&jp->bound, p, Fb);
+    float fs[MERP_ROW];
     terms t;
-    float A = axis_terms(jp->j, fs, Fb, &t);
-    blend_terms(jp->j, A, fs, Fb, &t);
+    float A = row_terms(jp, p, fs, &t);
     /* Beyond the ridge (most samples) F_b = 0 and eq. (4) is B2 exactly
      * (0·B1 + 1·B2, B2 ≥ +0), without B1. */
     if (t.F_b == 0.0f)
