@@ -124,8 +124,24 @@ mer_result mer_scene_save(const mer_scene *s, uint8_t **bytes, size_t *size, mer
     return MER_OK;
 }
 
+/* Whether the links of living node i agree both ways (merp_skeleton's
+ * invariant): each child lives and names i as its parent in that slot, and
+ * i's parent lives and lists i in i's slot. Ids are checked first. */
+static int links_agree(const merp_skeleton *sk, uint32_t i)
+{
+    for (uint32_t k = 0; k < 3; k++) {
+        uint32_t c = sk->child[3 * i + k];
+        if (c != MER_NO_NODE && (!sk->alive[c] || sk->parent[c] != i || sk->slot[c] != k))
+            return 0;
+    }
+    uint32_t p = sk->parent[i];
+    return p == MER_NO_NODE || (sk->alive[p] && sk->child[3 * p + sk->slot[i]] == i);
+}
+
 /* Ids grow from parent to child, so links that point backwards, or forwards
- * from a child, would be cycles or strays: refused. */
+ * from a child, would be cycles or strays: refused. So are living nodes whose
+ * links disagree, which no edit makes: the growth passes rely on them (the
+ * P09 priority model's axis lists, p09.h). */
 static int skeleton_valid(const merp_skeleton *sk)
 {
     for (uint32_t i = 0; i < sk->n; i++) {
@@ -139,6 +155,9 @@ static int skeleton_valid(const merp_skeleton *sk)
                 return 0;
         }
     }
+    for (uint32_t i = 0; i < sk->n; i++)
+        if (sk->alive[i] && !links_agree(sk, i))
+            return 0;
     for (uint32_t j = 0; j < sk->nplants; j++)
         if (sk->roots[j] >= sk->n)
             return 0;

@@ -21,7 +21,10 @@ typedef void (*merp_bud_fn)(void *ctx, const float p[3], int sign);
 
 typedef struct merp_skeleton {
     /* Nodes (metamers), indexed by id; ids are never reused. Slot k of a node: 0 is
-     * the main continuation / terminal bud, 1 and 2 the lateral ones. */
+     * the main continuation / terminal bud, 1 and 2 the lateral ones. The links of
+     * a living node agree both ways: a child it lists lives and names it as parent
+     * in that slot, its parent lives and lists it (a removed subtree's root is
+     * unlisted, merp_skel_kill). A checkpoint that says otherwise is refused. */
     uint32_t n, cap;
     uint32_t mapped;   /* the pages of nodes [0, mapped) are mapped (merp_prefault) */
     uint32_t *parent;

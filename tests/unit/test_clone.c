@@ -309,6 +309,60 @@ static void reseal(uint8_t *bytes, size_t size)
     memcpy(bytes + 24, &h, 8);
 }
 
+/* Where the skeleton's node count n lies in a checkpoint (lib/scene_io.c
+ * save_skeleton): n, then the parents, the root's none and node 1's the root. */
+static size_t skeleton_at(const uint8_t *bytes, size_t size, uint32_t n)
+{
+    const uint32_t mark[3] = {n, UINT32_MAX, 0};
+    for (size_t at = 32; at + sizeof mark <= size; at++)
+        if (memcmp(bytes + at, mark, sizeof mark) == 0)
+            return at;
+    fail_msg("no skeleton in the checkpoint");
+    return 0;
+}
+
+/* Links that disagree are damage no edit makes: a node that names a parent
+ * which does not list it, a dead node its living parent still lists. They
+ * are refused when loaded, so the growth passes may trust them (the P09
+ * priority model's axis lists place items by them). */
+static void test_disagreeing_links_are_refused(void **state)
+{
+    (void)state;
+    mer_params p;
+    mer_error err;
+    assert_int_equal(mer_preset_params("fig9-priority-k0.5", &p, &err), MER_OK);
+    p.bounds_min[0] = p.bounds_min[2] = -8.0f;
+    p.bounds_max[0] = p.bounds_max[2] = 8.0f;
+    p.bounds_max[1] = 16.0f;
+    mer_scene *s = new_scene(&p, 3);
+    step(s, 6);
+    uint32_t n = mer_scene_node_bound(s);
+    assert_true(n > 4);
+    size_t size;
+    uint8_t *bytes = save(s, &size);
+    mer_scene_free(s);
+    size_t at = skeleton_at(bytes, size, n);
+    uint32_t last = n - 1, parent, root_parent = 0;
+    memcpy(&parent, bytes + at + 4 + 4 * (size_t)last, 4);
+    assert_true(parent != UINT32_MAX && parent != root_parent);
+    uint8_t *copy = malloc(size);
+    /* the newest node names the root as its parent: the root does not list it */
+    memcpy(copy, bytes, size);
+    memcpy(copy + at + 4 + 4 * (size_t)last, &root_parent, 4);
+    reseal(copy, size);
+    refused(copy, size);
+    /* the newest node dead, its living parent still listing it */
+    memcpy(copy, bytes, size);
+    copy[at + 4 + 20 * (size_t)n + last] = 0;
+    reseal(copy, size);
+    refused(copy, size);
+    /* as saved, it loads: the edits above are what is refused */
+    mer_scene *t = load(bytes, size);
+    mer_scene_free(t);
+    free(copy);
+    free(bytes);
+}
+
 /* The offset after the parameter entry at `at` (lib/params_io.c): a name, a
  * kind, a number or keyframes. */
 static size_t skip_entry(const uint8_t *bytes, size_t at)
@@ -558,6 +612,7 @@ int main(void)
         cmocka_unit_test(test_copy_of_a_copy_is_independent),
         cmocka_unit_test(test_damaged_checkpoints_are_refused),
         cmocka_unit_test(test_inconsistent_checkpoints_never_crash),
+        cmocka_unit_test(test_disagreeing_links_are_refused),
         cmocka_unit_test(test_grid_refusals_are_damage),
         cmocka_unit_test(test_older_writers_checkpoints_load),
         cmocka_unit_test(test_unknown_parameters_are_refused),

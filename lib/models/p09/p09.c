@@ -256,7 +256,7 @@ static void basipetal(merp_model *m, const merp_world *w)
                 a->q[k] = qk[k + 1];
                 items += child[k + 1] != MER_NO_NODE || nbk[k + 1] != 0;
             }
-            s->afrom = items + (merp_p09_continues(sk, i, child[0]) ? m->sub[child[0]].afrom : 0);
+            s->afrom = items + (merp_p09_continues(child[0]) ? m->sub[child[0]].afrom : 0);
         }
     }
     if (lit) {

@@ -122,15 +122,15 @@ static inline int merp_p09_may_grow(const merp_model *m, const merp_world *w, ui
     return ok;
 }
 
-/* Whether node c goes on node i's axis, by both links: both alive, c in i's
- * first child slot, i c's parent with c in slot 0. Always so in a skeleton the
- * model grew; checked because a checkpoint that says otherwise may still load,
- * and the axis lists (priority.c) place a node's items by its axis's count
- * (sub[].afrom) only when both passes agree on who goes on which axis. */
-static inline int merp_p09_continues(const merp_skeleton *sk, uint32_t i, uint32_t c)
+/* Whether node c, living node i's main child (its first child slot), goes on
+ * i's axis: whenever there is one. By the skeleton's invariant (skeleton.h) a
+ * listed child lives and names i as its parent in slot 0, so the check reads
+ * nothing of c: c lies far from i when it began a later shoot, and its links
+ * would be a wait of their own. The axis lists (priority.c) place a node's
+ * items by its axis's count (sub[].afrom), so both passes ask this. */
+static inline int merp_p09_continues(uint32_t c)
 {
-    return c != MER_NO_NODE && sk->alive[i] && sk->alive[c] && sk->child[3 * (size_t)i] == c &&
-           sk->parent[c] == i && sk->slot[c] == 0;
+    return c != MER_NO_NODE;
 }
 
 /* environment.c */

@@ -69,10 +69,11 @@ static void list_axes(merp_model *m, const merp_skeleton *sk)
             int lit = sk->parent[i] == MER_NO_NODE || sk->q[i] != 0.0f;
             end = lit ? (run += m->sub[i].afrom) : UNLISTED;
         } else {
-            /* on its parent's axis, as the basipetal pass counted it (only a
-             * damaged checkpoint's links could say otherwise: then unlisted) */
+            /* on its parent's axis, as the basipetal pass counted it: the
+             * parent lists it first (the skeleton's invariant) */
             uint32_t p = sk->parent[i];
-            end = merp_p09_continues(sk, p, i) ? m->aend[p] : UNLISTED;
+            assert(sk->child[3 * (size_t)p] == i); /* asked for AHEAD nodes back */
+            end = m->aend[p];
         }
         m->aend[i] = end;
         if (end == UNLISTED)
