@@ -48,6 +48,7 @@ test('P09 first: its schedule, brush and parameters; no model panel of another',
   assert.ok(await visible('[data-tool="brush"]'));
   assert.ok(await visible('#param-lambda'));
   for (const sel of ['#lsystem-panel', '#inverse-panel', '#time-panel']) assert.ok(!(await visible(sel)), sel);
+  for (const sel of ['#stat-buds', '#stat-markers']) assert.ok(await visible(sel), sel);
 });
 
 test('an L-system from the page: its source, an error at its line, derive steps the summary', async () => {
@@ -67,6 +68,9 @@ test('an L-system from the page: its source, an error at its line, derive steps 
   for (const sel of ['#lsystem-panel', '[data-tool="prune"]', '[data-tool="bend"]', '#view-panel', '#param-ls_delta']) {
     assert.ok(await visible(sel), `${sel} shown`);
   }
+  // The Growth panel's figures: no buds or markers, which an L-system has not.
+  assert.deepEqual(await page.$$eval('#stats dt', (ts) => ts.filter((t) => !t.hidden).map((t) => t.textContent)),
+    ['step', 'internodes', 'height', 'revision', 'snapshot']);
   const source = await page.inputValue('#ls-source');
   assert.match(source, /axiom:/);
   assert.equal(await page.$$eval('#ls-gutter span', (s) => s.length), source.split('\n').length);
@@ -117,6 +121,9 @@ test('an inverse tree: a dragged control point regrows it; the time slider draws
   for (const sel of ['#schedule-panel', '[data-tool="brush"]', '#lsystem-panel', '#params-panel']) {
     assert.ok(!(await visible(sel)), `${sel} hidden`);
   }
+  // Its buds (the year's growing tips) shown, no markers: it has no environment.
+  assert.ok(await visible('#stat-buds'));
+  assert.ok(!(await visible('#stat-markers')) && !(await visible('#stats dt:nth-of-type(4)')));
   await page.fill('#step-count', '8');
   await page.click('#step-n');
   await page.waitForFunction(() => window.meristem.summary?.inverse?.year === 8, null, { timeout: 30000 });

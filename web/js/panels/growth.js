@@ -26,14 +26,25 @@ export class GrowthPanel {
     $('#play').addEventListener('click', () => this.play());
   }
 
-  /** The tree's figures from a summary. */
+  /** The tree's figures from a summary: buds and markers only for the models
+   * that have them (an L-system has no buds, an L-system or an inverse tree no
+   * environment to draw markers from). */
   show(s) {
+    const model = s.model ?? 'p09';
     $('#stat-step').textContent = fmt(s.step);
     $('#stat-internodes').textContent = fmt(s.internodes);
-    $('#stat-buds').textContent = fmt(s.buds);
-    $('#stat-markers').textContent = fmt(s.markers);
+    this._row('#stat-buds', model !== 'lsystem', s.buds);
+    this._row('#stat-markers', model !== 'lsystem' && model !== 'inverse', s.markers);
     $('#stat-height').textContent = typeof s.height === 'number' ? s.height.toFixed(2) : '–';
     $('#stat-revision').textContent = fmt(s.revision);
+  }
+
+  /** Shows the figure `value` in the stats row of `sel` (its term and value), or hides the row. */
+  _row(sel, shown, value) {
+    const dd = $(sel);
+    dd.hidden = !shown;
+    dd.previousElementSibling.hidden = !shown;
+    dd.textContent = fmt(value);
   }
 
   /** What the last snapshot cost to load and draw. */
