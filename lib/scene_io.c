@@ -38,22 +38,9 @@
 
 static void save_skeleton(const merp_skeleton *sk, merp_bytes_out *o)
 {
-    size_t n1 = sk->n, n3 = 3 * (size_t)sk->n;
     merp_put_u32(o, sk->n);
-    merp_put(o, sk->parent, n1 * sizeof *sk->parent);
-    merp_put(o, sk->child, n3 * sizeof *sk->child);
-    merp_put(o, sk->bud, n3);
-    merp_put(o, sk->slot, n1);
-    merp_put(o, sk->alive, n1);
-    merp_put(o, sk->plant, n1 * sizeof *sk->plant);
-    merp_put(o, sk->order, n1 * sizeof *sk->order);
-    merp_put(o, sk->born, n1 * sizeof *sk->born);
-    merp_put(o, sk->pos, n3 * sizeof *sk->pos);
-    merp_put(o, sk->dir, n3 * sizeof *sk->dir);
-    merp_put(o, sk->side, n3 * sizeof *sk->side);
-    merp_put(o, sk->len, n1 * sizeof *sk->len);
-    merp_put(o, sk->q, n1 * sizeof *sk->q);
-    merp_put(o, sk->dn, n1 * sizeof *sk->dn);
+    for (size_t a = 0; a < MERP_SKEL_ARRAYS; a++)
+        merp_put(o, merp_skel_array_data(sk, a), (size_t)sk->n * merp_skel_arrays[a].bytes);
     merp_put(o, &sk->pipe_n, sizeof sk->pipe_n);
     merp_put(o, &sk->cos_beta, sizeof sk->cos_beta);
     merp_put(o, &sk->sin_beta, sizeof sk->sin_beta);
@@ -169,14 +156,9 @@ static void load_skeleton(merp_skeleton *sk, merp_bytes_in *in)
     uint32_t n = merp_get_u32(in);
     if (n > MER_NODES_MAX)
         in->bad = 1;
-    size_t n1 = n, n3 = 3 * (size_t)n;
-    (void)(MERP_GET_ARRAY(in, sk->parent, n1) && MERP_GET_ARRAY(in, sk->child, n3) &&
-           MERP_GET_ARRAY(in, sk->bud, n3) && MERP_GET_ARRAY(in, sk->slot, n1) &&
-           MERP_GET_ARRAY(in, sk->alive, n1) && MERP_GET_ARRAY(in, sk->plant, n1) &&
-           MERP_GET_ARRAY(in, sk->order, n1) && MERP_GET_ARRAY(in, sk->born, n1) &&
-           MERP_GET_ARRAY(in, sk->pos, n3) && MERP_GET_ARRAY(in, sk->dir, n3) &&
-           MERP_GET_ARRAY(in, sk->side, n3) && MERP_GET_ARRAY(in, sk->len, n1) &&
-           MERP_GET_ARRAY(in, sk->q, n1) && MERP_GET_ARRAY(in, sk->dn, n1));
+    for (size_t a = 0; a < MERP_SKEL_ARRAYS; a++)
+        if (!merp_get_array(in, merp_skel_array_slot(sk, a), n, merp_skel_arrays[a].bytes))
+            break;
     if (in->bad)
         return;
     sk->n = sk->cap = n;

@@ -3,6 +3,7 @@
 
 #include <assert.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -11,6 +12,21 @@
 #include "core/hash.h"
 #include "core/vec.h"
 #include "skeleton/skeleton.h"
+
+#define ARRAY(field, per_node) {offsetof(merp_skeleton, field), per_node * sizeof *((merp_skeleton *)0)->field}
+const merp_skel_array merp_skel_arrays[MERP_SKEL_ARRAYS] = {
+    ARRAY(parent, 1), ARRAY(child, 3), ARRAY(bud, 3), ARRAY(slot, 1), ARRAY(alive, 1),
+    ARRAY(plant, 1),  ARRAY(order, 1), ARRAY(born, 1), ARRAY(pos, 3), ARRAY(dir, 3),
+    ARRAY(side, 3),   ARRAY(len, 1),   ARRAY(q, 1),    ARRAY(dn, 1)};
+#undef ARRAY
+
+void *merp_skel_array_data(const merp_skeleton *sk, size_t a)
+{
+    assert(a < MERP_SKEL_ARRAYS);
+    void *data; /* copied, not cast: the field is a float * or a uint32_t * */
+    memcpy(&data, (const char *)sk + merp_skel_arrays[a].at, sizeof data);
+    return data;
+}
 
 void merp_skel_init(merp_skeleton *sk, const mer_params *p, merp_bud_fn on_bud, void *ctx)
 {
@@ -34,11 +50,10 @@ void merp_skel_free(merp_skeleton *sk)
 {
     if (sk == NULL)
         return;
-    void *arrays[] = {sk->parent, sk->child, sk->bud, sk->slot, sk->alive, sk->plant,
-                      sk->order, sk->born, sk->pos, sk->dir, sk->side, sk->len, sk->q,
-                      sk->dn, sk->roots, sk->stack};
-    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
-        merp_free(arrays[i]);
+    for (size_t a = 0; a < MERP_SKEL_ARRAYS; a++)
+        merp_free(merp_skel_array_data(sk, a));
+    merp_free(sk->roots);
+    merp_free(sk->stack);
     memset(sk, 0, sizeof *sk);
 }
 
@@ -48,15 +63,11 @@ mer_result merp_skel_clone(const merp_skeleton *src, merp_skeleton *dst, merp_bu
     assert(src != NULL && dst != NULL);
     memset(dst, 0, sizeof *dst);
     /* Whole capacities, so that growth reallocates exactly when the original would. */
-    size_t c1 = src->cap, c3 = 3 * (size_t)src->cap;
-    int ok = MERP_DUP(dst->parent, src->parent, c1) && MERP_DUP(dst->child, src->child, c3) &&
-             MERP_DUP(dst->bud, src->bud, c3) && MERP_DUP(dst->slot, src->slot, c1) &&
-             MERP_DUP(dst->alive, src->alive, c1) && MERP_DUP(dst->plant, src->plant, c1) &&
-             MERP_DUP(dst->order, src->order, c1) && MERP_DUP(dst->born, src->born, c1) &&
-             MERP_DUP(dst->pos, src->pos, c3) && MERP_DUP(dst->dir, src->dir, c3) &&
-             MERP_DUP(dst->side, src->side, c3) && MERP_DUP(dst->len, src->len, c1) &&
-             MERP_DUP(dst->q, src->q, c1) && MERP_DUP(dst->dn, src->dn, c1) &&
-             MERP_DUP(dst->roots, src->roots, src->cap_plants);
+    int ok = 1;
+    for (size_t a = 0; ok && a < MERP_SKEL_ARRAYS; a++)
+        ok = merp_array_dup(merp_skel_array_slot(dst, a), merp_skel_array_data(src, a), src->cap,
+                            merp_skel_arrays[a].bytes);
+    ok = ok && MERP_DUP(dst->roots, src->roots, src->cap_plants);
     if (!ok) {
         merp_skel_free(dst);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a copy of the nodes");
@@ -87,16 +98,9 @@ static mer_result reserve(merp_skeleton *sk, uint32_t want, mer_error *err)
         cap = cap > MER_NODES_MAX / 2 ? MER_NODES_MAX : cap * 2;
     /* Each resize either succeeds or leaves the old block: a failure midway leaves
      * some arrays longer than sk->cap, which is harmless. */
-    size_t c1 = cap, c3 = 3 * (size_t)cap;
-    int ok = MERP_RESIZE(sk->parent, c1) && MERP_RESIZE(sk->child, c3) &&
-             MERP_RESIZE(sk->bud, c3) && MERP_RESIZE(sk->slot, c1) &&
-             MERP_RESIZE(sk->alive, c1) && MERP_RESIZE(sk->plant, c1) &&
-             MERP_RESIZE(sk->order, c1) && MERP_RESIZE(sk->born, c1) &&
-             MERP_RESIZE(sk->pos, c3) && MERP_RESIZE(sk->dir, c3) &&
-             MERP_RESIZE(sk->side, c3) && MERP_RESIZE(sk->len, c1) &&
-             MERP_RESIZE(sk->q, c1) && MERP_RESIZE(sk->dn, c1);
-    if (!ok)
-        return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for nodes");
+    for (size_t a = 0; a < MERP_SKEL_ARRAYS; a++)
+        if (!merp_array_resize(merp_skel_array_slot(sk, a), cap, merp_skel_arrays[a].bytes))
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for nodes");
     sk->cap = cap;
     return MER_OK;
 }
@@ -110,11 +114,10 @@ static void map_ahead(merp_skeleton *sk)
 {
     uint32_t from = sk->mapped > sk->n ? sk->mapped : sk->n;
     uint32_t to = sk->cap - from > MAP_AHEAD ? from + MAP_AHEAD : sk->cap;
-    void *arrays[] = {sk->parent, sk->child, sk->bud,  sk->slot, sk->alive, sk->plant, sk->order,
-                      sk->born,   sk->pos,   sk->dir,  sk->side, sk->len,   sk->q,     sk->dn};
-    size_t size[] = {4, 12, 3, 1, 1, 4, 4, 4, 12, 12, 12, 4, 4, 4};
-    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
-        merp_prefault(arrays[a], size[a] * from, size[a] * to);
+    for (size_t a = 0; a < MERP_SKEL_ARRAYS; a++) {
+        size_t bytes = merp_skel_arrays[a].bytes;
+        merp_prefault(merp_skel_array_data(sk, a), bytes * from, bytes * to);
+    }
     sk->mapped = to;
 }
 

@@ -52,6 +52,26 @@ typedef struct merp_skeleton {
     void *on_bud_ctx;
 } merp_skeleton;
 
+/* The per-node arrays, in the order a checkpoint writes them (scene_io.c): where
+ * each one's pointer lies in merp_skeleton and its bytes a node. Growing,
+ * copying, mapping, freeing, saving and loading go over this one list, so an
+ * array added to the skeleton is added here once. */
+typedef struct merp_skel_array {
+    size_t at;    /* offsetof(merp_skeleton, its pointer) */
+    size_t bytes; /* a node's elements: 3 floats for pos, 1 byte for alive */
+} merp_skel_array;
+#define MERP_SKEL_ARRAYS 14
+extern const merp_skel_array merp_skel_arrays[MERP_SKEL_ARRAYS];
+/* The address of per-node array a's pointer in sk: for merp_array_resize,
+ * merp_array_dup and merp_get_array, which copy pointers through it. */
+static inline void *merp_skel_array_slot(merp_skeleton *sk, size_t a)
+{
+    assert(a < MERP_SKEL_ARRAYS);
+    return (char *)sk + merp_skel_arrays[a].at;
+}
+/* Per-node array a of sk itself. */
+void *merp_skel_array_data(const merp_skeleton *sk, size_t a);
+
 /* An empty skeleton with the branch angle and pipe exponent of `p` (resolved). */
 void merp_skel_init(merp_skeleton *sk, const mer_params *p, merp_bud_fn on_bud, void *ctx);
 void merp_skel_free(merp_skeleton *sk);
