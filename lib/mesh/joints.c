@@ -121,8 +121,10 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
     for (uint32_t t = 0; t < m->triangle_count; t++) {
         uint32_t *c = m->triangles + 3 * (size_t)t;
         float lo = 2.0f, hi = -1.0f;
-        for (int k = 0; k < 3; k++)
-            lo = fminf(lo, jt->uvs[2 * c[k]]), hi = fmaxf(hi, jt->uvs[2 * c[k]]);
+        for (int k = 0; k < 3; k++) { /* no fminf, fmaxf: u is never NaN, and they are calls in libm */
+            float u = jt->uvs[2 * c[k]];
+            lo = u < lo ? u : lo, hi = u > hi ? u : hi;
+        }
         if (hi - lo <= 0.5f)
             continue;
         for (int k = 0; k < 3; k++) {

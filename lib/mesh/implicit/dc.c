@@ -189,20 +189,6 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float 
     return x;
 }
 
-static int find(int *parent, int e)
-{
-    while (parent[e] != e)
-        e = parent[e] = parent[parent[e]];
-    return e;
-}
-
-static void join(int *parent, int a, int b)
-{
-    a = find(parent, a), b = find(parent, b);
-    if (a != b)
-        parent[a > b ? a : b] = a < b ? a : b;
-}
-
 /* A cell's six faces (−x, +x, −y, +y, −z, +z): their corners in order
  * round the face, and the edge from each corner to the next (edge_of). */
 static const uint8_t face_corner[6][4] = {
@@ -212,13 +198,24 @@ static const uint8_t face_edge[6][4] = {
     {4, 10, 6, 8}, {5, 11, 7, 9}, {8, 2, 9, 0}, {10, 3, 11, 1}, {0, 5, 1, 4}, {2, 7, 3, 6},
 };
 
-/* The cell edges whose corners differ in sign under `mask`, as bits. */
+/* The cell edges whose corners differ in sign under `mask`, as bits: the
+ * corners one step along an axis apart, XORed, then each axis's four bits
+ * gathered in cube_edge's order (x: corners 0, 2, 4, 6 to their +x
+ * neighbours; y: 0, 1, 4, 5; z: 0–3). */
 static uint16_t crossed_edges(uint8_t mask)
 {
-    uint16_t x = 0;
-    for (int e = 0; e < 12; e++)
-        x |= (uint16_t)(((mask >> cube_edge[e][0]) ^ (mask >> cube_edge[e][1])) & 1u) << e;
-    return x;
+    unsigned m = mask, x = m ^ m >> 1, y = m ^ m >> 2, z = (m ^ m >> 4) & 0xfu;
+    x = (x & 1u) | (x >> 1 & 2u) | (x >> 2 & 4u) | (x >> 3 & 8u);
+    y = (y & 3u) | (y >> 2 & 0xcu);
+    return (uint16_t)(x | y << 4 | z << 8);
+}
+
+/* Links crossed edges a and b of one face: each crossed edge has one
+ * partner on each of its two faces. */
+static void link(uint8_t (*partner)[2], uint8_t *links, int a, int b)
+{
+    partner[a][links[a]++] = (uint8_t)b;
+    partner[b][links[b]++] = (uint8_t)a;
 }
 
 /* The cell's sheets: its crossed edges (`x`, as crossed_edges gives them)
@@ -228,15 +225,14 @@ static uint16_t crossed_edges(uint8_t mask)
  * face when the bilinear interpolant's saddle is inside. Both cells of a
  * face see its four values alike, so they agree on its segments and their
  * sheets meet edge to edge: the dual mesh is a manifold (where a sheet does
- * not cross one face twice on both sides). Returns the number of sheets;
- * sheet[e] for each crossed edge e, numbered by their lowest edge (join
- * keeps the lowest edge as a set's root, so the order of the joins does not
- * matter). */
+ * not cross one face twice on both sides). A face has two or four crossed
+ * edges, each in one segment, and an edge lies on two faces: so each
+ * crossed edge has two partners and each sheet is a cycle of edges, walked
+ * round from its lowest edge. Returns the number of sheets; sheet[e] for
+ * each crossed edge e, numbered by their lowest edge. */
 static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12])
 {
-    int parent[12];
-    for (int e = 0; e < 12; e++)
-        parent[e] = e;
+    uint8_t partner[12][2], links[12] = {0};
     for (int face = 0; face < 6; face++) {
         const uint8_t *k = face_corner[face], *fe = face_edge[face];
         int at[4], crossed = 0;
@@ -244,7 +240,7 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             if (x >> fe[t] & 1)
                 at[crossed++] = t;
         if (crossed == 2) {
-            join(parent, fe[at[0]], fe[at[1]]);
+            link(partner, links, fe[at[0]], fe[at[1]]);
         } else if (crossed == 4) {
             float v[4];
             for (int t = 0; t < 4; t++)
@@ -256,17 +252,23 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             bool cut_in = !saddle_in;
             for (int t = 0; t < 4; t++)
                 if ((bool)(mask >> k[t] & 1) == cut_in)
-                    join(parent, fe[(t + 3) % 4], fe[t]);
+                    link(partner, links, fe[(t + 3) % 4], fe[t]);
         }
     }
-    int n = 0, id[12];
+    int n = 0;
+    uint16_t left = x;
     for (int e = 0; e < 12; e++) {
-        if (!(x >> e & 1))
+        if (!(left >> e & 1))
             continue;
-        int r = find(parent, e);
-        if (r == e)
-            id[e] = n++;
-        sheet[e] = (uint8_t)id[r];
+        assert(links[e] == 2);
+        int prev = -1, at = e;
+        do { /* round the cycle: the partner we did not come from */
+            sheet[at] = (uint8_t)n;
+            left &= (uint16_t)~(1u << at);
+            int next = partner[at][0] != prev ? partner[at][0] : partner[at][1];
+            prev = at, at = next;
+        } while (at != e);
+        n++;
     }
     return n;
 }

@@ -67,9 +67,9 @@ mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, co
     return MER_OK;
 }
 
-float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
+/* f at sample s = (i, j, k), evaluated on first use. */
+static inline float value_at(merp_walk *w, uint32_t s, uint32_t i, uint32_t j, uint32_t k)
 {
-    uint32_t s = merp_walk_sample(w, i, j, k);
     if (!(w->known[s >> 5] >> (s & 31) & 1u)) {
         const float p[3] = {w->g->origin[0] + (float)i * w->g->h, w->g->origin[1] + (float)j * w->g->h,
                             w->g->origin[2] + (float)k * w->g->h};
@@ -79,11 +79,19 @@ float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
     return w->value[s];
 }
 
+float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
+{
+    return value_at(w, merp_walk_sample(w, i, j, k), i, j, k);
+}
+
 uint8_t merp_walk_corners(merp_walk *w, const uint32_t cell[3], float cf[8])
 {
+    /* The samples from the lowest corner's index by the steps along x, y, z. */
+    const uint32_t s0 = merp_walk_sample(w, cell[0], cell[1], cell[2]), sxy = w->sx * w->sy;
     uint8_t mask = 0;
-    for (uint8_t c = 0; c < 8; c++) {
-        cf[c] = merp_walk_value(w, cell[0] + (c & 1), cell[1] + (c >> 1 & 1), cell[2] + (c >> 2 & 1));
+    for (uint32_t c = 0; c < 8; c++) {
+        uint32_t di = c & 1, dj = c >> 1 & 1, dk = c >> 2 & 1;
+        cf[c] = value_at(w, s0 + di + dj * w->sx + dk * sxy, cell[0] + di, cell[1] + dj, cell[2] + dk);
         mask |= (uint8_t)((cf[c] >= MERP_ISO) << c);
     }
     return mask;
