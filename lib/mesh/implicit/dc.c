@@ -87,7 +87,7 @@ typedef struct crossing {
 /* A crossed cell's sheets: its first vertex and, per cell edge, the sheet
  * (so the vertex first + sheet) that crosses it. */
 typedef struct cell_sheets {
-    uint32_t cell, first; /* the cell's index, its first vertex */
+    uint32_t cell[3], first; /* the cell (i, j, k), its first vertex */
     uint8_t mask;         /* its corners inside (merp_walk_corners) */
     uint8_t sheet[12];
 } cell_sheets;
@@ -300,7 +300,7 @@ static void sheet_vertex(dc *d, const uint32_t cell[3], const crossing *const *x
         merp_walk_normal(d->w, v_, fv, fallback, o->normals + 3 * (size_t)v);
     }
     if (d->src != NULL)
-        d->src[v] = (merp_dc_source){cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]), corners};
+        d->src[v] = (merp_dc_source){{cell[0], cell[1], cell[2]}, corners};
 }
 
 /* The cell's vertices, one per sheet. MER_ERR_NOMEM when a crossing finds no room. */
@@ -327,8 +327,8 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         sheet_vertex(d, cell, x, nx, corners);
     }
     const merp_grid *g = d->w->g;
-    cs->cell = cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]);
-    d->cell_v[cs->cell] = ++d->nsheets;
+    memcpy(cs->cell, cell, sizeof cs->cell);
+    d->cell_v[cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2])] = ++d->nsheets;
     return MER_OK;
 }
 
@@ -339,6 +339,32 @@ static uint32_t vertex_of(const dc *d, const uint32_t q[3], int e)
     const merp_grid *g = d->w->g;
     uint32_t r = d->cell_v[q[0] + g->n[0] * (q[1] + g->n[1] * q[2])];
     return r == 0 ? 0 : d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
+}
+
+/* Which diagonal a quad is split along, 0 (0–2) or 1 (1–3), from the
+ * normals n[t] (not normalized) of the triangles at its corners t: split
+ * 0–2 makes the triangles at corners 1 and 3, and the split whose two
+ * normals agree more is taken (the cosines compared in float). The cosines
+ * in double first, with two square roots and two divisions where the float
+ * path takes four and twelve: where they differ by more than 1e-5 (the
+ * float path's rounding is ~1e-6), that path's answer is theirs. */
+static int split_of(float n[4][3])
+{
+    double c[4][3], l[4];
+    for (int t = 0; t < 4; t++) {
+        for (int k = 0; k < 3; k++)
+            c[t][k] = n[t][k];
+        l[t] = c[t][0] * c[t][0] + c[t][1] * c[t][1] + c[t][2] * c[t][2];
+    }
+    if (l[0] > 1e-30 && l[1] > 1e-30 && l[2] > 1e-30 && l[3] > 1e-30) {
+        double c13 = (c[1][0] * c[3][0] + c[1][1] * c[3][1] + c[1][2] * c[3][2]) / sqrt(l[1] * l[3]);
+        double c02 = (c[0][0] * c[2][0] + c[0][1] * c[2][1] + c[0][2] * c[2][2]) / sqrt(l[0] * l[2]);
+        if (fabs(c13 - c02) > 1e-5)
+            return c13 >= c02 ? 0 : 1;
+    }
+    for (int t = 0; t < 4; t++)
+        v3_normalize(n[t]);
+    return v3_dot(n[1], n[3]) >= v3_dot(n[0], n[2]) ? 0 : 1;
 }
 
 /* The quads of the cell's three edges from its corner 0 (each interior
@@ -382,11 +408,8 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
             for (int k = 0; k < 3; k++)
                 e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
             v3_cross(e1, e2, n[t]);
-            v3_normalize(n[t]);
         }
-        /* n[t] is the normal of the triangle at corner t: split 0–2 makes the
-         * triangles at corners 1 and 3. */
-        int s = v3_dot(n[1], n[3]) >= v3_dot(n[0], n[2]) ? 0 : 1;
+        int s = split_of(n);
         uint32_t *t = d->out->triangles + 3 * (size_t)d->out->triangle_count;
         t[0] = v[s], t[1] = v[s + 1], t[2] = v[(s + 2) % 4];
         t[3] = v[s], t[4] = v[(s + 2) % 4], t[5] = v[(s + 3) % 4];
@@ -421,10 +444,8 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
         rc = cell_vertices(&d, cell, cf, mask);
     /* Every crossed cell has its vertices: now the quads, in the walk's
      * order (that of d.sheets), from the masks the cells kept. */
-    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK; i++) {
-        merp_walk_cell(&w, d.sheets[i].cell, cell);
-        cell_quads(&d, cell, d.sheets[i].mask);
-    }
+    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK; i++)
+        cell_quads(&d, d.sheets[i].cell, d.sheets[i].mask);
     dc_free(&w, &d);
     if (rc != MER_OK)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");

@@ -320,7 +320,7 @@ static void cut_slack(clipped *cl)
 static int cap_of_sheet(const clipped *cl, merp_dc_source src)
 {
     const merp_grid *g = &cl->pt->grid;
-    uint32_t c = src.cell, ijk[3] = {c % g->n[0], c / g->n[0] % g->n[1], c / (g->n[0] * g->n[1])};
+    const uint32_t *ijk = src.cell;
     if (!beyond_a_cut(cl, ijk))
         return -1;
     int cap = -1;

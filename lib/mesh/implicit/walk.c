@@ -29,12 +29,13 @@ mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, con
     assert(g->n[0] >= 1 && g->n[1] >= 1 && g->n[2] >= 1 && g->h > 0.0f);
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
     assert(samples < UINT32_MAX);
+    assert(g->n[0] < 1u << 21 && g->n[1] < 1u << 21 && g->n[2] < 1u << 21); /* the queue's fields */
     *w = (merp_walk){g, f, NULL, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
     uint32_t cells = cell_count(g);
     w->value = merp_malloc((size_t)samples * sizeof(float));
     w->known = merp_calloc((size_t)(samples / 32 + 1), sizeof(uint32_t));
     w->seen = merp_calloc((size_t)(cells / 32 + 1), sizeof(uint32_t));
-    w->queue = merp_malloc((size_t)cells * sizeof(uint32_t));
+    w->queue = merp_malloc((size_t)cells * sizeof *w->queue);
     if (w->value == NULL || w->known == NULL || w->seen == NULL || w->queue == NULL) {
         merp_walk_free(w);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
@@ -48,7 +49,7 @@ void merp_walk_free(merp_walk *w)
     merp_free(w->known);
     merp_free(w->seen);
     merp_free(w->queue);
-    w->value = NULL, w->known = w->seen = w->queue = NULL;
+    w->value = NULL, w->known = w->seen = NULL, w->queue = NULL;
 }
 
 mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
@@ -103,7 +104,7 @@ static void push(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
     if (w->seen[c >> 5] >> (c & 31) & 1u)
         return;
     w->seen[c >> 5] |= 1u << (c & 31);
-    w->queue[w->tail++] = c;
+    w->queue[w->tail++] = (uint64_t)i | (uint64_t)j << 21 | (uint64_t)k << 42;
 }
 
 void merp_walk_seed(merp_walk *w, const float p[3])
@@ -149,7 +150,9 @@ bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
 {
     const uint32_t *n = w->g->n;
     while (w->head < w->tail) {
-        merp_walk_cell(w, w->queue[w->head++], cell);
+        uint64_t at = w->queue[w->head++];
+        cell[0] = (uint32_t)(at & 0x1fffff), cell[1] = (uint32_t)(at >> 21 & 0x1fffff);
+        cell[2] = (uint32_t)(at >> 42);
         *mask = merp_walk_corners(w, cell, cf);
         if (*mask == 0 || *mask == 0xff)
             continue;

@@ -20,7 +20,7 @@ typedef struct merp_walk {
     float *value;     /* per sample, valid where `known` has its bit */
     uint32_t *known;  /* a bit per sample */
     uint32_t *seen;   /* a bit per cell: queued once */
-    uint32_t *queue;  /* cells to march, by index */
+    uint64_t *queue;  /* cells to march, as i | j << 21 | k << 42 (no division to take one) */
     uint32_t head, tail;
 } merp_walk;
 
