@@ -138,7 +138,7 @@ static bool map_room(edge_map *m)
 
 typedef struct dc {
     merp_walk *w;
-    uint32_t *cell_v;    /* per cell: its cell_sheets + 1, 0 when none */
+    uint32_t *cell_v;    /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
     crossing *x;         /* the crossings solved so far */
@@ -337,8 +337,15 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
 static uint32_t vertex_of(const dc *d, const uint32_t q[3], int e)
 {
     const merp_grid *g = d->w->g;
-    uint32_t r = d->cell_v[q[0] + g->n[0] * (q[1] + g->n[1] * q[2])];
-    return r == 0 ? 0 : d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
+    uint32_t c = q[0] + g->n[0] * (q[1] + g->n[1] * q[2]);
+    /* A queued cell around a crossed edge is crossed, so the walk gave it
+     * its vertices and its cell_v (which is not cleared). */
+    if (!merp_walk_queued(d->w, c))
+        return 0;
+    uint32_t r = d->cell_v[c];
+    assert(r >= 1 && r <= d->nsheets);
+    assert(memcmp(d->sheets[r - 1].cell, q, sizeof d->sheets[r - 1].cell) == 0);
+    return d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
 }
 
 /* Which diagonal a quad is split along, 0 (0–2) or 1 (1–3), from the

@@ -103,7 +103,8 @@ static void drop_caps(merp_trimesh *m, const int8_t *on_cut)
         const uint32_t *v = m->triangles + 3 * (size_t)t;
         if (on_cut[v[0]] >= 0 && on_cut[v[0]] == on_cut[v[1]] && on_cut[v[0]] == on_cut[v[2]])
             continue;
-        memmove(m->triangles + 3 * (size_t)kept++, v, 3 * sizeof *v);
+        uint32_t *to = m->triangles + 3 * (size_t)kept++; /* to ≤ v: element by element, no libc call */
+        to[0] = v[0], to[1] = v[1], to[2] = v[2];
     }
     m->triangle_count = kept;
 }
@@ -227,9 +228,10 @@ static void compact(merp_trimesh *m, uint32_t *remap)
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         if (remap[v] == UINT32_MAX)
             continue;
-        memmove(m->positions + 3 * (size_t)n, m->positions + 3 * (size_t)v, 3 * sizeof(float));
-        if (m->normals != NULL)
-            memmove(m->normals + 3 * (size_t)n, m->normals + 3 * (size_t)v, 3 * sizeof(float));
+        for (int k = 0; k < 3; k++) /* n ≤ v: element by element, no libc call */
+            m->positions[3 * (size_t)n + k] = m->positions[3 * (size_t)v + k];
+        for (int k = 0; m->normals != NULL && k < 3; k++)
+            m->normals[3 * (size_t)n + k] = m->normals[3 * (size_t)v + k];
         remap[v] = n++;
     }
     for (size_t k = 0; k < 3 * (size_t)m->triangle_count; k++)

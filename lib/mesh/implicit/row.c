@@ -23,6 +23,14 @@
 #define VECTORIZE
 #endif
 
+/* bound_lanes in each caller: the field alone then drops the gradient's
+ * factor, and its division, as dead code. */
+#if defined(__GNUC__)
+#define INLINE __attribute__((always_inline)) inline
+#else
+#define INLINE inline
+#endif
+
 /* A lane no segment fills: a ball so far away that every field of it is 0
  * (x² ≥ 1, d² ≥ r_out²), with radii 1/2, 1 that divide nothing by zero. */
 #define FAR 1e18f
@@ -115,8 +123,8 @@ VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_r
  * its gradient ∇F_b = cg·q into cg. The scalar code's branches (beyond
  * r_out: 0; s ≤ 0: 1; s ≥ 1: 0) as selects and a clamp of s to [0, 1],
  * which gives the same values there. */
-VECTORIZE static void bound_lanes(const merp_row *r, const merp_row_point *c, float F[MERP_ROW],
-                                  float cg[MERP_ROW])
+VECTORIZE INLINE static void bound_lanes(const merp_row *r, const merp_row_point *c, float F[MERP_ROW],
+                                         float cg[MERP_ROW])
 {
     /* Most samples of a patch lie beyond every bound's support: then F_b is
      * 0 in each lane, and neither square roots nor the rest are needed. */

@@ -58,7 +58,7 @@ mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, co
 {
     if (merp_walk_init(w, g, f, data, err) != MER_OK)
         return MER_ERR_NOMEM;
-    *scratch = merp_calloc(scratch_count ? scratch_count : 1, sizeof(uint32_t));
+    *scratch = merp_malloc((scratch_count ? scratch_count : 1) * sizeof(uint32_t));
     if (*scratch == NULL) {
         merp_walk_free(w);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");

@@ -34,13 +34,20 @@ mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, con
                           mer_error *err);
 void merp_walk_free(merp_walk *w);
 
-/* The polygonizers' prologue: merp_walk_init, `scratch_count` zeroed words
- * of scratch into *scratch (merp_free'd by the caller), the walk started from
- * `seeds` (merp_walk_start) and `out` emptied. Errors: MER_ERR_NOMEM, with
- * nothing left allocated. */
+/* The polygonizers' prologue: merp_walk_init, `scratch_count` words of
+ * scratch into *scratch (not cleared: a word per cell is only read where
+ * merp_walk_queued says the walk took the cell; merp_free'd by the
+ * caller), the walk started from `seeds` (merp_walk_start) and `out`
+ * emptied. Errors: MER_ERR_NOMEM, with nothing left allocated. */
 mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
                            const float (*seeds)[3], uint32_t nseeds, size_t scratch_count, uint32_t **scratch,
                            merp_trimesh *out, mer_error *err);
+
+/* Whether cell c (its index, x fastest) was queued. */
+static inline bool merp_walk_queued(const merp_walk *w, uint32_t c)
+{
+    return w->seen[c >> 5] >> (c & 31) & 1u;
+}
 
 static inline uint32_t merp_walk_sample(const merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
 {
