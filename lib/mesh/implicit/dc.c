@@ -136,8 +136,15 @@ static bool map_room(edge_map *m)
     return true;
 }
 
+/* A mask's sheets where no face of the cell is ambiguous: they follow
+ * from the mask alone, so a patch splits each such mask once. */
+typedef struct mask_split {
+    uint8_t sheet[12], n, known; /* known: 1 once split */
+} mask_split;
+
 typedef struct dc {
     merp_walk *w;
+    mask_split split[256]; /* by mask */
     uint32_t *cell_v;    /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
@@ -229,10 +236,12 @@ static void link(uint8_t (*partner)[2], uint8_t *links, int a, int b)
  * edges, each in one segment, and an edge lies on two faces: so each
  * crossed edge has two partners and each sheet is a cycle of edges, walked
  * round from its lowest edge. Returns the number of sheets; sheet[e] for
- * each crossed edge e, numbered by their lowest edge. */
-static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12])
+ * each crossed edge e, numbered by their lowest edge; *ambiguous when a
+ * face has four crossed edges (else the split depends on the mask alone). */
+static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12], bool *ambiguous)
 {
     uint8_t partner[12][2], links[12] = {0};
+    *ambiguous = false;
     for (int face = 0; face < 6; face++) {
         const uint8_t *k = face_corner[face], *fe = face_edge[face];
         int at[4], crossed = 0;
@@ -242,6 +251,7 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
         if (crossed == 2) {
             link(partner, links, fe[at[0]], fe[at[1]]);
         } else if (crossed == 4) {
+            *ambiguous = true;
             float v[4];
             for (int t = 0; t < 4; t++)
                 v[t] = cf[k[t]] - MERP_ISO;
@@ -308,7 +318,19 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
 {
     cell_sheets *cs = &d->sheets[d->nsheets];
     uint16_t crossed = crossed_edges(mask);
-    int n = cell_sheet_split(cf, mask, crossed, cs->sheet);
+    mask_split *known = &d->split[mask];
+    int n = known->n;
+    if (known->known) {
+        memcpy(cs->sheet, known->sheet, sizeof cs->sheet);
+    } else {
+        bool ambiguous;
+        memset(cs->sheet, 0, sizeof cs->sheet);
+        n = cell_sheet_split(cf, mask, crossed, cs->sheet, &ambiguous);
+        if (!ambiguous) {
+            memcpy(known->sheet, cs->sheet, sizeof known->sheet);
+            known->n = (uint8_t)n, known->known = 1;
+        }
+    }
     cs->first = d->out->vertex_count;
     cs->mask = mask;
     if (!crossing_room(d, 12))
