@@ -365,8 +365,7 @@ static uint32_t vertex_of(const dc *d, const uint32_t q[3], int e)
     if (!merp_walk_queued(d->w, c))
         return 0;
     uint32_t r = d->cell_v[c];
-    assert(r >= 1 && r <= d->nsheets);
-    assert(memcmp(d->sheets[r - 1].cell, q, sizeof d->sheets[r - 1].cell) == 0);
+    assert(r >= 1 && r <= d->nsheets && d->sheets[r - 1].cell[0] == q[0] && d->sheets[r - 1].cell[2] == q[2]);
     return d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
 }
 

@@ -214,13 +214,15 @@ static float axis_terms(const merp_junction *j, const float fs[MERP_ROW], const 
 static void blend_terms(const merp_junction *j, float A, const float fs[MERP_ROW],
                         const float Fb[MERP_ROW], terms *t)
 {
-    float f[1 + MERP_JUNCTION_LATERALS] = {A}, F_b = 0.0f;
+    /* merp_blend_sum of (A, L_0, ...) inline, in its order (from +0): a
+     * call and a copy of the terms a sample cost about as much as the sum. */
+    float b2 = 0.0f + A, F_b = 0.0f;
     for (uint32_t k = 0; k < j->laterals; k++) {
-        f[1 + k] = fs[MERP_JSEG_LATERAL + k];
+        b2 += fs[MERP_JSEG_LATERAL + k];
         float v = Fb[MERP_JBOUND_LATERAL + k];
         F_b = v > F_b ? v : F_b;
     }
-    t->b2 = merp_blend_sum(f, 1 + j->laterals);
+    t->b2 = b2;
     t->F_b = F_b;
 }
 
