@@ -145,6 +145,7 @@ typedef struct mask_split {
 typedef struct dc {
     merp_walk *w;
     mask_split split[256]; /* by mask */
+    uint32_t corner_step[8]; /* a cell's corner c's sample from its lowest one's */
     uint32_t *cell_v;    /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
@@ -168,14 +169,14 @@ static bool crossing_room(dc *d, uint32_t more)
     return true;
 }
 
-/* The crossing on cell edge e (corners differ in sign): solved on first use.
- * Needs room for one more crossing (crossing_room). */
-static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float cf[8], int e)
+/* The crossing on edge e of the cell whose lowest sample is s0 (corners
+ * differ in sign): solved on first use. Needs room for one more crossing
+ * (crossing_room). */
+static const crossing *edge_crossing(dc *d, const uint32_t cell[3], uint32_t s0, const float cf[8], int e)
 {
     const merp_grid *g = d->w->g;
     uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
-    uint32_t s = merp_walk_sample(d->w, cell[0] + (c1 & 1), cell[1] + (c1 >> 1 & 1), cell[2] + (c1 >> 2 & 1));
-    uint32_t key = 3 * s + (uint32_t)(e >> 2);
+    uint32_t key = 3 * (s0 + d->corner_step[c1]) + (uint32_t)(e >> 2);
     if (!map_room(&d->edges))
         return NULL;
     uint32_t slot = map_find(&d->edges, key);
@@ -335,6 +336,7 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
     cs->mask = mask;
     if (!crossing_room(d, 12))
         return MER_ERR_NOMEM;
+    const uint32_t s0 = merp_walk_sample(d->w, cell[0], cell[1], cell[2]);
     for (int s = 0; s < n; s++) {
         const crossing *x[12];
         int nx = 0;
@@ -342,7 +344,7 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         for (int e = 0; e < 12; e++) {
             if (!(crossed >> e & 1) || cs->sheet[e] != s)
                 continue;
-            if ((x[nx++] = edge_crossing(d, cell, cf, e)) == NULL)
+            if ((x[nx++] = edge_crossing(d, cell, s0, cf, e)) == NULL)
                 return MER_ERR_NOMEM;
             corners |= (uint8_t)(1u << cube_edge[e][0] | 1u << cube_edge[e][1]);
         }
@@ -463,6 +465,8 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
     if (merp_walk_begin(&w, g, f, data, seeds, nseeds, cells, &d.cell_v, out, err) != MER_OK)
         return MER_ERR_NOMEM;
     w.grad = grad;
+    for (uint32_t c = 0; c < 8; c++)
+        d.corner_step[c] = (c & 1) + (c >> 1 & 1) * w.sx + (c >> 2 & 1) * w.sx * w.sy;
     d.sheets = merp_malloc(cells * sizeof *d.sheets);
     mer_result rc = d.sheets != NULL ? MER_OK : MER_ERR_NOMEM;
     uint32_t cell[3];

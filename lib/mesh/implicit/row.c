@@ -56,7 +56,9 @@ void merp_row_set(merp_row *r, int l, const float a[3], const float b[3], float 
     r->span[l] = rb - ra, r->dR[l] = r->span[l] / MERP_SEG_XC;
 }
 
-VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
+/* merp_row_closest, inlined into the row's fields: their lanes then
+ * continue in registers from the closest points' arithmetic. */
+VECTORIZE INLINE static void closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
 {
     const float px = p[0], py = p[1], pz = p[2]; /* loaded once: c may not alias p */
     for (int l = 0; l < MERP_ROW; l++) {
@@ -73,10 +75,15 @@ VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], me
     }
 }
 
+VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
+{
+    closest(r, p, c);
+}
+
 VECTORIZE void merp_row_seg_field(const merp_row *r, const float p[3], float f[MERP_ROW])
 {
     merp_row_point c;
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     for (int l = 0; l < MERP_ROW; l++) {
         float t = c.t[l], R = ((1.0f - t) * r->ra[l] + t * r->rb[l]) / MERP_SEG_XC;
         float x2 = c.d2[l] / (R * R), u = 1.0f - x2;
@@ -87,7 +94,7 @@ VECTORIZE void merp_row_seg_field(const merp_row *r, const float p[3], float f[M
 VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_row_grad *out)
 {
     merp_row_point c;
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     /* Two loops, the selects apart from the arithmetic: as one, GCC's
      * partial redundancy elimination turns the selects into branches and
      * the loop no longer vectorizes. */
@@ -163,7 +170,7 @@ VECTORIZE void merp_row_bound_field(const merp_row *r, const float p[3], float F
 {
     merp_row_point c;
     float cg[MERP_ROW];
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     bound_lanes(r, &c, F, cg);
 }
 
@@ -171,7 +178,7 @@ VECTORIZE void merp_row_bound_gradient(const merp_row *r, const float p[3], merp
 {
     merp_row_point c;
     float cg[MERP_ROW];
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     bound_lanes(r, &c, out->f, cg);
     for (int l = 0; l < MERP_ROW; l++) {
         /* + 0: a zero gradient is +0, as the scalar code's returns give. */
