@@ -26,13 +26,6 @@ static const uint8_t cube_edge[12][2] = {
     {0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7},
 };
 
-/* The edge between corners c1 and c2 that differ in one bit. */
-static int edge_of(uint8_t c1, uint8_t c2)
-{
-    uint8_t lo = c1 < c2 ? c1 : c2, d = c1 ^ c2;
-    return d == 1 ? lo >> 1 : d == 2 ? 4 + (lo & 1) + 2 * (lo >> 2) : 8 + lo;
-}
-
 void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles)
 {
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
@@ -146,6 +139,7 @@ typedef struct dc {
     merp_walk *w;
     mask_split split[256]; /* by mask */
     uint32_t corner_step[8]; /* a cell's corner c's sample from its lowest one's */
+    uint32_t cell_step[3];   /* a cell's index from its neighbour's below along x, y, z */
     uint32_t *cell_v;    /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
@@ -198,7 +192,7 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], uint32_t s0,
 }
 
 /* A cell's six faces (−x, +x, −y, +y, −z, +z): their corners in order
- * round the face, and the edge from each corner to the next (edge_of). */
+ * round the face, and the edge from each corner to the next (cube_edge's). */
 static const uint8_t face_corner[6][4] = {
     {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 4, 5, 1}, {2, 6, 7, 3}, {0, 1, 3, 2}, {4, 5, 7, 6},
 };
@@ -356,18 +350,16 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
     return MER_OK;
 }
 
-/* The vertex of cell q's sheet through its edge e; 0 when the walk did not
- * reach q, else the vertex + 1. */
-static uint32_t vertex_of(const dc *d, const uint32_t q[3], int e)
+/* The vertex of the sheet through edge e of cell c (its index, x fastest);
+ * 0 when the walk did not reach c, else the vertex + 1. */
+static uint32_t vertex_of(const dc *d, uint32_t c, int e)
 {
-    const merp_grid *g = d->w->g;
-    uint32_t c = q[0] + g->n[0] * (q[1] + g->n[1] * q[2]);
     /* A queued cell around a crossed edge is crossed, so the walk gave it
      * its vertices and its cell_v (which is not cleared). */
     if (!merp_walk_queued(d->w, c))
         return 0;
     uint32_t r = d->cell_v[c];
-    assert(r >= 1 && r <= d->nsheets && d->sheets[r - 1].cell[0] == q[0] && d->sheets[r - 1].cell[2] == q[2]);
+    assert(r >= 1 && r <= d->nsheets);
     return d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
 }
 
@@ -404,23 +396,24 @@ static int split_of(float n[4][3])
  * diagonal that folds least. */
 static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
 {
+    /* (−, −), (0, −), (0, 0), (−, 0) in the (b, c) plane of axis a (b =
+     * a + 1, c = a + 2, mod 3); in each cell the edge starts at the corner
+     * opposite the offset: for axis a, that cell's edge quad_edge[a][t]
+     * (cube_edge's from that corner to the next along a). */
+    static const uint8_t off[4][2] = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
+    static const uint8_t quad_edge[3][4] = {{3, 2, 0, 1}, {7, 5, 4, 6}, {11, 10, 8, 9}};
     const float *pos = d->out->positions;
+    const uint32_t *step = d->cell_step, at = cell[0] + step[1] * cell[1] + step[2] * cell[2];
     for (int a = 0; a < 3; a++) {
         uint8_t far = (uint8_t)(1u << a);
         if ((mask & 1) == (mask >> far & 1))
             continue;
-        int b = (a + 1) % 3, c = (a + 2) % 3;
+        int b = a == 2 ? 0 : a + 1, c = a == 0 ? 2 : a - 1;
         if (cell[b] == 0 || cell[c] == 0)
             continue; /* on the grid's face: the surface leaves it here */
-        /* (−, −), (0, −), (0, 0), (−, 0) in the (b, c) plane; in each the
-         * edge starts at the corner opposite the offset. */
-        static const uint8_t off[4][2] = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
         uint32_t v[4];
         for (int t = 0; t < 4; t++) {
-            uint32_t q[3] = {cell[0], cell[1], cell[2]};
-            q[b] -= off[t][0], q[c] -= off[t][1];
-            uint8_t c0 = (uint8_t)(off[t][0] << b | off[t][1] << c);
-            v[t] = vertex_of(d, q, edge_of(c0, (uint8_t)(c0 | far)));
+            v[t] = vertex_of(d, at - off[t][0] * step[b] - off[t][1] * step[c], quad_edge[a][t]);
             if (v[t] == 0)
                 return; /* a neighbour the walk did not reach */
             v[t]--;
@@ -465,6 +458,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
     if (merp_walk_begin(&w, g, f, data, seeds, nseeds, cells, &d.cell_v, out, err) != MER_OK)
         return MER_ERR_NOMEM;
     w.grad = grad;
+    d.cell_step[0] = 1, d.cell_step[1] = g->n[0], d.cell_step[2] = g->n[0] * g->n[1];
     for (uint32_t c = 0; c < 8; c++)
         d.corner_step[c] = (c & 1) + (c >> 1 & 1) * w.sx + (c >> 2 & 1) * w.sx * w.sy;
     d.sheets = merp_malloc(cells * sizeof *d.sheets);
