@@ -59,7 +59,8 @@ static void qef_solve(const qef *q, float x[3])
 {
     float m[3] = {q->mass[0] / (float)q->count, q->mass[1] / (float)q->count, q->mass[2] / (float)q->count};
     float l = QEF_LAMBDA * (float)q->count;
-    float a = q->ata[0] + l, b = q->ata[1], c = q->ata[2], d = q->ata[3] + l, e = q->ata[4], f = q->ata[5] + l;
+    float a = q->ata[0] + l, b = q->ata[1], c = q->ata[2];
+    float d = q->ata[3] + l, e = q->ata[4], f = q->ata[5] + l;
     float r[3] = {q->atb[0] - (q->ata[0] * m[0] + b * m[1] + c * m[2]),
                   q->atb[1] - (b * m[0] + q->ata[3] * m[1] + e * m[2]),
                   q->atb[2] - (c * m[0] + e * m[1] + q->ata[5] * m[2])};
@@ -138,7 +139,6 @@ typedef struct mask_split {
 typedef struct dc {
     merp_walk *w;
     mask_split split[256]; /* by mask */
-    uint32_t corner_step[8]; /* a cell's corner c's sample from its lowest one's */
     uint32_t cell_step[3];   /* a cell's index from its neighbour's below along x, y, z */
     uint32_t *cell_v;    /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
@@ -170,7 +170,7 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], uint32_t s0,
 {
     const merp_grid *g = d->w->g;
     uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
-    uint32_t key = 3 * (s0 + d->corner_step[c1]) + (uint32_t)(e >> 2);
+    uint32_t key = 3 * (s0 + d->w->corner[c1]) + (uint32_t)(e >> 2);
     if (!map_room(&d->edges))
         return NULL;
     uint32_t slot = map_find(&d->edges, key);
@@ -459,8 +459,6 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
         return MER_ERR_NOMEM;
     w.grad = grad;
     d.cell_step[0] = 1, d.cell_step[1] = g->n[0], d.cell_step[2] = g->n[0] * g->n[1];
-    for (uint32_t c = 0; c < 8; c++)
-        d.corner_step[c] = (c & 1) + (c >> 1 & 1) * w.sx + (c >> 2 & 1) * w.sx * w.sy;
     d.sheets = merp_malloc(cells * sizeof *d.sheets);
     mer_result rc = d.sheets != NULL ? MER_OK : MER_ERR_NOMEM;
     uint32_t cell[3];

@@ -30,7 +30,9 @@ mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, con
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
     assert(samples < UINT32_MAX);
     assert(g->n[0] < 1u << 21 && g->n[1] < 1u << 21 && g->n[2] < 1u << 21); /* the queue's fields */
-    *w = (merp_walk){g, f, NULL, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
+    *w = (merp_walk){.g = g, .f = f, .data = data, .sx = g->n[0] + 1, .sy = g->n[1] + 1};
+    for (uint32_t c = 0; c < 8; c++)
+        w->corner[c] = (c & 1) + (c >> 1 & 1) * w->sx + (c >> 2 & 1) * w->sx * w->sy;
     uint32_t cells = cell_count(g);
     w->value = merp_malloc((size_t)samples * sizeof(float));
     w->known = merp_calloc((size_t)(samples / 32 + 1), sizeof(uint32_t));
@@ -87,12 +89,12 @@ float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
 
 uint8_t merp_walk_corners(merp_walk *w, const uint32_t cell[3], float cf[8])
 {
-    /* The samples from the lowest corner's index by the steps along x, y, z. */
-    const uint32_t s0 = merp_walk_sample(w, cell[0], cell[1], cell[2]), sxy = w->sx * w->sy;
+    /* The samples from the lowest corner's index by the corners' steps. */
+    const uint32_t s0 = merp_walk_sample(w, cell[0], cell[1], cell[2]);
     uint8_t mask = 0;
     for (uint32_t c = 0; c < 8; c++) {
-        uint32_t di = c & 1, dj = c >> 1 & 1, dk = c >> 2 & 1;
-        cf[c] = value_at(w, s0 + di + dj * w->sx + dk * sxy, cell[0] + di, cell[1] + dj, cell[2] + dk);
+        uint32_t i = cell[0] + (c & 1), j = cell[1] + (c >> 1 & 1), k = cell[2] + (c >> 2 & 1);
+        cf[c] = value_at(w, s0 + w->corner[c], i, j, k);
         mask |= (uint8_t)((cf[c] >= MERP_ISO) << c);
     }
     return mask;
@@ -192,7 +194,8 @@ void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const floa
     }
 }
 
-float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3])
+float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
+                      float p[3])
 {
     float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
     int side = 0;

@@ -17,6 +17,7 @@ typedef struct merp_walk {
     merp_gradient_fn grad; /* ∇f, or NULL: merp_walk_normal differences f */
     const void *data;
     uint32_t sx, sy;  /* samples along x, y */
+    uint32_t corner[8]; /* a cell's corner c (bits x = 1, y = 2, z = 4): its sample's from the lowest's */
     float *value;     /* per sample, valid where `known` has its bit */
     uint32_t *known;  /* a bit per sample */
     uint32_t *seen;   /* a bit per cell: queued once */
@@ -86,7 +87,8 @@ bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask);
  * (outside): regula falsi with the Illinois modification, keeping the
  * bracket, until p is within 1e-4 of the segment's length from the surface.
  * Returns f(p). Cost: a few evaluations. */
-float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3]);
+float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
+                      float p[3]);
 
 /* The surface point p on the segment from pa (inside, fa ≥ c) to pb
  * (outside) and the normal n = −∇f / |∇f| there (pb − pa, normalized,
