@@ -82,7 +82,7 @@ typedef struct crossing {
  * (so the vertex first + sheet) that crosses it. */
 typedef struct cell_sheets {
     uint32_t cell[3], first; /* the cell (i, j, k), its first vertex */
-    uint8_t mask;         /* its corners inside (merp_walk_corners) */
+    uint8_t mask;            /* its corners inside (merp_walk_corners) */
     uint8_t sheet[12];
 } cell_sheets;
 
@@ -139,8 +139,8 @@ typedef struct mask_split {
 typedef struct dc {
     merp_walk *w;
     mask_split split[256]; /* by mask */
-    uint32_t cell_step[3];   /* a cell's index from its neighbour's below along x, y, z */
-    uint32_t *cell_v;    /* per crossed cell: its cell_sheets + 1 (others not set) */
+    uint32_t cell_step[3]; /* a cell's index less its neighbour's below along x, y, z */
+    uint32_t *cell_v;      /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
     crossing *x;         /* the crossings solved so far */

@@ -142,12 +142,6 @@ void merp_walk_start(merp_walk *w, const float (*seeds)[3], uint32_t nseeds)
         merp_walk_seed(w, seeds[s]);
 }
 
-void merp_walk_cell(const merp_walk *w, uint32_t c, uint32_t cell[3])
-{
-    const uint32_t *n = w->g->n;
-    cell[0] = c % n[0], cell[1] = c / n[0] % n[1], cell[2] = c / (n[0] * n[1]);
-}
-
 bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
 {
     const uint32_t *n = w->g->n;

@@ -74,9 +74,6 @@ void merp_walk_all(merp_walk *w);
 /* Queues every cell when `seeds` is NULL, else each seed's first crossed cell. */
 void merp_walk_start(merp_walk *w, const float (*seeds)[3], uint32_t nseeds);
 
-/* Cell index c (x fastest) as (i, j, k). */
-void merp_walk_cell(const merp_walk *w, uint32_t c, uint32_t cell[3]);
-
 /* Takes the next queued cell whose corners differ in sign into cell, cf and
  * *mask, queueing its neighbours across the faces whose corners differ (the
  * surface goes on there); false when none is left. The order is that of the
