@@ -121,8 +121,10 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
     for (uint32_t t = 0; t < m->triangle_count; t++) {
         uint32_t *c = m->triangles + 3 * (size_t)t;
         float lo = 2.0f, hi = -1.0f;
-        for (int k = 0; k < 3; k++)
-            lo = fminf(lo, jt->uvs[2 * c[k]]), hi = fmaxf(hi, jt->uvs[2 * c[k]]);
+        for (int k = 0; k < 3; k++) { /* no fminf, fmaxf: u is never NaN, and they are calls in libm */
+            float u = jt->uvs[2 * c[k]];
+            lo = u < lo ? u : lo, hi = u > hi ? u : hi;
+        }
         if (hi - lo <= 0.5f)
             continue;
         for (int k = 0; k < 3; k++) {
@@ -149,8 +151,9 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
 static float bark_mark(const merp_jprep *jp, const float p[3])
 {
     const merp_junction *f = jp->j;
-    float F[MERP_ROW], b = 0.0f;
-    merp_row_bound_field(&jp->bound, p, F); /* a bound left out is 0 */
+    float F[MERP_ROW] = {0.0f}, b = 0.0f;
+    if (merp_jprep_near_bounds(jp, p))
+        merp_row_bound_field(&jp->bound, p, F); /* a bound left out is 0 */
     for (uint32_t k = 0; k < f->laterals; k++) /* merp_junction_ridge */
         b = F[MERP_JBOUND_LATERAL + k] > b ? F[MERP_JBOUND_LATERAL + k] : b;
     if (f->scar_weight > 0.0f && f->out.ra > 0.0f)

@@ -18,6 +18,7 @@
 
 #include <meristem.h>
 
+#include "mesh/mesh_private.h"
 #include "scene_private.h"
 #include "trimesh_check.h"
 
@@ -404,6 +405,38 @@ static void bad_options(void **state)
     mer_scene_free(s);
 }
 
+/* merp_patch_closes on small meshes: a closed tetrahedron closes; one open
+ * but along its rings closes; a missing or flipped face, a directed edge
+ * twice, a degenerate triangle or two vertices at one position do not. */
+static void patch_close_check(void **state)
+{
+    (void)state;
+    float pos[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+    uint32_t tet[6][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {1, 2, 3}, {0, 0, 1}};
+    merp_trimesh m = {.vertex_count = 4, .triangle_count = 4, .positions = &pos[0][0],
+                      .triangles = &tet[0][0]};
+    assert_true(merp_patch_closes(&m, 4));
+    m.triangle_count = 3; /* face 1 2 3 missing: open, unless all its edges are a ring's */
+    assert_false(merp_patch_closes(&m, 4));
+    assert_true(merp_patch_closes(&m, 1));
+    m.triangle_count = 5; /* 1 2 3 twice */
+    assert_false(merp_patch_closes(&m, 4));
+    uint32_t flipped[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 3, 2}};
+    m.triangles = &flipped[0][0];
+    m.triangle_count = 4;
+    assert_false(merp_patch_closes(&m, 4));
+    m.triangles = &tet[0][0];
+    m.triangle_count = 4;
+    memcpy(pos[3], pos[1], sizeof pos[3]); /* two vertices at one position */
+    assert_false(merp_patch_closes(&m, 4));
+    memcpy(pos[3], pos[4], sizeof pos[3]);
+    assert_true(merp_patch_closes(&m, 4));
+    uint32_t degenerate[2][3] = {{0, 0, 1}, {0, 1, 0}}; /* an edge a→a (its reverse too) */
+    m.vertex_count = m.triangle_count = 2;
+    m.triangles = &degenerate[0][0];
+    assert_false(merp_patch_closes(&m, 2));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -415,6 +448,7 @@ int main(void)
         cmocka_unit_test(thick_below_the_fork_is_patched),
         cmocka_unit_test(same_bytes_whatever_the_threads),
         cmocka_unit_test(bad_options),
+        cmocka_unit_test(patch_close_check),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

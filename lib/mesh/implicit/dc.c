@@ -26,13 +26,6 @@ static const uint8_t cube_edge[12][2] = {
     {0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7},
 };
 
-/* The edge between corners c1 and c2 that differ in one bit. */
-static int edge_of(uint8_t c1, uint8_t c2)
-{
-    uint8_t lo = c1 < c2 ? c1 : c2, d = c1 ^ c2;
-    return d == 1 ? lo >> 1 : d == 2 ? 4 + (lo & 1) + 2 * (lo >> 2) : 8 + lo;
-}
-
 void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles)
 {
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
@@ -66,7 +59,8 @@ static void qef_solve(const qef *q, float x[3])
 {
     float m[3] = {q->mass[0] / (float)q->count, q->mass[1] / (float)q->count, q->mass[2] / (float)q->count};
     float l = QEF_LAMBDA * (float)q->count;
-    float a = q->ata[0] + l, b = q->ata[1], c = q->ata[2], d = q->ata[3] + l, e = q->ata[4], f = q->ata[5] + l;
+    float a = q->ata[0] + l, b = q->ata[1], c = q->ata[2];
+    float d = q->ata[3] + l, e = q->ata[4], f = q->ata[5] + l;
     float r[3] = {q->atb[0] - (q->ata[0] * m[0] + b * m[1] + c * m[2]),
                   q->atb[1] - (b * m[0] + q->ata[3] * m[1] + e * m[2]),
                   q->atb[2] - (c * m[0] + e * m[1] + q->ata[5] * m[2])};
@@ -87,8 +81,8 @@ typedef struct crossing {
 /* A crossed cell's sheets: its first vertex and, per cell edge, the sheet
  * (so the vertex first + sheet) that crosses it. */
 typedef struct cell_sheets {
-    uint32_t cell, first; /* the cell's index, its first vertex */
-    uint8_t mask;         /* its corners inside (merp_walk_corners) */
+    uint32_t cell[3], first; /* the cell (i, j, k), its first vertex */
+    uint8_t mask;            /* its corners inside (merp_walk_corners) */
     uint8_t sheet[12];
 } cell_sheets;
 
@@ -136,9 +130,17 @@ static bool map_room(edge_map *m)
     return true;
 }
 
+/* A mask's sheets where no face of the cell is ambiguous: they follow
+ * from the mask alone, so a patch splits each such mask once. */
+typedef struct mask_split {
+    uint8_t sheet[12], n, known; /* known: 1 once split */
+} mask_split;
+
 typedef struct dc {
     merp_walk *w;
-    uint32_t *cell_v;    /* per cell: its cell_sheets + 1, 0 when none */
+    mask_split split[256]; /* by mask */
+    uint32_t cell_step[3]; /* a cell's index less its neighbour's below along x, y, z */
+    uint32_t *cell_v;      /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
     crossing *x;         /* the crossings solved so far */
@@ -161,14 +163,14 @@ static bool crossing_room(dc *d, uint32_t more)
     return true;
 }
 
-/* The crossing on cell edge e (corners differ in sign): solved on first use.
- * Needs room for one more crossing (crossing_room). */
-static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float cf[8], int e)
+/* The crossing on edge e of the cell whose lowest sample is s0 (corners
+ * differ in sign): solved on first use. Needs room for one more crossing
+ * (crossing_room). */
+static const crossing *edge_crossing(dc *d, const uint32_t cell[3], uint32_t s0, const float cf[8], int e)
 {
     const merp_grid *g = d->w->g;
     uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
-    uint32_t s = merp_walk_sample(d->w, cell[0] + (c1 & 1), cell[1] + (c1 >> 1 & 1), cell[2] + (c1 >> 2 & 1));
-    uint32_t key = 3 * s + (uint32_t)(e >> 2);
+    uint32_t key = 3 * (s0 + d->w->corner[c1]) + (uint32_t)(e >> 2);
     if (!map_room(&d->edges))
         return NULL;
     uint32_t slot = map_find(&d->edges, key);
@@ -189,22 +191,8 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], const float 
     return x;
 }
 
-static int find(int *parent, int e)
-{
-    while (parent[e] != e)
-        e = parent[e] = parent[parent[e]];
-    return e;
-}
-
-static void join(int *parent, int a, int b)
-{
-    a = find(parent, a), b = find(parent, b);
-    if (a != b)
-        parent[a > b ? a : b] = a < b ? a : b;
-}
-
 /* A cell's six faces (−x, +x, −y, +y, −z, +z): their corners in order
- * round the face, and the edge from each corner to the next (edge_of). */
+ * round the face, and the edge from each corner to the next (cube_edge's). */
 static const uint8_t face_corner[6][4] = {
     {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 4, 5, 1}, {2, 6, 7, 3}, {0, 1, 3, 2}, {4, 5, 7, 6},
 };
@@ -212,13 +200,24 @@ static const uint8_t face_edge[6][4] = {
     {4, 10, 6, 8}, {5, 11, 7, 9}, {8, 2, 9, 0}, {10, 3, 11, 1}, {0, 5, 1, 4}, {2, 7, 3, 6},
 };
 
-/* The cell edges whose corners differ in sign under `mask`, as bits. */
+/* The cell edges whose corners differ in sign under `mask`, as bits: the
+ * corners one step along an axis apart, XORed, then each axis's four bits
+ * gathered in cube_edge's order (x: corners 0, 2, 4, 6 to their +x
+ * neighbours; y: 0, 1, 4, 5; z: 0–3). */
 static uint16_t crossed_edges(uint8_t mask)
 {
-    uint16_t x = 0;
-    for (int e = 0; e < 12; e++)
-        x |= (uint16_t)(((mask >> cube_edge[e][0]) ^ (mask >> cube_edge[e][1])) & 1u) << e;
-    return x;
+    unsigned m = mask, x = m ^ m >> 1, y = m ^ m >> 2, z = (m ^ m >> 4) & 0xfu;
+    x = (x & 1u) | (x >> 1 & 2u) | (x >> 2 & 4u) | (x >> 3 & 8u);
+    y = (y & 3u) | (y >> 2 & 0xcu);
+    return (uint16_t)(x | y << 4 | z << 8);
+}
+
+/* Links crossed edges a and b of one face: each crossed edge has one
+ * partner on each of its two faces. */
+static void link(uint8_t (*partner)[2], uint8_t *links, int a, int b)
+{
+    partner[a][links[a]++] = (uint8_t)b;
+    partner[b][links[b]++] = (uint8_t)a;
 }
 
 /* The cell's sheets: its crossed edges (`x`, as crossed_edges gives them)
@@ -228,15 +227,16 @@ static uint16_t crossed_edges(uint8_t mask)
  * face when the bilinear interpolant's saddle is inside. Both cells of a
  * face see its four values alike, so they agree on its segments and their
  * sheets meet edge to edge: the dual mesh is a manifold (where a sheet does
- * not cross one face twice on both sides). Returns the number of sheets;
- * sheet[e] for each crossed edge e, numbered by their lowest edge (join
- * keeps the lowest edge as a set's root, so the order of the joins does not
- * matter). */
-static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12])
+ * not cross one face twice on both sides). A face has two or four crossed
+ * edges, each in one segment, and an edge lies on two faces: so each
+ * crossed edge has two partners and each sheet is a cycle of edges, walked
+ * round from its lowest edge. Returns the number of sheets; sheet[e] for
+ * each crossed edge e, numbered by their lowest edge; *ambiguous when a
+ * face has four crossed edges (else the split depends on the mask alone). */
+static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12], bool *ambiguous)
 {
-    int parent[12];
-    for (int e = 0; e < 12; e++)
-        parent[e] = e;
+    uint8_t partner[12][2], links[12] = {0};
+    *ambiguous = false;
     for (int face = 0; face < 6; face++) {
         const uint8_t *k = face_corner[face], *fe = face_edge[face];
         int at[4], crossed = 0;
@@ -244,8 +244,9 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             if (x >> fe[t] & 1)
                 at[crossed++] = t;
         if (crossed == 2) {
-            join(parent, fe[at[0]], fe[at[1]]);
+            link(partner, links, fe[at[0]], fe[at[1]]);
         } else if (crossed == 4) {
+            *ambiguous = true;
             float v[4];
             for (int t = 0; t < 4; t++)
                 v[t] = cf[k[t]] - MERP_ISO;
@@ -256,17 +257,23 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             bool cut_in = !saddle_in;
             for (int t = 0; t < 4; t++)
                 if ((bool)(mask >> k[t] & 1) == cut_in)
-                    join(parent, fe[(t + 3) % 4], fe[t]);
+                    link(partner, links, fe[(t + 3) % 4], fe[t]);
         }
     }
-    int n = 0, id[12];
+    int n = 0;
+    uint16_t left = x;
     for (int e = 0; e < 12; e++) {
-        if (!(x >> e & 1))
+        if (!(left >> e & 1))
             continue;
-        int r = find(parent, e);
-        if (r == e)
-            id[e] = n++;
-        sheet[e] = (uint8_t)id[r];
+        assert(links[e] == 2);
+        int prev = -1, at = e;
+        do { /* round the cycle: the partner we did not come from */
+            sheet[at] = (uint8_t)n;
+            left &= (uint16_t)~(1u << at);
+            int next = partner[at][0] != prev ? partner[at][0] : partner[at][1];
+            prev = at, at = next;
+        } while (at != e);
+        n++;
     }
     return n;
 }
@@ -298,7 +305,7 @@ static void sheet_vertex(dc *d, const uint32_t cell[3], const crossing *const *x
         merp_walk_normal(d->w, v_, fv, fallback, o->normals + 3 * (size_t)v);
     }
     if (d->src != NULL)
-        d->src[v] = (merp_dc_source){cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]), corners};
+        d->src[v] = (merp_dc_source){{cell[0], cell[1], cell[2]}, corners};
 }
 
 /* The cell's vertices, one per sheet. MER_ERR_NOMEM when a crossing finds no room. */
@@ -306,11 +313,24 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
 {
     cell_sheets *cs = &d->sheets[d->nsheets];
     uint16_t crossed = crossed_edges(mask);
-    int n = cell_sheet_split(cf, mask, crossed, cs->sheet);
+    mask_split *known = &d->split[mask];
+    int n = known->n;
+    if (known->known) {
+        memcpy(cs->sheet, known->sheet, sizeof cs->sheet);
+    } else {
+        bool ambiguous;
+        memset(cs->sheet, 0, sizeof cs->sheet);
+        n = cell_sheet_split(cf, mask, crossed, cs->sheet, &ambiguous);
+        if (!ambiguous) {
+            memcpy(known->sheet, cs->sheet, sizeof known->sheet);
+            known->n = (uint8_t)n, known->known = 1;
+        }
+    }
     cs->first = d->out->vertex_count;
     cs->mask = mask;
     if (!crossing_room(d, 12))
         return MER_ERR_NOMEM;
+    const uint32_t s0 = merp_walk_sample(d->w, cell[0], cell[1], cell[2]);
     for (int s = 0; s < n; s++) {
         const crossing *x[12];
         int nx = 0;
@@ -318,25 +338,55 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         for (int e = 0; e < 12; e++) {
             if (!(crossed >> e & 1) || cs->sheet[e] != s)
                 continue;
-            if ((x[nx++] = edge_crossing(d, cell, cf, e)) == NULL)
+            if ((x[nx++] = edge_crossing(d, cell, s0, cf, e)) == NULL)
                 return MER_ERR_NOMEM;
             corners |= (uint8_t)(1u << cube_edge[e][0] | 1u << cube_edge[e][1]);
         }
         sheet_vertex(d, cell, x, nx, corners);
     }
     const merp_grid *g = d->w->g;
-    cs->cell = cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2]);
-    d->cell_v[cs->cell] = ++d->nsheets;
+    memcpy(cs->cell, cell, sizeof cs->cell);
+    d->cell_v[cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2])] = ++d->nsheets;
     return MER_OK;
 }
 
-/* The vertex of cell q's sheet through its edge e; 0 when the walk did not
- * reach q, else the vertex + 1. */
-static uint32_t vertex_of(const dc *d, const uint32_t q[3], int e)
+/* The vertex of the sheet through edge e of cell c (its index, x fastest);
+ * 0 when the walk did not reach c, else the vertex + 1. */
+static uint32_t vertex_of(const dc *d, uint32_t c, int e)
 {
-    const merp_grid *g = d->w->g;
-    uint32_t r = d->cell_v[q[0] + g->n[0] * (q[1] + g->n[1] * q[2])];
-    return r == 0 ? 0 : d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
+    /* A queued cell around a crossed edge is crossed, so the walk gave it
+     * its vertices and its cell_v (which is not cleared). */
+    if (!merp_walk_queued(d->w, c))
+        return 0;
+    uint32_t r = d->cell_v[c];
+    assert(r >= 1 && r <= d->nsheets);
+    return d->sheets[r - 1].first + d->sheets[r - 1].sheet[e] + 1;
+}
+
+/* Which diagonal a quad is split along, 0 (0–2) or 1 (1–3), from the
+ * normals n[t] (not normalized) of the triangles at its corners t: split
+ * 0–2 makes the triangles at corners 1 and 3, and the split whose two
+ * normals agree more is taken (the cosines compared in float). The cosines
+ * in double first, with two square roots and two divisions where the float
+ * path takes four and twelve: where they differ by more than 1e-5 (the
+ * float path's rounding is ~1e-6), that path's answer is theirs. */
+static int split_of(float n[4][3])
+{
+    double c[4][3], l[4];
+    for (int t = 0; t < 4; t++) {
+        for (int k = 0; k < 3; k++)
+            c[t][k] = n[t][k];
+        l[t] = c[t][0] * c[t][0] + c[t][1] * c[t][1] + c[t][2] * c[t][2];
+    }
+    if (l[0] > 1e-30 && l[1] > 1e-30 && l[2] > 1e-30 && l[3] > 1e-30) {
+        double c13 = (c[1][0] * c[3][0] + c[1][1] * c[3][1] + c[1][2] * c[3][2]) / sqrt(l[1] * l[3]);
+        double c02 = (c[0][0] * c[2][0] + c[0][1] * c[2][1] + c[0][2] * c[2][2]) / sqrt(l[0] * l[2]);
+        if (fabs(c13 - c02) > 1e-5)
+            return c13 >= c02 ? 0 : 1;
+    }
+    for (int t = 0; t < 4; t++)
+        v3_normalize(n[t]);
+    return v3_dot(n[1], n[3]) >= v3_dot(n[0], n[2]) ? 0 : 1;
 }
 
 /* The quads of the cell's three edges from its corner 0 (each interior
@@ -346,23 +396,24 @@ static uint32_t vertex_of(const dc *d, const uint32_t q[3], int e)
  * diagonal that folds least. */
 static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
 {
+    /* (−, −), (0, −), (0, 0), (−, 0) in the (b, c) plane of axis a (b =
+     * a + 1, c = a + 2, mod 3); in each cell the edge starts at the corner
+     * opposite the offset: for axis a, that cell's edge quad_edge[a][t]
+     * (cube_edge's from that corner to the next along a). */
+    static const uint8_t off[4][2] = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
+    static const uint8_t quad_edge[3][4] = {{3, 2, 0, 1}, {7, 5, 4, 6}, {11, 10, 8, 9}};
     const float *pos = d->out->positions;
+    const uint32_t *step = d->cell_step, at = cell[0] + step[1] * cell[1] + step[2] * cell[2];
     for (int a = 0; a < 3; a++) {
         uint8_t far = (uint8_t)(1u << a);
         if ((mask & 1) == (mask >> far & 1))
             continue;
-        int b = (a + 1) % 3, c = (a + 2) % 3;
+        int b = a == 2 ? 0 : a + 1, c = a == 0 ? 2 : a - 1;
         if (cell[b] == 0 || cell[c] == 0)
             continue; /* on the grid's face: the surface leaves it here */
-        /* (−, −), (0, −), (0, 0), (−, 0) in the (b, c) plane; in each the
-         * edge starts at the corner opposite the offset. */
-        static const uint8_t off[4][2] = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
         uint32_t v[4];
         for (int t = 0; t < 4; t++) {
-            uint32_t q[3] = {cell[0], cell[1], cell[2]};
-            q[b] -= off[t][0], q[c] -= off[t][1];
-            uint8_t c0 = (uint8_t)(off[t][0] << b | off[t][1] << c);
-            v[t] = vertex_of(d, q, edge_of(c0, (uint8_t)(c0 | far)));
+            v[t] = vertex_of(d, at - off[t][0] * step[b] - off[t][1] * step[c], quad_edge[a][t]);
             if (v[t] == 0)
                 return; /* a neighbour the walk did not reach */
             v[t]--;
@@ -380,11 +431,8 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
             for (int k = 0; k < 3; k++)
                 e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
             v3_cross(e1, e2, n[t]);
-            v3_normalize(n[t]);
         }
-        /* n[t] is the normal of the triangle at corner t: split 0–2 makes the
-         * triangles at corners 1 and 3. */
-        int s = v3_dot(n[1], n[3]) >= v3_dot(n[0], n[2]) ? 0 : 1;
+        int s = split_of(n);
         uint32_t *t = d->out->triangles + 3 * (size_t)d->out->triangle_count;
         t[0] = v[s], t[1] = v[s + 1], t[2] = v[(s + 2) % 4];
         t[3] = v[s], t[4] = v[(s + 2) % 4], t[5] = v[(s + 3) % 4];
@@ -410,6 +458,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
     if (merp_walk_begin(&w, g, f, data, seeds, nseeds, cells, &d.cell_v, out, err) != MER_OK)
         return MER_ERR_NOMEM;
     w.grad = grad;
+    d.cell_step[0] = 1, d.cell_step[1] = g->n[0], d.cell_step[2] = g->n[0] * g->n[1];
     d.sheets = merp_malloc(cells * sizeof *d.sheets);
     mer_result rc = d.sheets != NULL ? MER_OK : MER_ERR_NOMEM;
     uint32_t cell[3];
@@ -419,10 +468,8 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
         rc = cell_vertices(&d, cell, cf, mask);
     /* Every crossed cell has its vertices: now the quads, in the walk's
      * order (that of d.sheets), from the masks the cells kept. */
-    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK; i++) {
-        merp_walk_cell(&w, d.sheets[i].cell, cell);
-        cell_quads(&d, cell, d.sheets[i].mask);
-    }
+    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK; i++)
+        cell_quads(&d, d.sheets[i].cell, d.sheets[i].mask);
     dc_free(&w, &d);
     if (rc != MER_OK)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");

@@ -10,6 +10,7 @@
 #define MERISTEM_MESH_IMPLICIT_H
 
 #include <assert.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 #include <meristem/result.h>
@@ -263,11 +264,10 @@ mer_result merp_mtet_polygonize_seeded(const merp_grid *g, merp_field_fn f, cons
  * vertex per sheet of each cell, two triangles per grid edge (3 a sample). */
 void merp_dc_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles);
 
-/* Where a vertex of dual contouring comes from: its cell, i + n[0]·(j +
- * n[1]·k), and the corners (bits x = 1, y = 2, z = 4) of the cell edges its
- * sheet crosses. */
+/* Where a vertex of dual contouring comes from: its cell (i, j, k) and the
+ * corners (bits x = 1, y = 2, z = 4) of the cell edges its sheet crosses. */
 typedef struct merp_dc_source {
-    uint32_t cell;
+    uint32_t cell[3];
     uint8_t corners;
 } merp_dc_source;
 
@@ -359,10 +359,28 @@ typedef struct merp_jprep {
     const merp_junction *j;
     merp_row seg;   /* in, out, lateral 0, lateral 1 */
     merp_row bound; /* scar, bound 0, bound 1, none */
+    /* A ball about each bound that takes part (centre, squared radius),
+     * holding its support with a margin: see merp_jprep_near_bounds. */
+    float reach[MERP_ROW][4];
+    uint32_t reaches;
 } merp_jprep;
 
 enum { MERP_JSEG_IN, MERP_JSEG_OUT, MERP_JSEG_LATERAL };  /* merp_jprep.seg's lanes */
 enum { MERP_JBOUND_SCAR, MERP_JBOUND_LATERAL };          /* merp_jprep.bound's */
+
+/* Whether p may lie in some bound's support. When not, every lane of
+ * jp->bound is 0 at p, field and gradient (+0, as row.c gives them), so
+ * callers skip the row (most samples of a patch lie beyond every bound). */
+static inline bool merp_jprep_near_bounds(const merp_jprep *jp, const float p[3])
+{
+    for (uint32_t i = 0; i < jp->reaches; i++) {
+        const float *b = jp->reach[i];
+        float d[3] = {p[0] - b[0], p[1] - b[1], p[2] - b[2]};
+        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= b[3])
+            return true;
+    }
+    return false;
+}
 
 /* Prepares jp for j, which must outlive it and not change meanwhile. */
 void merp_jprep_init(merp_jprep *jp, const merp_junction *j);

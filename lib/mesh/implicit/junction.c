@@ -148,24 +148,47 @@ typedef struct terms {
  * widest (MERP_ISO), so the ring shows. */
 #define SCAR_W MERP_ISO
 
+/* A ball holding bound b's support (within r_out of its segment): about
+ * the segment's midpoint, of radius half its length plus r_out, grown by
+ * 1e-3 of itself and 1e-4 of the coordinates' magnitude, far above the
+ * rounding of a lane's d², so that outside it the lane's d² ≥ r_out²
+ * surely. */
+static void add_reach(merp_jprep *jp, const merp_bound *b)
+{
+    float *r = jp->reach[jp->reaches++], half[3], size = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        r[a] = 0.5f * (b->a[a] + b->b[a]);
+        half[a] = 0.5f * (b->b[a] - b->a[a]);
+        size += fabsf(r[a]);
+    }
+    float rho = v3_len(half) + b->r_out;
+    rho += 1e-3f * rho + 1e-4f * size;
+    r[3] = rho * rho;
+}
+
 void merp_jprep_init(merp_jprep *jp, const merp_junction *j)
 {
     assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
     assert(j->in.ra > 0.0f && j->in.rb > 0.0f);
     jp->j = j;
+    jp->reaches = 0;
     merp_row_clear(&jp->seg);
     merp_row_clear(&jp->bound);
     merp_row_set(&jp->seg, MERP_JSEG_IN, j->in.a, j->in.b, j->in.ra, j->in.rb);
     if (j->out.ra > 0.0f)
         merp_row_set(&jp->seg, MERP_JSEG_OUT, j->out.a, j->out.b, j->out.ra, j->out.rb);
-    if (j->scar_weight > 0.0f && j->out.ra > 0.0f)
+    if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
         merp_row_set(&jp->bound, MERP_JBOUND_SCAR, j->scar.a, j->scar.b, j->scar.r_in, j->scar.r_out);
+        add_reach(jp, &j->scar);
+    }
     for (uint32_t k = 0; k < j->laterals; k++) {
         const merp_seg *l = &j->lateral[k];
         const merp_bound *b = &j->bound[k];
         merp_row_set(&jp->seg, MERP_JSEG_LATERAL + (int)k, l->a, l->b, l->ra, l->rb);
-        if (b->r_out > 1e-5f) /* merp_junction_ridge's test: a bound of no ridge is 0 */
+        if (b->r_out > 1e-5f) { /* merp_junction_ridge's test: a bound of no ridge is 0 */
             merp_row_set(&jp->bound, MERP_JBOUND_LATERAL + (int)k, b->a, b->b, b->r_in, b->r_out);
+            add_reach(jp, b);
+        }
     }
 }
 
@@ -191,13 +214,15 @@ static float axis_terms(const merp_junction *j, const float fs[MERP_ROW], const 
 static void blend_terms(const merp_junction *j, float A, const float fs[MERP_ROW],
                         const float Fb[MERP_ROW], terms *t)
 {
-    float f[1 + MERP_JUNCTION_LATERALS] = {A}, F_b = 0.0f;
+    /* merp_blend_sum of (A, L_0, ...) inline, in its order (from +0): a
+     * call and a copy of the terms a sample cost about as much as the sum. */
+    float b2 = 0.0f + A, F_b = 0.0f;
     for (uint32_t k = 0; k < j->laterals; k++) {
-        f[1 + k] = fs[MERP_JSEG_LATERAL + k];
+        b2 += fs[MERP_JSEG_LATERAL + k];
         float v = Fb[MERP_JBOUND_LATERAL + k];
         F_b = v > F_b ? v : F_b;
     }
-    t->b2 = merp_blend_sum(f, 1 + j->laterals);
+    t->b2 = b2;
     t->F_b = F_b;
 }
 
@@ -218,9 +243,10 @@ static float pcm_term(const merp_junction *j, float A, const float fs[MERP_ROW])
 /* Every term at p but B1 into *t, the segments' lanes into fs; returns A. */
 static float row_terms(const merp_jprep *jp, const float p[3], float fs[MERP_ROW], terms *t)
 {
-    float Fb[MERP_ROW];
+    float Fb[MERP_ROW] = {0.0f};
     merp_row_seg_field(&jp->seg, p, fs);
-    merp_row_bound_field(&jp->bound, p, Fb);
+    if (merp_jprep_near_bounds(jp, p))
+        merp_row_bound_field(&jp->bound, p, Fb);
     float A = axis_terms(jp->j, fs, Fb, t);
     blend_terms(jp->j, A, fs, Fb, t);
     return A;

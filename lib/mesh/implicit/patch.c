@@ -17,6 +17,7 @@ typedef struct clipped {
     const merp_patch *pt;
     float kappa;    /* the slope of each cut's half-space field, per unit length */
     merp_jprep jp;  /* pt->j, prepared once for the patch's samples */
+    float slack[MERP_PATCH_CUTS]; /* cut_slack: for beyond_a_cut */
 } clipped;
 
 static float cut_distance(const merp_cut *c, const float p[3])
@@ -102,7 +103,8 @@ static void drop_caps(merp_trimesh *m, const int8_t *on_cut)
         const uint32_t *v = m->triangles + 3 * (size_t)t;
         if (on_cut[v[0]] >= 0 && on_cut[v[0]] == on_cut[v[1]] && on_cut[v[0]] == on_cut[v[2]])
             continue;
-        memmove(m->triangles + 3 * (size_t)kept++, v, 3 * sizeof *v);
+        uint32_t *to = m->triangles + 3 * (size_t)kept++; /* to ≤ v: element by element, no libc call */
+        to[0] = v[0], to[1] = v[1], to[2] = v[2];
     }
     m->triangle_count = kept;
 }
@@ -226,9 +228,10 @@ static void compact(merp_trimesh *m, uint32_t *remap)
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         if (remap[v] == UINT32_MAX)
             continue;
-        memmove(m->positions + 3 * (size_t)n, m->positions + 3 * (size_t)v, 3 * sizeof(float));
-        if (m->normals != NULL)
-            memmove(m->normals + 3 * (size_t)n, m->normals + 3 * (size_t)v, 3 * sizeof(float));
+        for (int k = 0; k < 3; k++) /* n ≤ v: element by element, no libc call */
+            m->positions[3 * (size_t)n + k] = m->positions[3 * (size_t)v + k];
+        for (int k = 0; m->normals != NULL && k < 3; k++)
+            m->normals[3 * (size_t)n + k] = m->normals[3 * (size_t)v + k];
         remap[v] = n++;
     }
     for (size_t k = 0; k < 3 * (size_t)m->triangle_count; k++)
@@ -274,6 +277,43 @@ static void mark_cuts(const merp_trimesh *m, const merp_patch *pt, float kappa, 
     }
 }
 
+/* Whether a corner of cell ijk may lie beyond a cut (dist > 0, below): the
+ * lowest corner's distance plus each cut's slack (clipped.slack), so that a
+ * cell it rules out has no corner cap_of_sheet would find beyond. Most
+ * sheets lie on the junction's side of every cut, and then their eight
+ * corners need no distances. */
+static bool beyond_a_cut(const clipped *cl, const uint32_t ijk[3])
+{
+    const merp_grid *g = &cl->pt->grid;
+    const float p[3] = {g->origin[0] + (float)ijk[0] * g->h, g->origin[1] + (float)ijk[1] * g->h,
+                        g->origin[2] + (float)ijk[2] * g->h};
+    for (uint32_t i = 0; i < cl->pt->cuts; i++)
+        if (cut_distance(&cl->pt->cut[i], p) > -cl->slack[i])
+            return true;
+    return false;
+}
+
+/* Cut i's slack: how much further than a cell's lowest corner any of its
+ * corners can lie along n (h·Σ max(n_k, 0)), plus a margin far above the
+ * rounding of the distances in the grid's span (1e-4 of the coordinates'
+ * magnitude; float rounding is ~1e-7 of it). */
+static void cut_slack(clipped *cl)
+{
+    const merp_grid *g = &cl->pt->grid;
+    float size = g->h;
+    for (int a = 0; a < 3; a++) {
+        float lo = fabsf(g->origin[a]), hi = fabsf(g->origin[a] + (float)g->n[a] * g->h);
+        size += lo > hi ? lo : hi;
+    }
+    for (uint32_t i = 0; i < cl->pt->cuts; i++) {
+        const merp_cut *c = &cl->pt->cut[i];
+        float up = 0.0f, scale = size;
+        for (int a = 0; a < 3; a++)
+            up += (c->n[a] > 0.0f ? c->n[a] : 0.0f) * g->h, scale += fabsf(c->o[a]);
+        cl->slack[i] = up + 1e-4f * scale;
+    }
+}
+
 /* The cut whose cap a sheet of dual contouring lies on: one of the corners
  * of its crossed edges is outside the clipped solid only because it lies
  * beyond that cut (F_g ≥ c there). Its other corners are those edges' inside
@@ -282,7 +322,9 @@ static void mark_cuts(const merp_trimesh *m, const merp_patch *pt, float kappa, 
 static int cap_of_sheet(const clipped *cl, merp_dc_source src)
 {
     const merp_grid *g = &cl->pt->grid;
-    uint32_t c = src.cell, ijk[3] = {c % g->n[0], c / g->n[0] % g->n[1], c / (g->n[0] * g->n[1])};
+    const uint32_t *ijk = src.cell;
+    if (!beyond_a_cut(cl, ijk))
+        return -1;
     int cap = -1;
     for (uint8_t k = 0; k < 8; k++) {
         if (!(src.corners >> k & 1))
@@ -361,6 +403,7 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
     assert(pt->cuts >= 1 && pt->cuts <= MERP_PATCH_CUTS);
     clipped cl = {.pt = pt, .kappa = 1.0f / pt->grid.h};
     merp_jprep_init(&cl.jp, pt->j);
+    cut_slack(&cl);
     /* Seeds inside the solid: the junction point and each shaft halfway to
      * its cut; the clipped surface is one piece, so the walk finds it all. */
     float seeds[1 + MERP_PATCH_CUTS][3];

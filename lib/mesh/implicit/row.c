@@ -23,6 +23,16 @@
 #define VECTORIZE
 #endif
 
+/* The closest points and bound_lanes forced into each row function (GCC
+ * and clang): the lanes stay in registers from one step to the next, and
+ * the bound field alone drops the gradient's factor, and its division, as
+ * dead code. */
+#if defined(__GNUC__)
+#define INLINE __attribute__((always_inline)) inline
+#else
+#define INLINE inline
+#endif
+
 /* A lane no segment fills: a ball so far away that every field of it is 0
  * (x² ≥ 1, d² ≥ r_out²), with radii 1/2, 1 that divide nothing by zero. */
 #define FAR 1e18f
@@ -48,7 +58,9 @@ void merp_row_set(merp_row *r, int l, const float a[3], const float b[3], float 
     r->span[l] = rb - ra, r->dR[l] = r->span[l] / MERP_SEG_XC;
 }
 
-VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
+/* merp_row_closest, inlined into the row's fields: their lanes then
+ * continue in registers from the closest points' arithmetic. */
+VECTORIZE INLINE static void closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
 {
     const float px = p[0], py = p[1], pz = p[2]; /* loaded once: c may not alias p */
     for (int l = 0; l < MERP_ROW; l++) {
@@ -65,10 +77,15 @@ VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], me
     }
 }
 
+VECTORIZE void merp_row_closest(const merp_row *restrict r, const float p[3], merp_row_point *restrict c)
+{
+    closest(r, p, c);
+}
+
 VECTORIZE void merp_row_seg_field(const merp_row *r, const float p[3], float f[MERP_ROW])
 {
     merp_row_point c;
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     for (int l = 0; l < MERP_ROW; l++) {
         float t = c.t[l], R = ((1.0f - t) * r->ra[l] + t * r->rb[l]) / MERP_SEG_XC;
         float x2 = c.d2[l] / (R * R), u = 1.0f - x2;
@@ -79,7 +96,7 @@ VECTORIZE void merp_row_seg_field(const merp_row *r, const float p[3], float f[M
 VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_row_grad *out)
 {
     merp_row_point c;
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     /* Two loops, the selects apart from the arithmetic: as one, GCC's
      * partial redundancy elimination turns the selects into branches and
      * the loop no longer vectorizes. */
@@ -115,8 +132,8 @@ VECTORIZE void merp_row_seg_gradient(const merp_row *r, const float p[3], merp_r
  * its gradient ∇F_b = cg·q into cg. The scalar code's branches (beyond
  * r_out: 0; s ≤ 0: 1; s ≥ 1: 0) as selects and a clamp of s to [0, 1],
  * which gives the same values there. */
-VECTORIZE static void bound_lanes(const merp_row *r, const merp_row_point *c, float F[MERP_ROW],
-                                  float cg[MERP_ROW])
+VECTORIZE INLINE static void bound_lanes(const merp_row *r, const merp_row_point *c, float F[MERP_ROW],
+                                         float cg[MERP_ROW])
 {
     /* Most samples of a patch lie beyond every bound's support: then F_b is
      * 0 in each lane, and neither square roots nor the rest are needed. */
@@ -155,7 +172,7 @@ VECTORIZE void merp_row_bound_field(const merp_row *r, const float p[3], float F
 {
     merp_row_point c;
     float cg[MERP_ROW];
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     bound_lanes(r, &c, F, cg);
 }
 
@@ -163,7 +180,7 @@ VECTORIZE void merp_row_bound_gradient(const merp_row *r, const float p[3], merp
 {
     merp_row_point c;
     float cg[MERP_ROW];
-    merp_row_closest(r, p, &c);
+    closest(r, p, &c);
     bound_lanes(r, &c, out->f, cg);
     for (int l = 0; l < MERP_ROW; l++) {
         /* + 0: a zero gradient is +0, as the scalar code's returns give. */

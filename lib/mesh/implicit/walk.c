@@ -29,12 +29,15 @@ mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, con
     assert(g->n[0] >= 1 && g->n[1] >= 1 && g->n[2] >= 1 && g->h > 0.0f);
     uint64_t samples = (uint64_t)(g->n[0] + 1) * (g->n[1] + 1) * (g->n[2] + 1);
     assert(samples < UINT32_MAX);
-    *w = (merp_walk){g, f, NULL, data, g->n[0] + 1, g->n[1] + 1, NULL, NULL, NULL, NULL, 0, 0};
+    assert(g->n[0] < 1u << 21 && g->n[1] < 1u << 21 && g->n[2] < 1u << 21); /* the queue's fields */
+    *w = (merp_walk){.g = g, .f = f, .data = data, .sx = g->n[0] + 1, .sy = g->n[1] + 1};
+    for (uint32_t c = 0; c < 8; c++)
+        w->corner[c] = (c & 1) + (c >> 1 & 1) * w->sx + (c >> 2 & 1) * w->sx * w->sy;
     uint32_t cells = cell_count(g);
     w->value = merp_malloc((size_t)samples * sizeof(float));
     w->known = merp_calloc((size_t)(samples / 32 + 1), sizeof(uint32_t));
     w->seen = merp_calloc((size_t)(cells / 32 + 1), sizeof(uint32_t));
-    w->queue = merp_malloc((size_t)cells * sizeof(uint32_t));
+    w->queue = merp_malloc((size_t)cells * sizeof *w->queue);
     if (w->value == NULL || w->known == NULL || w->seen == NULL || w->queue == NULL) {
         merp_walk_free(w);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
@@ -48,7 +51,7 @@ void merp_walk_free(merp_walk *w)
     merp_free(w->known);
     merp_free(w->seen);
     merp_free(w->queue);
-    w->value = NULL, w->known = w->seen = w->queue = NULL;
+    w->value = NULL, w->known = w->seen = NULL, w->queue = NULL;
 }
 
 mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
@@ -57,7 +60,7 @@ mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, co
 {
     if (merp_walk_init(w, g, f, data, err) != MER_OK)
         return MER_ERR_NOMEM;
-    *scratch = merp_calloc(scratch_count ? scratch_count : 1, sizeof(uint32_t));
+    *scratch = merp_malloc((scratch_count ? scratch_count : 1) * sizeof(uint32_t));
     if (*scratch == NULL) {
         merp_walk_free(w);
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
@@ -67,9 +70,9 @@ mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, co
     return MER_OK;
 }
 
-float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
+/* f at sample s = (i, j, k), evaluated on first use. */
+static inline float value_at(merp_walk *w, uint32_t s, uint32_t i, uint32_t j, uint32_t k)
 {
-    uint32_t s = merp_walk_sample(w, i, j, k);
     if (!(w->known[s >> 5] >> (s & 31) & 1u)) {
         const float p[3] = {w->g->origin[0] + (float)i * w->g->h, w->g->origin[1] + (float)j * w->g->h,
                             w->g->origin[2] + (float)k * w->g->h};
@@ -79,11 +82,19 @@ float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
     return w->value[s];
 }
 
+float merp_walk_value(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
+{
+    return value_at(w, merp_walk_sample(w, i, j, k), i, j, k);
+}
+
 uint8_t merp_walk_corners(merp_walk *w, const uint32_t cell[3], float cf[8])
 {
+    /* The samples from the lowest corner's index by the corners' steps. */
+    const uint32_t s0 = merp_walk_sample(w, cell[0], cell[1], cell[2]);
     uint8_t mask = 0;
-    for (uint8_t c = 0; c < 8; c++) {
-        cf[c] = merp_walk_value(w, cell[0] + (c & 1), cell[1] + (c >> 1 & 1), cell[2] + (c >> 2 & 1));
+    for (uint32_t c = 0; c < 8; c++) {
+        uint32_t i = cell[0] + (c & 1), j = cell[1] + (c >> 1 & 1), k = cell[2] + (c >> 2 & 1);
+        cf[c] = value_at(w, s0 + w->corner[c], i, j, k);
         mask |= (uint8_t)((cf[c] >= MERP_ISO) << c);
     }
     return mask;
@@ -95,7 +106,7 @@ static void push(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
     if (w->seen[c >> 5] >> (c & 31) & 1u)
         return;
     w->seen[c >> 5] |= 1u << (c & 31);
-    w->queue[w->tail++] = c;
+    w->queue[w->tail++] = (uint64_t)i | (uint64_t)j << 21 | (uint64_t)k << 42;
 }
 
 void merp_walk_seed(merp_walk *w, const float p[3])
@@ -131,17 +142,13 @@ void merp_walk_start(merp_walk *w, const float (*seeds)[3], uint32_t nseeds)
         merp_walk_seed(w, seeds[s]);
 }
 
-void merp_walk_cell(const merp_walk *w, uint32_t c, uint32_t cell[3])
-{
-    const uint32_t *n = w->g->n;
-    cell[0] = c % n[0], cell[1] = c / n[0] % n[1], cell[2] = c / (n[0] * n[1]);
-}
-
 bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask)
 {
     const uint32_t *n = w->g->n;
     while (w->head < w->tail) {
-        merp_walk_cell(w, w->queue[w->head++], cell);
+        uint64_t at = w->queue[w->head++];
+        cell[0] = (uint32_t)(at & 0x1fffff), cell[1] = (uint32_t)(at >> 21 & 0x1fffff);
+        cell[2] = (uint32_t)(at >> 42);
         *mask = merp_walk_corners(w, cell, cf);
         if (*mask == 0 || *mask == 0xff)
             continue;
@@ -181,7 +188,8 @@ void merp_walk_normal(const merp_walk *w, const float p[3], float fp, const floa
     }
 }
 
-float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3])
+float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
+                      float p[3])
 {
     float ta = 0.0f, tb = 1.0f, ga = fa - MERP_ISO, gb = fb - MERP_ISO;
     int side = 0;

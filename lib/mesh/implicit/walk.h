@@ -17,10 +17,11 @@ typedef struct merp_walk {
     merp_gradient_fn grad; /* ∇f, or NULL: merp_walk_normal differences f */
     const void *data;
     uint32_t sx, sy;  /* samples along x, y */
+    uint32_t corner[8]; /* a cell's corner c (bits x = 1, y = 2, z = 4): its sample's from the lowest's */
     float *value;     /* per sample, valid where `known` has its bit */
     uint32_t *known;  /* a bit per sample */
     uint32_t *seen;   /* a bit per cell: queued once */
-    uint32_t *queue;  /* cells to march, by index */
+    uint64_t *queue;  /* cells to march, as i | j << 21 | k << 42 (no division to take one) */
     uint32_t head, tail;
 } merp_walk;
 
@@ -34,13 +35,20 @@ mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, con
                           mer_error *err);
 void merp_walk_free(merp_walk *w);
 
-/* The polygonizers' prologue: merp_walk_init, `scratch_count` zeroed words
- * of scratch into *scratch (merp_free'd by the caller), the walk started from
- * `seeds` (merp_walk_start) and `out` emptied. Errors: MER_ERR_NOMEM, with
- * nothing left allocated. */
+/* The polygonizers' prologue: merp_walk_init, `scratch_count` words of
+ * scratch into *scratch (not cleared: a word per cell is only read where
+ * merp_walk_queued says the walk took the cell; merp_free'd by the
+ * caller), the walk started from `seeds` (merp_walk_start) and `out`
+ * emptied. Errors: MER_ERR_NOMEM, with nothing left allocated. */
 mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
                            const float (*seeds)[3], uint32_t nseeds, size_t scratch_count, uint32_t **scratch,
                            merp_trimesh *out, mer_error *err);
+
+/* Whether cell c (its index, x fastest) was queued. */
+static inline bool merp_walk_queued(const merp_walk *w, uint32_t c)
+{
+    return w->seen[c >> 5] >> (c & 31) & 1u;
+}
 
 static inline uint32_t merp_walk_sample(const merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
 {
@@ -66,9 +74,6 @@ void merp_walk_all(merp_walk *w);
 /* Queues every cell when `seeds` is NULL, else each seed's first crossed cell. */
 void merp_walk_start(merp_walk *w, const float (*seeds)[3], uint32_t nseeds);
 
-/* Cell index c (x fastest) as (i, j, k). */
-void merp_walk_cell(const merp_walk *w, uint32_t c, uint32_t cell[3]);
-
 /* Takes the next queued cell whose corners differ in sign into cell, cf and
  * *mask, queueing its neighbours across the faces whose corners differ (the
  * surface goes on there); false when none is left. The order is that of the
@@ -79,7 +84,8 @@ bool merp_walk_next(merp_walk *w, uint32_t cell[3], float cf[8], uint8_t *mask);
  * (outside): regula falsi with the Illinois modification, keeping the
  * bracket, until p is within 1e-4 of the segment's length from the surface.
  * Returns f(p). Cost: a few evaluations. */
-float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb, float p[3]);
+float merp_walk_solve(const merp_walk *w, const float pa[3], float fa, const float pb[3], float fb,
+                      float p[3]);
 
 /* The surface point p on the segment from pa (inside, fa ≥ c) to pb
  * (outside) and the normal n = −∇f / |∇f| there (pb − pa, normalized,
