@@ -54,17 +54,21 @@ int main(int argc, char **argv)
         merp_trimesh m = {0, 0, malloc(vmax * 3 * sizeof(float)), malloc(vmax * 3 * sizeof(float)),
                           malloc(tmax * 3 * sizeof(uint32_t))};
         mer_error err;
-        for (int i = 0; i < runs; i++) {
+        int built = 1;
+        for (int i = 0; built && i < runs; i++) {
             double t0 = now();
-            if (merp_patch_build(&pt, &m, &err) != MER_OK) {
-                fprintf(stderr, "bench_patch: %s\n", err.message);
-                return 1;
-            }
+            built = merp_patch_build(&pt, &m, &err) == MER_OK;
             t[i] = now() - t0;
         }
-        qsort(t, (size_t)runs, sizeof *t, cmp_double);
-        printf("%-18.1f %-6s %10.3f %10.3f %8u %8u\n", (double)rho, sharp ? "DC" : "mtet", 1e3 * t[0], 1e3 * t[runs / 2], m.vertex_count,
-               m.triangle_count);
+        if (built) {
+            qsort(t, (size_t)runs, sizeof *t, cmp_double);
+            printf("%-18.1f %-6s %10.3f %10.3f %8u %8u\n", (double)rho, sharp ? "DC" : "mtet", 1e3 * t[0],
+                   1e3 * t[runs / 2], m.vertex_count, m.triangle_count);
+        } else {
+            /* A patch that does not close leaves its fork as tubes when a tree is
+             * meshed (joints.c): a figure of its own, not a failed benchmark. */
+            printf("%-18.1f %-6s  not built: %s\n", (double)rho, sharp ? "DC" : "mtet", err.message);
+        }
         free(m.positions), free(m.normals), free(m.triangles);
     }
     free(t);
