@@ -133,7 +133,7 @@ static bool map_room(edge_map *m)
 /* A mask's sheets where no face of the cell is ambiguous: they follow
  * from the mask alone, so a patch splits each such mask once. */
 typedef struct mask_split {
-    uint8_t sheet[12], n, known; /* known: 1 once split */
+    uint8_t sheet[12], n, cached; /* cached: 1 once split */
 } mask_split;
 
 typedef struct dc {
@@ -214,7 +214,7 @@ static uint16_t crossed_edges(uint8_t mask)
 
 /* Links crossed edges a and b of one face: each crossed edge has one
  * partner on each of its two faces. */
-static void link(uint8_t (*partner)[2], uint8_t *links, int a, int b)
+static void pair_edges(uint8_t (*partner)[2], uint8_t *links, int a, int b)
 {
     partner[a][links[a]++] = (uint8_t)b;
     partner[b][links[b]++] = (uint8_t)a;
@@ -227,8 +227,8 @@ static void link(uint8_t (*partner)[2], uint8_t *links, int a, int b)
  * face when the bilinear interpolant's saddle is inside. Both cells of a
  * face see its four values alike, so they agree on its segments and their
  * sheets meet edge to edge: the dual mesh is a manifold (where a sheet does
- * not cross one face twice on both sides). A face has two or four crossed
- * edges, each in one segment, and an edge lies on two faces: so each
+ * not cross one face twice on both sides). A face has zero, two or four
+ * crossed edges, each in one segment, and an edge lies on two faces: so each
  * crossed edge has two partners and each sheet is a cycle of edges, walked
  * round from its lowest edge. Returns the number of sheets; sheet[e] for
  * each crossed edge e, numbered by their lowest edge; *ambiguous when a
@@ -244,7 +244,7 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             if (x >> fe[t] & 1)
                 at[crossed++] = t;
         if (crossed == 2) {
-            link(partner, links, fe[at[0]], fe[at[1]]);
+            pair_edges(partner, links, fe[at[0]], fe[at[1]]);
         } else if (crossed == 4) {
             *ambiguous = true;
             float v[4];
@@ -257,7 +257,7 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             bool cut_in = !saddle_in;
             for (int t = 0; t < 4; t++)
                 if ((bool)(mask >> k[t] & 1) == cut_in)
-                    link(partner, links, fe[(t + 3) % 4], fe[t]);
+                    pair_edges(partner, links, fe[(t + 3) % 4], fe[t]);
         }
     }
     int n = 0;
@@ -313,17 +313,17 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
 {
     cell_sheets *cs = &d->sheets[d->nsheets];
     uint16_t crossed = crossed_edges(mask);
-    mask_split *known = &d->split[mask];
-    int n = known->n;
-    if (known->known) {
-        memcpy(cs->sheet, known->sheet, sizeof cs->sheet);
+    mask_split *split = &d->split[mask];
+    int n = split->n;
+    if (split->cached) {
+        memcpy(cs->sheet, split->sheet, sizeof cs->sheet);
     } else {
         bool ambiguous;
         memset(cs->sheet, 0, sizeof cs->sheet);
         n = cell_sheet_split(cf, mask, crossed, cs->sheet, &ambiguous);
         if (!ambiguous) {
-            memcpy(known->sheet, cs->sheet, sizeof known->sheet);
-            known->n = (uint8_t)n, known->known = 1;
+            memcpy(split->sheet, cs->sheet, sizeof split->sheet);
+            split->n = (uint8_t)n, split->cached = 1;
         }
     }
     cs->first = d->out->vertex_count;
@@ -403,7 +403,8 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
     static const uint8_t off[4][2] = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
     static const uint8_t quad_edge[3][4] = {{3, 2, 0, 1}, {7, 5, 4, 6}, {11, 10, 8, 9}};
     const float *pos = d->out->positions;
-    const uint32_t *step = d->cell_step, at = cell[0] + step[1] * cell[1] + step[2] * cell[2];
+    const uint32_t *step = d->cell_step;
+    const uint32_t at = cell[0] + step[1] * cell[1] + step[2] * cell[2];
     for (int a = 0; a < 3; a++) {
         uint8_t far = (uint8_t)(1u << a);
         if ((mask & 1) == (mask >> far & 1))

@@ -29,16 +29,19 @@ typedef struct merp_walk {
  * faces (−x, +x, −y, +y, −z, +z) as bit masks over the eight corners. */
 extern const uint8_t merp_walk_face[6];
 
-/* Sets w up for g (no sample is evaluated yet). Errors: MER_ERR_NOMEM.
- * Cost: O(samples / 8) bytes cleared. */
+/* Sets w up for g (no sample is evaluated yet): g has fewer than 2^21 cells
+ * along each axis (the queue packs a cell's (i, j, k) in one word; patches
+ * are far smaller). Errors: MER_ERR_NOMEM. Cost: O(samples / 8) bytes cleared. */
 mer_result merp_walk_init(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
                           mer_error *err);
 void merp_walk_free(merp_walk *w);
 
 /* The polygonizers' prologue: merp_walk_init, `scratch_count` words of
- * scratch into *scratch (not cleared: a word per cell is only read where
- * merp_walk_queued says the walk took the cell; merp_free'd by the
- * caller), the walk started from `seeds` (merp_walk_start) and `out`
+ * scratch into *scratch (not cleared: the caller sets a cell's word when it
+ * takes a crossed cell, and reads it only for a cell merp_walk_queued says
+ * the walk took and that lies round a crossed edge, hence crossed itself —
+ * a queued cell with all corners in or out keeps garbage; merp_free'd by
+ * the caller), the walk started from `seeds` (merp_walk_start) and `out`
  * emptied. Errors: MER_ERR_NOMEM, with nothing left allocated. */
 mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, const void *data,
                            const float (*seeds)[3], uint32_t nseeds, size_t scratch_count, uint32_t **scratch,
