@@ -13,6 +13,8 @@
 
 #include "mesh/implicit/implicit.h"
 
+#include "fork_fixture.h"
+
 static const merp_seg seg_x = {{0, 0, 0}, {2, 0, 0}, 0.5f, 0.25f};
 
 /* At distance r(t) from the segment, f = c; inside more, outside less. */
@@ -299,6 +301,59 @@ static void row_lanes_match_scalar(void **state)
     }
 }
 
+/* The bounds' reach balls (merp_jprep_near_bounds) hold their supports: at
+ * a point outside every ball every bound lane is +0, field and gradient, as
+ * the junction's fields take it when they skip the row there. Sampled on
+ * thin shells just outside each ball (where a ball drawn too tight would
+ * show) and over the fork fixture's box, for the fork as grown and with its
+ * bud scale scar of year 1. */
+static void reach_balls_hold_the_bounds(void **state)
+{
+    (void)state;
+    static fork_fixture f;
+    const float shift[3] = {0, 0, 0};
+    fork_fixture_init(&f, 12, 0.1f, shift);
+    for (int aged = 0; aged < 2; aged++) {
+        merp_junction j = f.j;
+        const float up[3] = {0, 1, 0};
+        if (aged)
+            merp_junction_age(&j, up, 1.0f);
+        merp_jprep jp;
+        merp_jprep_init(&jp, &j);
+        assert_true(jp.reaches >= 1u + (uint32_t)aged);
+        uint32_t x = 777u, outside = 0;
+        for (int i = 0; i < 200000; i++) {
+            float u[4], p[3];
+            for (int k = 0; k < 4; k++) {
+                x = x * 1664525u + 1013904223u;
+                u[k] = (float)(x >> 8) / 16777216.0f;
+            }
+            if (i % 2 == 0) { /* a shell 0 to 2 % outside ball i/2 mod reaches */
+                const float *b = jp.reach[(uint32_t)(i / 2) % jp.reaches];
+                float z = 2.0f * u[0] - 1.0f, phi = MERP_TWO_PI * u[1], s = sqrtf(1.0f - z * z);
+                float rho = sqrtf(b[3]) * (1.0f + 0.02f * u[2]);
+                const float d[3] = {s * cosf(phi), s * sinf(phi), z};
+                for (int k = 0; k < 3; k++)
+                    p[k] = b[k] + rho * d[k];
+            } else { /* the fixture's box */
+                p[0] = -0.8f + 2.6f * u[0], p[1] = -1.4f + 3.3f * u[1], p[2] = -0.8f + 1.6f * u[2];
+            }
+            if (merp_jprep_near_bounds(&jp, p))
+                continue;
+            outside++;
+            float F[MERP_ROW];
+            merp_row_grad bg;
+            merp_row_bound_field(&jp.bound, p, F);
+            merp_row_bound_gradient(&jp.bound, p, &bg);
+            for (int l = 0; l < MERP_ROW; l++) {
+                assert_true(F[l] == 0.0f && !signbit(F[l]) && bg.f[l] == 0.0f && !signbit(bg.f[l]));
+                assert_true(bg.g[0][l] == 0.0f && bg.g[1][l] == 0.0f && bg.g[2][l] == 0.0f);
+            }
+        }
+        assert_true(outside > 50000);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -312,6 +367,7 @@ int main(void)
         cmocka_unit_test(ageing),
         cmocka_unit_test(gradient_matches_differences),
         cmocka_unit_test(row_lanes_match_scalar),
+        cmocka_unit_test(reach_balls_hold_the_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
