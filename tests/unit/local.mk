@@ -247,7 +247,7 @@ tests_unit_test_guiding_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_guiding_LDADD = $(UNIT_LDADD)
 
 check_PROGRAMS += tests/unit/test_implicit
-tests_unit_test_implicit_SOURCES = tests/unit/test_implicit.c
+tests_unit_test_implicit_SOURCES = tests/unit/test_implicit.c tests/unit/fork_fixture.h
 tests_unit_test_implicit_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_implicit_LDADD = $(UNIT_LDADD)
 
