@@ -375,7 +375,7 @@ static int split_of(float n[4][3])
     double c[4][3], l[4];
     for (int t = 0; t < 4; t++) {
         for (int k = 0; k < 3; k++)
-            c[t][k] = n[t][k];
+            c[t][k] = (double)n[t][k];
         l[t] = c[t][0] * c[t][0] + c[t][1] * c[t][1] + c[t][2] * c[t][2];
     }
     if (l[0] > 1e-30 && l[1] > 1e-30 && l[2] > 1e-30 && l[3] > 1e-30) {
