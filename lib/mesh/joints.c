@@ -151,9 +151,8 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
 static float bark_mark(const merp_jprep *jp, const float p[3])
 {
     const merp_junction *f = jp->j;
-    float F[MERP_ROW] = {0.0f}, b = 0.0f;
-    if (merp_jprep_near_bounds(jp, p))
-        merp_row_bound_field(&jp->bound, p, F); /* a bound left out is 0 */
+    float F[MERP_ROW], b = 0.0f;
+    merp_jprep_bound_field(jp, p, F); /* a bound left out is 0 */
     for (uint32_t k = 0; k < f->laterals; k++) /* merp_junction_ridge */
         b = F[MERP_JBOUND_LATERAL + k] > b ? F[MERP_JBOUND_LATERAL + k] : b;
     if (f->scar_weight > 0.0f && f->out.ra > 0.0f)

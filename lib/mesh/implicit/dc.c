@@ -139,7 +139,7 @@ typedef struct mask_split {
 typedef struct dc {
     merp_walk *w;
     mask_split split[256]; /* by mask */
-    uint32_t cell_step[3]; /* a cell's index less its neighbour's below along x, y, z */
+    uint32_t cell_step[3]; /* a cell's index less its neighbour's below along x, y, z (cell_index) */
     uint32_t *cell_v;      /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
@@ -161,6 +161,12 @@ static bool crossing_room(dc *d, uint32_t more)
         return false;
     d->x = x, d->xcap = cap;
     return true;
+}
+
+/* Cell (i, j, k)'s index, x fastest: the index cell_v and merp_walk_queued take. */
+static uint32_t cell_index(const dc *d, const uint32_t cell[3])
+{
+    return cell[0] + d->cell_step[1] * cell[1] + d->cell_step[2] * cell[2];
 }
 
 /* The crossing on edge e of the cell whose lowest sample is s0 (corners
@@ -344,9 +350,8 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         }
         sheet_vertex(d, cell, x, nx, corners);
     }
-    const merp_grid *g = d->w->g;
     memcpy(cs->cell, cell, sizeof cs->cell);
-    d->cell_v[cell[0] + g->n[0] * (cell[1] + g->n[1] * cell[2])] = ++d->nsheets;
+    d->cell_v[cell_index(d, cell)] = ++d->nsheets;
     return MER_OK;
 }
 
@@ -404,7 +409,7 @@ static void cell_quads(dc *d, const uint32_t cell[3], uint8_t mask)
     static const uint8_t quad_edge[3][4] = {{3, 2, 0, 1}, {7, 5, 4, 6}, {11, 10, 8, 9}};
     const float *pos = d->out->positions;
     const uint32_t *step = d->cell_step;
-    const uint32_t at = cell[0] + step[1] * cell[1] + step[2] * cell[2];
+    const uint32_t at = cell_index(d, cell);
     for (int a = 0; a < 3; a++) {
         uint8_t far = (uint8_t)(1u << a);
         if ((mask & 1) == (mask >> far & 1))

@@ -7,7 +7,6 @@
 #include "config.h"
 
 #include <assert.h>
-#include <string.h>
 
 #include "mesh/implicit/implicit.h"
 
@@ -79,10 +78,8 @@ float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3])
 {
     const merp_junction *j = jp->j;
     merp_row_grad seg, bnd;
-    memset(&bnd, 0, sizeof bnd); /* +0: what row.c gives a point beyond every bound */
     merp_row_seg_gradient(&jp->seg, p, &seg);
-    if (merp_jprep_near_bounds(jp, p))
-        merp_row_bound_gradient(&jp->bound, p, &bnd);
+    merp_jprep_bound_gradient(jp, p, &bnd);
     dual A = axis(j, &seg, &bnd), L[MERP_JUNCTION_LATERALS];
     dual A_d = A, b1 = ZERO, b2 = A, F_b = ZERO;
     for (uint32_t k = 0; k < j->laterals; k++) {

@@ -12,6 +12,7 @@
 #include <assert.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <meristem/result.h>
 
@@ -380,6 +381,26 @@ static inline bool merp_jprep_near_bounds(const merp_jprep *jp, const float p[3]
             return true;
     }
     return false;
+}
+
+/* jp's bound lanes at p: merp_row_bound_field (and merp_row_bound_gradient)
+ * of jp->bound, or +0 in every lane, field and gradient, where p lies beyond
+ * every bound (merp_jprep_near_bounds): the row is only evaluated near one. */
+static inline void merp_jprep_bound_field(const merp_jprep *jp, const float p[3], float F[MERP_ROW])
+{
+    if (merp_jprep_near_bounds(jp, p)) {
+        merp_row_bound_field(&jp->bound, p, F);
+        return;
+    }
+    for (int l = 0; l < MERP_ROW; l++)
+        F[l] = 0.0f;
+}
+static inline void merp_jprep_bound_gradient(const merp_jprep *jp, const float p[3], merp_row_grad *out)
+{
+    if (merp_jprep_near_bounds(jp, p))
+        merp_row_bound_gradient(&jp->bound, p, out);
+    else
+        memset(out, 0, sizeof *out); /* +0 */
 }
 
 /* Prepares jp for j, which must outlive it and not change meanwhile. */

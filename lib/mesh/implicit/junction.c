@@ -243,10 +243,9 @@ static float pcm_term(const merp_junction *j, float A, const float fs[MERP_ROW])
 /* Every term at p but B1 into *t, the segments' lanes into fs; returns A. */
 static float row_terms(const merp_jprep *jp, const float p[3], float fs[MERP_ROW], terms *t)
 {
-    float Fb[MERP_ROW] = {0.0f};
+    float Fb[MERP_ROW];
     merp_row_seg_field(&jp->seg, p, fs);
-    if (merp_jprep_near_bounds(jp, p))
-        merp_row_bound_field(&jp->bound, p, Fb);
+    merp_jprep_bound_field(jp, p, Fb);
     float A = axis_terms(jp->j, fs, Fb, t);
     blend_terms(jp->j, A, fs, Fb, t);
     return A;
