@@ -181,9 +181,15 @@ static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, 
     for (uint32_t i = 0; i <= m_len; i++) /* unwrapped, increasing, θ_0 = 0, θ_m = 2π */
         theta[i] = i == m_len ? MERP_TWO_PI
                               : wrap_2pi(sgn * (angle_about(c, u, v, m->positions + 3 * (size_t)L[i]) - a0));
+    /* A loop that wiggles about its start: a vertex just before L_0 (the
+     * loop's second, θ near 2π) or one just past it at the end (θ near 0)
+     * takes the angle of the vertex before it. Left near 2π, the second
+     * would zip the whole ring to L_0 and the rest of the loop to the
+     * ring's last vertex: that spoke twice, an edge of two triangles
+     * either way. */
     for (uint32_t i = 1; i < m_len; i++)
-        if (theta[i] < theta[i - 1] - 1.0f) /* a wiggle back over 0 */
-            theta[i] = 0.0f;
+        if (theta[i] > theta[i - 1] + MERP_TWO_PI * 0.5f || theta[i] < theta[i - 1] - 1.0f)
+            theta[i] = theta[i - 1];
     uint32_t base = m->vertex_count;
     for (uint32_t j = 0; j < c->sides; j++) {
         const float *p = c->ring + 3 * (size_t)j;
@@ -263,17 +269,38 @@ static mer_result take_loop(const merp_trimesh *m, const int8_t *on_cut, uint32_
     return MER_OK;
 }
 
-/* Marks each vertex of m with the cut whose plane it lies in (marching
- * tetrahedra's vertices are solved onto it), -1 for none. */
-static void mark_cuts(const merp_trimesh *m, const merp_patch *pt, float kappa, int8_t *on_cut)
+/* Marks each vertex of marching tetrahedra's mesh with the cut whose cap it
+ * lies on, -1 for none, and moves it onto that cut's plane. A vertex is on a
+ * cap where that cut's term is what the clipped field takes there (at most
+ * F_g, the smallest of the cuts' in reach), as cap_of_sheet decides for dual
+ * contouring: a crossing solved on a grid edge from inside the solid to
+ * beyond a cut lies on the plane only to the solver's tolerance where F_g
+ * takes over along the edge (near the rim), and a test by distance to the
+ * plane alone left such cap vertices on the side, their cap triangles kept:
+ * loops that pinch or miss their cut. */
+static void mark_cuts(merp_trimesh *m, const clipped *cl, int8_t *on_cut)
 {
+    const merp_patch *pt = cl->pt;
     for (uint32_t v = 0; v < m->vertex_count; v++) {
-        on_cut[v] = -1;
+        float *p = m->positions + 3 * (size_t)v, clip = INFINITY;
+        int by = -1;
         for (uint32_t i = 0; i < pt->cuts; i++) {
+            /* Within a cell's hundredth of the plane: the solver's
+             * tolerance is far below it, a cell's width far above. */
             float dist;
-            if (in_reach(&pt->cut[i], m->positions + 3 * (size_t)v, &dist) && fabsf(dist) * kappa < 1e-4f)
-                on_cut[v] = (int8_t)i;
+            if (in_reach(&pt->cut[i], p, &dist) && fabsf(dist) * cl->kappa < 0.01f &&
+                MERP_ISO - cl->kappa * dist < clip)
+                clip = MERP_ISO - cl->kappa * dist, by = (int)i;
         }
+        if (by >= 0 && !(clip <= merp_jprep_field(&cl->jp, p)))
+            by = -1; /* F_g is the smaller: the side's, near the rim */
+        on_cut[v] = (int8_t)by;
+        if (by < 0)
+            continue;
+        const merp_cut *c = &pt->cut[by];
+        float dist = cut_distance(c, p);
+        for (int k = 0; k < 3; k++)
+            p[k] -= dist * c->n[k];
     }
 }
 
@@ -429,7 +456,7 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
         if (pt->sharp)
             snap_cuts(out, &cl, cells, on_cut);
         else
-            mark_cuts(out, pt, cl.kappa, on_cut);
+            mark_cuts(out, &cl, on_cut);
         rc = stitch_all(out, pt, on_cut, err);
     }
     merp_free(on_cut), merp_free(cells);
