@@ -184,6 +184,7 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for ridge values");
     }
     m->junctions = (uint32_t)size.junctions;
+    m->junctions_open = b->joints_open;
     if (size.line_indices > 0) {
         m->bark.line_indices = merp_malloc(size.line_indices * sizeof(uint32_t));
         if (m->bark.line_indices == NULL)

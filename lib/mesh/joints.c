@@ -238,11 +238,10 @@ static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_tr
     return rc;
 }
 
-/* Builds jt's patch into exact arrays of its own. MER_ERR_INVALID (and the
- * caller unplans the fork) when the patch does not close on its cuts. */
-static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
+/* Builds jt's patch on a grid of cells h into exact arrays of its own.
+ * MER_ERR_INVALID when the patch does not close on its cuts. */
+static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, mer_error *err)
 {
-    float h = merp_joint_cell(b, jt);
     merp_patch pt = {.j = &jt->field, .cuts = jt->cuts};
     if (!patch_grid(b, jt, h, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
@@ -306,6 +305,26 @@ static void free_patch(merp_joint *jt)
     jt->shaft = NULL;
 }
 
+/* A patch's grid on its second try: this × the first's cell. */
+#define FINER 0.7f
+
+/* Builds jt's patch (build_patch_at). Where neither polygonizer's patch
+ * closes, once more on a finer grid: the thinnest laterals (a little over a
+ * cell per radius) leave a cut's cap so few cells near its rim that a piece
+ * of it can be cut off by the side, a second loop on that cut. The first
+ * try's bytes are kept wherever it closes. MER_ERR_INVALID (and the caller
+ * unplans the fork) when neither try does. */
+static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
+{
+    float h = merp_joint_cell(b, jt);
+    mer_result rc = build_patch_at(b, jt, h, err);
+    if (rc == MER_ERR_INVALID) {
+        free_patch(jt);
+        rc = build_patch_at(b, jt, FINER * h, err);
+    }
+    return rc;
+}
+
 /* The patches to build: each item writes only its joint and its result. */
 typedef struct patch_run {
     merp_builder *b;
@@ -333,10 +352,12 @@ static mer_result build_patches(merp_builder *b, mer_error *err)
     merp_parallel_for(b->joint_count, b->opt.threads, patch_item, &r);
     mer_result rc = MER_OK;
     for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
-        if (r.rc[i] == MER_ERR_INVALID)
+        if (r.rc[i] == MER_ERR_INVALID) {
             unplan(b, &b->joints[i]); /* this fork stays tubes */
-        else if (r.rc[i] != MER_OK)
+            b->joints_open++;
+        } else if (r.rc[i] != MER_OK) {
             rc = mer_error_set(err, r.rc[i], NULL, "out of memory for a junction");
+        }
     }
     merp_free(r.rc);
     return rc;
