@@ -145,14 +145,14 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
     }
 }
 
-/* b of the bark at p (mesh.h, Junctions): the laterals' F_b and the parent's
- * bud scale scar, σ(y)·F_b of its band (G04 §3.2: the bounding field marks
- * the PCM region's texture, Fig. 7: the scar fades). */
-static float bark_mark(const merp_jprep *jp, const float p[3])
+/* b of the bark at a point where the bound row's values are F
+ * (merp_jprep_bound_field; a bound left out is 0; mesh.h, Junctions): the
+ * laterals' F_b and the parent's bud scale scar, σ(y)·F_b of its band (G04
+ * §3.2: the bounding field marks the PCM region's texture, Fig. 7: the scar
+ * fades). */
+static float bark_mark(const merp_junction *f, const float F[MERP_ROW])
 {
-    const merp_junction *f = jp->j;
-    float F[MERP_ROW], b = 0.0f;
-    merp_jprep_bound_field(jp, p, F); /* a bound left out is 0 */
+    float b = 0.0f;
     for (uint32_t k = 0; k < f->laterals; k++) /* merp_junction_ridge */
         b = F[MERP_JBOUND_LATERAL + k] > b ? F[MERP_JBOUND_LATERAL + k] : b;
     if (f->scar_weight > 0.0f && f->out.ra > 0.0f)
@@ -192,24 +192,26 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
     merp_jprep_init(&jp, &jt->field);
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
-        merp_jprep_gradient(&jp, p, nr);
+        float F[MERP_ROW]; /* the bound row's values at p: bark_mark's */
+        merp_jprep_gradient_bounds(&jp, p, nr, F);
         for (int k = 0; k < 3; k++)
             nr[k] = -nr[k];
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
-        jt->ridge[v] = bark_mark(&jp, p) * mark_fade(b, jt, p);
-        uint32_t s = nearest_shaft(jt, &jp, p);
-        uint32_t r = v - ring_first, j = r;
-        if (v >= ring_first) /* a ring copy: its cut and place on the ring */
-            for (s = 0; j >= jt->sides[s]; s++)
-                j -= jt->sides[s];
-        jt->shaft[v] = (uint8_t)s;
-        shaft_uv(b, jt, s, p, jt->uvs + 2 * (size_t)v);
-        if (v >= ring_first) {
-            jt->uvs[2 * v] = (float)j / (float)jt->sides[s];
-            jt->uvs[2 * v + 1] = jt->v[s];
-            memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float));
+        jt->ridge[v] = bark_mark(&jt->field, F) * mark_fade(b, jt, p);
+        if (v < ring_first) {
+            uint32_t s = nearest_shaft(jt, &jp, p);
+            jt->shaft[v] = (uint8_t)s;
+            shaft_uv(b, jt, s, p, jt->uvs + 2 * (size_t)v);
+            continue;
         }
+        uint32_t s = 0, j = v - ring_first; /* a ring copy: its cut and place on the ring */
+        for (; j >= jt->sides[s]; s++)
+            j -= jt->sides[s];
+        jt->shaft[v] = (uint8_t)s;
+        jt->uvs[2 * v] = (float)j / (float)jt->sides[s];
+        jt->uvs[2 * v + 1] = jt->v[s];
+        memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float));
     }
     if (!b->opt.no_uvs)
         split_seam(jt, scratch);

@@ -354,6 +354,44 @@ static void reach_balls_hold_the_bounds(void **state)
     }
 }
 
+/* merp_jprep_gradient_bounds hands back the bound row's values bit for bit
+ * as merp_jprep_bound_field gives them (the bark's b is read from them), and
+ * the same F_g and gradient as merp_jprep_gradient: over the fork fixture's
+ * box, near and far from the bounds, as grown and with a year-1 scar. */
+static void gradient_gives_the_bounds(void **state)
+{
+    (void)state;
+    static fork_fixture f;
+    const float shift[3] = {0, 0, 0};
+    fork_fixture_init(&f, 12, 0.1f, shift);
+    for (int aged = 0; aged < 2; aged++) {
+        merp_junction j = f.j;
+        const float up[3] = {0, 1, 0};
+        if (aged)
+            merp_junction_age(&j, up, 1.0f);
+        merp_jprep jp;
+        merp_jprep_init(&jp, &j);
+        uint32_t x = 4242u, near = 0;
+        for (int i = 0; i < 20000; i++) {
+            float u[3], p[3];
+            for (int k = 0; k < 3; k++) {
+                x = x * 1664525u + 1013904223u;
+                u[k] = (float)(x >> 8) / 16777216.0f;
+            }
+            p[0] = -0.8f + 2.6f * u[0], p[1] = -1.4f + 3.3f * u[1], p[2] = -0.8f + 1.6f * u[2];
+            float F[MERP_ROW], G[MERP_ROW], g[3], h[3];
+            merp_jprep_bound_field(&jp, p, F);
+            float a = merp_jprep_gradient_bounds(&jp, p, g, G), b = merp_jprep_gradient(&jp, p, h);
+            assert_memory_equal(F, G, sizeof F);
+            assert_memory_equal(&a, &b, sizeof a);
+            assert_memory_equal(g, h, sizeof g);
+            near += F[MERP_JBOUND_LATERAL] > 0.0f;
+        }
+        print_message("points where the lateral's F_b > 0: %u of 20000\n", near);
+        assert_true(near > 100);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -368,6 +406,7 @@ int main(void)
         cmocka_unit_test(gradient_matches_differences),
         cmocka_unit_test(row_lanes_match_scalar),
         cmocka_unit_test(reach_balls_hold_the_bounds),
+        cmocka_unit_test(gradient_gives_the_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

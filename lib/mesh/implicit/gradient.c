@@ -76,10 +76,17 @@ static inline dual axis(const merp_junction *j, const merp_row_grad *seg, const 
 
 float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3])
 {
+    float F[MERP_ROW];
+    return merp_jprep_gradient_bounds(jp, p, g, F);
+}
+
+float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g[3], float bounds[MERP_ROW])
+{
     const merp_junction *j = jp->j;
     merp_row_grad seg, bnd;
     merp_row_seg_gradient(&jp->seg, p, &seg);
     merp_jprep_bound_gradient(jp, p, &bnd);
+    memcpy(bounds, bnd.f, sizeof bnd.f);
     dual A = axis(j, &seg, &bnd), L[MERP_JUNCTION_LATERALS];
     dual A_d = A, b1 = ZERO, b2 = A, F_b = ZERO;
     for (uint32_t k = 0; k < j->laterals; k++) {

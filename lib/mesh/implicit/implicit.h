@@ -409,6 +409,10 @@ void merp_jprep_init(merp_jprep *jp, const merp_junction *j);
 /* merp_junction_field and merp_junction_gradient of jp's junction. */
 float merp_jprep_field(const merp_jprep *jp, const float p[3]);
 float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3]);
+/* merp_jprep_gradient, and the bound row's values at p into `bounds`, bit
+ * for bit as merp_jprep_bound_field gives them (the gradient evaluates them
+ * anyway). */
+float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g[3], float bounds[MERP_ROW]);
 
 /* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
 float merp_junction_field(const float p[3], const void *data);
