@@ -74,9 +74,11 @@
  * stays nearly straight, and the tube and the patch share each ring vertex's
  * normal and b. A fork whose axes bend too much there, whose cuts would fall in
  * another fork's patch (thickest laterals are served first) or a living tip,
- * or whose laterals run nearly along their parent, stays tubes; so does one
- * whose patch closes neither on its grid nor on one 0.7 × as fine (counted in
- * `junctions_open`: dual contouring, else marching tetrahedra, on each). In this mode
+ * or whose laterals run nearly along their parent, stays tubes. A patch is
+ * polygonized by dual contouring, which keeps the ridge's crease sharp, on
+ * the fork's grid, else on one 0.7 × as fine; where neither closes, by
+ * marching tetrahedra on each (`junctions_smooth` counts those); a fork
+ * whose patch closes on none stays tubes (`junctions_open`). In this mode
  * every lateral that is not in a patch gets a base disk, so the whole bark is
  * closed (a 2-manifold once vertices of equal position are welded; the UV
  * seams and disks keep their own vertices). Each bark vertex then carries b = F_b(p), the bounding
@@ -186,6 +188,8 @@ typedef struct mer_mesh {
     uint32_t junctions_open; /* forks chosen for a patch that got none (it closed
                                 on neither grid, or its grid would be too
                                 large; Junctions): meshed as tubes */
+    uint32_t junctions_smooth; /* of `junctions`, the patches by marching
+                                  tetrahedra: their ridge's crease is not sharp */
 } mer_mesh;
 
 /* Meshes the living part of `scene` as the header describes. `options` may be

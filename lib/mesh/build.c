@@ -113,7 +113,7 @@ static mer_result load_nodes(merp_builder *b, mer_error *err)
 /* The mesh's exact size, known once the axes are: meshing writes exactly this
  * many vertices and indices (asserted at the end of mer_mesh_build). */
 typedef struct mesh_size {
-    uint64_t bark_vertices, bark_indices, line_indices, leaves, internodes, junctions;
+    uint64_t bark_vertices, bark_indices, line_indices, leaves, internodes, junctions, smooth;
     float twig_diameter_max;
 } mesh_size;
 
@@ -137,8 +137,10 @@ static void mesh_bound(const merp_builder *b, mesh_size *out)
         merp_mesh_joints_size(b, &v, &i);
         out->bark_vertices += v;
         out->bark_indices += i;
-        for (uint32_t k = 0; k < b->joint_count; k++)
+        for (uint32_t k = 0; k < b->joint_count; k++) {
             out->junctions += b->joints[k].ok;
+            out->smooth += b->joints[k].ok && b->joints[k].smooth;
+        }
     }
 }
 
@@ -185,6 +187,7 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
     }
     m->junctions = (uint32_t)size.junctions;
     m->junctions_open = b->joints_open;
+    m->junctions_smooth = (uint32_t)size.smooth;
     if (size.line_indices > 0) {
         m->bark.line_indices = merp_malloc(size.line_indices * sizeof(uint32_t));
         if (m->bark.line_indices == NULL)

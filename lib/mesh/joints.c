@@ -217,34 +217,28 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
         split_seam(jt, scratch);
 }
 
-/* jt's patch into m (room for either polygonizer): by dual contouring, which
- * keeps the branch bark ridge's crease sharp (G04 §3.2), or, where that patch
- * does not close (two sheets of a cell crossing one face twice on both its
- * sides, or two vertices at one position), by marching tetrahedra. *ring_first: the
- * first of the ring copies. MER_ERR_INVALID when neither closes. */
-static mer_result polygonize_patch(merp_patch *pt, const merp_joint *jt, merp_trimesh *m,
+/* jt's patch into m (room for pt->sharp's polygonizer). *ring_first: the
+ * first of the ring copies. MER_ERR_INVALID when it does not close. */
+static mer_result polygonize_patch(const merp_patch *pt, const merp_joint *jt, merp_trimesh *m,
                                    uint32_t *ring_first, mer_error *err)
 {
-    mer_result rc = MER_ERR_INVALID;
-    for (uint32_t sharp = 2; sharp-- > 0 && rc == MER_ERR_INVALID;) {
-        pt->sharp = sharp;
-        rc = merp_patch_build(pt, m, err);
-        if (rc != MER_OK)
-            continue;
-        *ring_first = m->vertex_count;
-        for (uint32_t s = 0; s < jt->cuts; s++)
-            *ring_first -= jt->sides[s];
-        if (!merp_patch_closes(m, *ring_first))
-            rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
-    }
+    mer_result rc = merp_patch_build(pt, m, err);
+    if (rc != MER_OK)
+        return rc;
+    *ring_first = m->vertex_count;
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        *ring_first -= jt->sides[s];
+    if (!merp_patch_closes(m, *ring_first))
+        rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's patch does not close");
     return rc;
 }
 
-/* Builds jt's patch on a grid of cells h into exact arrays of its own.
- * MER_ERR_INVALID when the patch does not close on its cuts. */
-static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, mer_error *err)
+/* Builds jt's patch on a grid of cells h by dual contouring (sharp) or
+ * marching tetrahedra into exact arrays of its own. MER_ERR_INVALID when the
+ * patch does not close on its cuts. */
+static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, uint32_t sharp, mer_error *err)
 {
-    merp_patch pt = {.j = &jt->field, .cuts = jt->cuts};
+    merp_patch pt = {.j = &jt->field, .cuts = jt->cuts, .sharp = sharp};
     if (!patch_grid(b, jt, h, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
     for (uint32_t s = 0; s < jt->cuts; s++) {
@@ -255,12 +249,8 @@ static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, mer_e
         c->ring = jt->ring[s];
         c->sides = jt->sides[s];
     }
-    uint64_t vmax = 0, tmax = 0;
-    for (pt.sharp = 0; pt.sharp < 2; pt.sharp++) { /* room for either polygonizer */
-        uint64_t v, t;
-        merp_patch_bound(&pt, &v, &t);
-        vmax = v > vmax ? v : vmax, tmax = t > tmax ? t : tmax;
-    }
+    uint64_t vmax, tmax;
+    merp_patch_bound(&pt, &vmax, &tmax);
     merp_trimesh m = {0};
     m.positions = merp_malloc(vmax * 3 * sizeof(float));
     /* No normals: patch_attributes takes them from the unclipped field. */
@@ -307,22 +297,30 @@ static void free_patch(merp_joint *jt)
     jt->shaft = NULL;
 }
 
-/* A patch's grid on its second try: this × the first's cell. */
+/* A patch's finer grid: this × the first's cell. */
 #define FINER 0.7f
 
-/* Builds jt's patch (build_patch_at). Where neither polygonizer's patch
- * closes, once more on a finer grid: the thinnest laterals (a little over a
- * cell per radius) leave a cut's cap so few cells near its rim that a piece
- * of it can be cut off by the side, a second loop on that cut. The first
- * try's bytes are kept wherever it closes. MER_ERR_INVALID (and the caller
- * unplans the fork) when neither try does. */
+/* Builds jt's patch (build_patch_at), trying in turn: dual contouring, which
+ * keeps the branch bark ridge's crease sharp (G04 §3.2), on the fork's grid
+ * and on a finer one; then marching tetrahedra on both. Dual contouring's
+ * patch may not close where two sheets of a cell cross one face twice, or
+ * two vertices fall at one position; either's where the thinnest laterals (a
+ * little over a cell per radius) leave a cut's cap so few cells near its rim
+ * that the side cuts a piece of it off, a second loop on that cut. The first
+ * patch that closes is kept. MER_ERR_INVALID (and the caller unplans the
+ * fork) when none does. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
 {
+    static const struct {
+        float scale;
+        uint32_t sharp;
+    } tries[] = {{1.0f, 1}, {FINER, 1}, {1.0f, 0}, {FINER, 0}};
     float h = merp_joint_cell(b, jt);
-    mer_result rc = build_patch_at(b, jt, h, err);
-    if (rc == MER_ERR_INVALID) {
+    mer_result rc = MER_ERR_INVALID;
+    for (size_t t = 0; t < sizeof tries / sizeof *tries && rc == MER_ERR_INVALID; t++) {
         free_patch(jt);
-        rc = build_patch_at(b, jt, FINER * h, err);
+        rc = build_patch_at(b, jt, tries[t].scale * h, tries[t].sharp, err);
+        jt->smooth = !tries[t].sharp;
     }
     return rc;
 }

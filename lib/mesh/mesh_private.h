@@ -58,6 +58,7 @@ typedef struct merp_joint {
                                        tube and the patch give each ring vertex */
     uint32_t sides[MERP_PATCH_CUTS];
     bool ok;                        /* planned, and its patch built */
+    bool smooth;                    /* ... by marching tetrahedra (no sharp crease) */
     merp_junction field;
     merp_trimesh mesh;              /* the patch, ring copies last */
     float *uvs, *ridge;             /* 2 and 1 per patch vertex */

@@ -84,7 +84,7 @@ int main(int argc, char **argv)
     mer_gltf_options gopt = {.compression = compact ? MER_GLTF_MESHOPT : MER_GLTF_UNCOMPRESSED};
     double best_mesh = 1e9, best_glb = 1e9, best_cpu = 1e9, cold = 0;
     size_t bytes = 0;
-    uint32_t triangles = 0, vertices = 0, junctions = 0, open = 0;
+    uint32_t triangles = 0, vertices = 0, junctions = 0, open = 0, smooth = 0;
     const int reps = sum.internodes > 100000 || implicit ? 3 : 20;
     for (int r = 0; r < reps; r++) {
         double c0 = cpu_now(), t0 = now();
@@ -104,6 +104,7 @@ int main(int argc, char **argv)
         vertices = mesh->bark.vertex_count;
         junctions = mesh->junctions;
         open = mesh->junctions_open;
+        smooth = mesh->junctions_smooth;
         mer_gltf_free(glb);
         mer_mesh_free(mesh);
         if (r == 0)
@@ -117,7 +118,8 @@ int main(int argc, char **argv)
     }
     double total = best_mesh + best_glb;
     if (implicit)
-        printf("implicit junctions %u (%u left as tubes)  threads %u  ", junctions, open, threads);
+        printf("implicit junctions %u (%u by marching tetrahedra, %u left as tubes)  threads %u  ", junctions,
+               smooth, open, threads);
     printf("%s  internodes %u  steps %u  detail %u  vertices %u  triangles %u  "
            "mesh %.1f ms  glb %.1f ms  total %.1f ms (cpu %.1f ms; first run %.1f ms)  %.1f Mtriangles/s  %zu bytes  "
            "%.1f bytes/internode\n",
