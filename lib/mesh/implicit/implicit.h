@@ -473,8 +473,12 @@ void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triang
  * ring's), walking both by angle about n. With dual contouring, the vertex
  * of each cell the cap crosses is moved onto its cut plane (it lies on the
  * crease between cap and tube, up to the QEF's regularisation), so each loop
- * lies in its plane. The result's only open edges are the rings' (so a tube
- * that shares the ring closes it), wound outwards.
+ * lies in its plane; each loop vertex is then moved in that plane, along
+ * its ray from o, to just inside the ring's polygon (the surface at a cut is
+ * the plain tube, so this undoes the polygonizer's error of up to a cell,
+ * which the zip would show as a ledge round the shaft). The result's only
+ * open edges are the rings' (so a tube that shares the ring closes it),
+ * wound outwards.
  * `out` holds merp_patch_bound's counts; unused polygonizer vertices are
  * dropped. Errors: MER_ERR_NOMEM; MER_ERR_INVALID when a cut leaves no single
  * loop (the grid or cuts do not fit the junction). Cost: the polygonizer's,

@@ -158,6 +158,53 @@ static float wrap_2pi(float a)
     return a;
 }
 
+/* Moves each vertex of the loop L, in its cut's plane, along its ray from
+ * the cut's centre onto the ring's polygon (the edge between the two ring
+ * vertices whose angles φ, sorted by `order`, bracket its own). The
+ * polygonizer leaves a loop vertex up to a cell off the surface (a cell the
+ * cap crosses with no crossing of the tube in it puts its vertex inside),
+ * and the flat band zipped between loop and ring would show that as a ledge
+ * round the shaft; seated on the ring's edges the band folds flat to
+ * nothing and the shaft runs into the patch without a step. The surface at
+ * a cut is the plain tube (the plan places cuts so), whose section the ring
+ * is, so this moves a vertex by the polygonizer's error and the polygon's
+ * sag, never across the shaft. Angles are unchanged, so the zip's order
+ * stays. Each vertex stops SEAT_INSET of its distance short of the edge: a
+ * loop vertex at a ring vertex's angle (the grid and the ring often share
+ * a diagonal) would otherwise take that vertex's very position, which the
+ * closure check (and a welding importer) reads as one vertex. */
+#define SEAT_INSET 1e-3f
+static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], const float v[3], float a0,
+                      float sgn, const uint32_t *L, uint32_t m_len, const float *phi, const uint32_t *order)
+{
+    uint32_t s = c->sides;
+    for (uint32_t i = 0; i < m_len; i++) {
+        float *p = m->positions + 3 * (size_t)L[i];
+        float d[3] = {p[0] - c->o[0], p[1] - c->o[1], p[2] - c->o[2]};
+        float x = v3_dot(d, u), y = v3_dot(d, v), len = sqrtf(x * x + y * y);
+        if (!(len > 0.0f))
+            continue; /* on the axis: no direction to seat it along */
+        x /= len, y /= len;
+        float a = wrap_2pi(sgn * (atan2f(y, x) - a0));
+        uint32_t k = 0; /* the last ring vertex at or before a, cyclically */
+        while (k + 1 < s && phi[order[k + 1]] <= a)
+            k++;
+        if (phi[order[0]] > a)
+            k = s - 1;
+        const float *pa = c->ring + 3 * (size_t)order[k], *pb = c->ring + 3 * (size_t)order[(k + 1) % s];
+        float da[3] = {pa[0] - c->o[0], pa[1] - c->o[1], pa[2] - c->o[2]};
+        float db[3] = {pb[0] - c->o[0], pb[1] - c->o[1], pb[2] - c->o[2]};
+        float ax = v3_dot(da, u), ay = v3_dot(da, v), ex = v3_dot(db, u) - ax, ey = v3_dot(db, v) - ay;
+        /* The ray t·(x, y) meets a + σ·e where t = (a × e) / ((x, y) × e). */
+        float den = x * ey - y * ex, t = (ax * ey - ay * ex) / den;
+        if (!(den != 0.0f && t > 0.0f))
+            continue; /* a ring that is no convex polygon about o: leave it */
+        t *= 1.0f - SEAT_INSET;
+        for (int q = 0; q < 3; q++)
+            p[q] = c->o[q] + t * (x * u[q] + y * v[q]);
+    }
+}
+
 /* Appends cut c's ring to m (normals radial) and zips the loop L (m_len
  * vertices in the patch's direction) to it by angle about n: a triangle
  * (L_{i+1}, L_i, R_j) when the loop's next vertex comes first, (R_j, R_{j+1},
@@ -208,6 +255,7 @@ static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, 
             uint32_t t = order[k];
             order[k] = order[k - 1], order[k - 1] = t;
         }
+    seat_loop(m, c, u, v, a0, sgn, L, m_len, phi, order);
     uint32_t i = 0, j = 0, s = c->sides;
     while (i < m_len || j < s) {
         float next_ring = j + 1 < s ? phi[order[j + 1]] : phi[order[0]] + MERP_TWO_PI;
