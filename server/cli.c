@@ -157,16 +157,23 @@ static int grow(const grow_args *a)
             .compression = a->compression};
         merd_origin origin = {.preset = a->preset, .seed = a->seed};
         uint8_t *bytes = NULL;
-        size_t size = 0, triangles = 0;
+        size_t size = 0;
+        merd_export_counts counts = {0};
         mer_result rc = merd_export_tree(scene, &a->mesh, &gopt, &origin, &bytes, &size,
-                                         &triangles, &err);
+                                         &counts, &err);
         if (rc != MER_OK) {
             json_decref(summary);
             // Triangles are counted once the tree is meshed (a tree has at least one).
-            status = fail(triangles ? "cannot encode glTF" : "cannot mesh the tree", &err);
+            status = fail(counts.triangles ? "cannot encode glTF" : "cannot mesh the tree", &err);
             goto done;
         }
-        json_object_set_new(summary, "triangles", json_integer((json_int_t)triangles));
+        json_object_set_new(summary, "triangles", json_integer((json_int_t)counts.triangles));
+        if (a->mesh.junctions == MER_JUNCTIONS_IMPLICIT)
+            json_object_set_new(summary, "junctions",
+                                json_pack("{s:I, s:I, s:I, s:I}", "patches", (json_int_t)counts.junctions,
+                                          "smooth", (json_int_t)counts.junctions_smooth, "open",
+                                          (json_int_t)counts.junctions_open, "unfit",
+                                          (json_int_t)counts.junctions_unfit));
         status = write_file(a->output, bytes, size);
         mer_gltf_free(bytes);
         json_object_set_new(summary, "bytes", json_integer((json_int_t)size));

@@ -20,7 +20,7 @@ uint32_t merd_export_patch_threads(uint32_t jobs)
 
 mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh,
                             const mer_gltf_options *gltf, const merd_origin *origin,
-                            uint8_t **bytes, size_t *size, size_t *triangles, mer_error *err)
+                            uint8_t **bytes, size_t *size, merd_export_counts *counts, mer_error *err)
 {
     mer_mesh_options o = *mesh;
     if (o.junctions != MER_JUNCTIONS_TUBES && o.threads == 0)
@@ -40,8 +40,12 @@ mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh
                           .color = mesh->color,
                           .internode_length = (double)mer_scene_params(scene)->internode_length};
     rc = mer_gltf_write_tree(m, &meta, gltf, bytes, size, err);
-    if (triangles != NULL)
-        *triangles = (m->bark.index_count + m->leaves.index_count) / 3;
+    if (counts != NULL)
+        *counts = (merd_export_counts){.triangles = (m->bark.index_count + m->leaves.index_count) / 3,
+                                       .junctions = m->junctions,
+                                       .junctions_smooth = m->junctions_smooth,
+                                       .junctions_open = m->junctions_open,
+                                       .junctions_unfit = m->junctions_unfit};
     mer_mesh_free(m);
     return rc;
 }

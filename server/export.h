@@ -24,14 +24,22 @@ typedef struct merd_origin {
  * the cores. Cost: a sysconf call. */
 uint32_t merd_export_patch_threads(uint32_t jobs);
 
+/* What a mesh held, for a summary: triangles, and its implicit junctions
+ * (mer_mesh's counts of the same names; all 0 with tubes). */
+typedef struct merd_export_counts {
+    size_t triangles;
+    uint32_t junctions, junctions_smooth, junctions_open, junctions_unfit;
+} merd_export_counts;
+
 /* Meshes `scene` with `mesh` options (implicit junctions on all the machine's
  * cores, merd_export_patch_threads(1), when `mesh` asks for no thread count:
  * one offline export) and encodes it with `gltf` options into
- * *bytes (*size; caller frees with mer_gltf_free). `*triangles` (may be NULL)
- * gets the mesh's triangle count, also on an encoding failure. MER_OK, or the
- * library's failure with `err` filled. Costs a full mesh build. */
+ * *bytes (*size; caller frees with mer_gltf_free). `*counts` (may be NULL)
+ * gets the mesh's counts once it is built, also on an encoding failure
+ * (triangles stay 0 when meshing fails). MER_OK, or the library's failure
+ * with `err` filled. Costs a full mesh build. */
 mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh,
                             const mer_gltf_options *gltf, const merd_origin *origin,
-                            uint8_t **bytes, size_t *size, size_t *triangles, mer_error *err);
+                            uint8_t **bytes, size_t *size, merd_export_counts *counts, mer_error *err);
 
 #endif

@@ -74,7 +74,8 @@
  * stays nearly straight, and the tube and the patch share each ring vertex's
  * normal and b. A fork whose axes bend too much there, whose cuts would fall in
  * another fork's patch (thickest laterals are served first) or a living tip,
- * or whose laterals run nearly along their parent, stays tubes. A patch is
+ * or whose laterals run nearly along their parent, stays tubes
+ * (`junctions_unfit` counts those). A patch is
  * polygonized by dual contouring, which keeps the ridge's crease sharp, on
  * the fork's grid, else on one 0.7 × as fine; where neither closes, by
  * marching tetrahedra on each (`junctions_smooth` counts those); a fork
@@ -190,6 +191,11 @@ typedef struct mer_mesh {
                                 large; Junctions): meshed as tubes */
     uint32_t junctions_smooth; /* of `junctions`, the patches by marching
                                   tetrahedra: their ridge's crease is not sharp */
+    uint32_t junctions_unfit; /* forks thick enough, with a lateral thick
+                                 enough, that no patch fits (Junctions: axes
+                                 that bend, cuts in another fork's patch or a
+                                 living tip, a lateral along its parent):
+                                 meshed as tubes */
 } mer_mesh;
 
 /* Meshes the living part of `scene` as the header describes. `options` may be

@@ -187,6 +187,7 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
     }
     m->junctions = (uint32_t)size.junctions;
     m->junctions_open = b->joints_open;
+    m->junctions_unfit = b->joints_unfit;
     m->junctions_smooth = (uint32_t)size.smooth;
     if (size.line_indices > 0) {
         m->bark.line_indices = merp_malloc(size.line_indices * sizeof(uint32_t));

@@ -400,6 +400,7 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         }
         b->joint_count++;
     }
+    b->joints_unfit = count - b->joint_count;
     merp_free(c), merp_free(cl.lo), merp_free(cl.hi);
     return rc;
 }

@@ -95,6 +95,7 @@ typedef struct merp_builder {
     merp_joint *joints;
     uint32_t joint_count;
     uint32_t joints_open;   /* chosen, but no patch closed: left as tubes */
+    uint32_t joints_unfit;  /* candidates no patch was planned for: tubes */
     uint32_t *joint_at;     /* by node id: the joint at its tip, or UINT32_MAX */
     uint32_t *lateral_in;   /* by node id: joint · MERP_PATCH_CUTS + cut of a lateral
                                whose shaft starts in a patch, or UINT32_MAX */

@@ -33,6 +33,21 @@ test('the same preset, seed and steps give byte-identical GLBs', () => {
   fs.rmSync(out('cli-same-b.glb'));
 });
 
+test('--junctions implicit reports its patches in the summary; tubes report none', () => {
+  const r = run(['grow', '--preset', 'fig7-bh-0.54', '--steps', '12', '--seed', '1', '--junctions', 'implicit',
+    '-o', out('cli-junctions.glb')]);
+  assert.equal(r.status, 0, r.stderr);
+  const j = JSON.parse(r.stdout).junctions;
+  assert.ok(j.patches > 20, JSON.stringify(j));
+  assert.equal(j.open, 0);
+  assert.ok(j.smooth <= j.patches);
+  // The thick forks of a trunk whose internodes are shorter than their cuts need.
+  assert.ok(j.unfit > 0 && j.unfit < j.patches, JSON.stringify(j));
+  const tubes = run(['grow', '--preset', 'fig7-bh-0.54', '--steps', '12', '--seed', '1', '-o', out('cli-tubes.glb')]);
+  assert.equal(JSON.parse(tubes.stdout).junctions, undefined);
+  fs.rmSync(out('cli-tubes.glb'));
+});
+
 test('--set overrides a parameter and --color, --markers, .gltf work', () => {
   const r = run(['grow', '--preset', 'fig4-colonization', '--steps', '10', '--set', 'theta=120',
     '--markers', '--color', 'light', '-o', out('cli-colonization.gltf')]);

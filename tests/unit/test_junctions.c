@@ -124,6 +124,33 @@ static void whole_tree_is_closed(void **state)
     mer_scene_free(s);
 }
 
+/* The forks meristem/mesh.h chooses for a patch, counted from the scene's
+ * nodes: a living parent at least a fifth of the thickest diameter with a
+ * living lateral at least a quarter of its own. */
+static uint32_t chosen_forks(const mer_scene *s)
+{
+    uint32_t n = mer_scene_node_bound(s), chosen = 0;
+    mer_node *nodes = calloc(n, sizeof *nodes);
+    mer_error err;
+    float thickest = 0.0f;
+    for (uint32_t id = 0; id < n; id++) {
+        assert_int_equal(mer_scene_node(s, id, &nodes[id], &err), MER_OK);
+        if (nodes[id].alive)
+            thickest = fmaxf(thickest, nodes[id].diameter);
+    }
+    for (uint32_t id = 0; id < n; id++) {
+        const mer_node *p = &nodes[id];
+        bool lateral = false;
+        for (int k = 0; k < 2; k++) {
+            uint32_t L = p->lateral_child[k];
+            lateral |= L != MER_NO_NODE && nodes[L].alive && nodes[L].diameter >= 0.25f * p->diameter;
+        }
+        chosen += p->alive && p->diameter >= 0.2f * thickest && lateral;
+    }
+    free(nodes);
+    return chosen;
+}
+
 /* Every fork chosen for a patch gets one: three trees in each of which one
  * fork's thin lateral (a little over a cell per radius) left a cut's cap so
  * few cells near its rim that neither polygonizer's patch closed on the
@@ -146,11 +173,14 @@ static void chosen_forks_get_patches(void **state)
         mer_mesh *m = NULL;
         const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
         assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
-        print_message("%s seed %u: %u forks patched (%u by marching tetrahedra), %u left open\n",
+        print_message("%s seed %u: %u forks patched (%u by marching tetrahedra), %u left open, %u unfit\n",
                       trees[t].preset, (unsigned)trees[t].seed, m->junctions, m->junctions_smooth,
-                      m->junctions_open);
+                      m->junctions_open, m->junctions_unfit);
         assert_true(m->junctions > 20);
         assert_int_equal(m->junctions_open, 0);
+        /* Every chosen fork is counted once: patched, open or unfit. */
+        assert_int_equal(m->junctions + m->junctions_open + m->junctions_unfit, chosen_forks(s));
+        assert_true(m->junctions_unfit < m->junctions);
         mer_mesh_free(m);
         assert_true(closed_with_junctions(s) > 20);
         mer_scene_free(s);
