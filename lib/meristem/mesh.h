@@ -72,10 +72,12 @@
  * patch is stitched to those rings, so bark is one closed surface there; a
  * shaft runs across as many short internodes as its cut needs while its axis
  * stays nearly straight, and the tube and the patch share each ring vertex's
- * normal and b. A fork whose axes bend too much there, whose cuts would fall in
- * another fork's patch (thickest laterals are served first) or a living tip,
- * or whose laterals run nearly along their parent, stays tubes
- * (`junctions_unfit` counts those). A patch is
+ * normal and b; a continuation or lateral may be cut in a growing tip's last
+ * internode, whose cone then runs from the cut ring to the apex. A fork at a
+ * living tip (no continuation beyond it), whose axes bend too much there,
+ * whose cuts would fall in another fork's patch (thickest laterals are served
+ * first) or past a growing tip's apex, or whose laterals run nearly along
+ * their parent, stays tubes (`junctions_unfit` counts those). A patch is
  * polygonized by dual contouring, which keeps the ridge's crease sharp, on
  * the fork's grid, else on one 0.7 × as fine; where neither closes, by
  * marching tetrahedra on each (`junctions_smooth` counts those); a fork
@@ -193,8 +195,8 @@ typedef struct mer_mesh {
                                   tetrahedra: their ridge's crease is not sharp */
     uint32_t junctions_unfit; /* forks thick enough, with a lateral thick
                                  enough, that no patch fits (Junctions: axes
-                                 that bend, cuts in another fork's patch or a
-                                 living tip, a lateral along its parent):
+                                 that bend, cuts in another fork's patch or
+                                 past a tip, a lateral along its parent):
                                  meshed as tubes */
 } mer_mesh;
 

@@ -23,14 +23,17 @@
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
 
-/* A living tip's last internode is a cone (tube.c): no cut fits in it. */
-static bool usable(const merp_builder *b, uint32_t id)
+/* Whether a shaft may cross or be cut in internode id. A living tip's last
+ * internode is a cone (tube.c): a shaft may end in it (`cone`: the tube
+ * then runs from the cut ring to the apex), but a fork at its tip has no
+ * shaft beyond it. */
+static bool usable(const merp_builder *b, uint32_t id, bool cone)
 {
     if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || b->nodes[id].length <= 0.0f)
         return false;
     const mer_node *n = &b->nodes[id];
     bool child = n->main_child != MER_NO_NODE && b->nodes[n->main_child].alive;
-    return child || n->terminal_bud == MER_BUD_NONE;
+    return cone || child || n->terminal_bud == MER_BUD_NONE;
 }
 
 static void segment_of(const merp_builder *b, uint32_t id, merp_seg *s)
@@ -111,7 +114,7 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
     float arc = 0.0f;
     uint32_t id = first;
     for (uint32_t passed = 0;; passed++) {
-        if (!usable(b, id) || passed > MAX_SPAN)
+        if (!usable(b, id, !back) || passed > MAX_SPAN)
             return false;
         const mer_node *n = &b->nodes[id];
         float len = n->length, gap = CUT_GAP * merp_node_radius(b, id);
@@ -230,7 +233,7 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
 {
     const mer_node *p = &b->nodes[P];
     uint32_t C = p->main_child;
-    if (!usable(b, P) || !usable(b, C))
+    if (!usable(b, P, false) || !usable(b, C, true))
         return false;
     *jt = (merp_joint){.start = {P, C}, .cuts = 2};
     merp_junction *f = &jt->field;
@@ -239,7 +242,7 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
     f->w = PCM_WIDTH;
     for (int k = 0; k < 2; k++) {
         uint32_t L = p->lateral_child[k];
-        if (!usable(b, L) || b->nodes[L].diameter < LATERAL_RATIO * p->diameter)
+        if (!usable(b, L, true) || b->nodes[L].diameter < LATERAL_RATIO * p->diameter)
             continue;
         const merp_axis *a = axis_from(b, L);
         float gap[3];

@@ -294,19 +294,21 @@ static void compact(merp_trimesh *m, uint32_t *remap)
 }
 
 /* Walks cut i's one boundary loop into L (its length in *len), marking its
- * vertices used (next[] set to UINT32_MAX − 1). */
-static mer_result take_loop(const merp_trimesh *m, const int8_t *on_cut, uint32_t *next, uint32_t i,
-                            uint32_t *L, uint32_t *len, mer_error *err)
+ * vertices used (next[] set to UINT32_MAX − 1). Only the polygonizer's
+ * first `vertices` have next[] and on_cut[]: the ring copies appended
+ * after them by the cuts stitched so far have neither. */
+static mer_result take_loop(const int8_t *on_cut, uint32_t *next, uint32_t vertices, uint32_t i, uint32_t *L,
+                            uint32_t *len, mer_error *err)
 {
     uint32_t start = UINT32_MAX;
-    for (uint32_t v = 0; v < m->vertex_count && start == UINT32_MAX; v++)
+    for (uint32_t v = 0; v < vertices && start == UINT32_MAX; v++)
         if (next[v] < UINT32_MAX - 1 && on_cut[v] == (int8_t)i)
             start = v;
     if (start == UINT32_MAX)
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's cut %u has no loop", i);
     uint32_t n = 0, v = start;
     do {
-        if (next[v] >= UINT32_MAX - 1 || on_cut[v] != (int8_t)i || n == m->vertex_count)
+        if (next[v] >= UINT32_MAX - 1 || on_cut[v] != (int8_t)i || n == vertices)
             return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's loop at cut %u is broken", i);
         L[n++] = v;
         uint32_t w = next[v];
@@ -460,7 +462,7 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int8_t *on_c
     uint32_t vertices = m->vertex_count;
     for (uint32_t i = 0; i < pt->cuts && rc == MER_OK; i++) {
         uint32_t len = 0;
-        rc = take_loop(m, on_cut, next, i, L, &len, err);
+        rc = take_loop(on_cut, next, vertices, i, L, &len, err);
         if (rc == MER_OK)
             rc = stitch(m, &pt->cut[i], L, len, scratch, order, err);
     }
