@@ -76,8 +76,9 @@
  * internode, whose cone then runs from the cut ring to the apex. A fork at a
  * living tip (no continuation beyond it), whose axes bend too much there,
  * whose cuts would fall in another fork's patch (thickest laterals are served
- * first) or past a growing tip's apex, or whose laterals run nearly along
- * their parent, stays tubes (`junctions_unfit` counts those). A patch is
+ * first) or past a growing tip's apex, whose cut ring would be under 0.4 of
+ * its grid's cell in radius, or whose laterals run nearly along their parent,
+ * stays tubes (`junctions_unfit` counts those). A patch is
  * polygonized by dual contouring, which keeps the ridge's crease sharp, on
  * the fork's grid, else on one 0.7 × as fine; where neither closes, by
  * marching tetrahedra on each (`junctions_smooth` counts those); a fork

@@ -22,6 +22,7 @@
 #define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
+#define THIN_CUT 0.4f        /* a cut ring at least this many cells in radius */
 
 /* Whether a shaft may cross or be cut in internode id. A living tip's last
  * internode is a cone (tube.c): a shaft may end in it (`cone`: the tube
@@ -302,6 +303,15 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
         if (pass + 1 == REPLANS)
             return false; /* still thickening: the axis is no shaft for a patch */
     }
+    /* A cut ring under THIN_CUT cells in radius: its loop on the grid is
+     * a cell or two, and no polygonizer's patch closed on it (fig6-sylleptic,
+     * whose continuations are far thinner than their laterals and taper
+     * fast beyond them: 119 of 171 open patches; the rest of its forks, and
+     * every other preset's, are unchanged by it). Such a fork is not
+     * planned, so its shafts are free for the forks beside it. */
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        if (merp_cut_radius(b, jt, s) < THIN_CUT * h)
+            return false;
     place_cuts(b, cl, first, need, h, true, jt);
     float ridge_up[3];
     memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
