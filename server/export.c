@@ -22,6 +22,8 @@ mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh
                             const mer_gltf_options *gltf, const merd_origin *origin,
                             uint8_t **bytes, size_t *size, merd_export_counts *counts, mer_error *err)
 {
+    if (counts != NULL)
+        *counts = (merd_export_counts){0};
     mer_mesh_options o = *mesh;
     if (o.junctions != MER_JUNCTIONS_TUBES && o.threads == 0)
         o.threads = merd_export_patch_threads(1);

@@ -195,10 +195,12 @@ typedef struct mer_mesh {
     uint32_t junctions_smooth; /* of `junctions`, the patches by marching
                                   tetrahedra: their ridge's crease is not sharp */
     uint32_t junctions_unfit; /* forks thick enough, with a lateral thick
-                                 enough, that no patch fits (Junctions: axes
-                                 that bend, cuts in another fork's patch or
-                                 past a tip, a lateral along its parent):
-                                 meshed as tubes */
+                                 enough, that no patch fits (Junctions: a
+                                 fork at a living tip, axes that bend or
+                                 still thicken past the cuts, cuts in
+                                 another fork's patch, past a tip or in a
+                                 ring under 0.4 cells, a lateral along its
+                                 parent or drawn as a twig): meshed as tubes */
 } mer_mesh;
 
 /* Meshes the living part of `scene` as the header describes. `options` may be

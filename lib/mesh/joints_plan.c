@@ -123,8 +123,8 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
             float at = back ? len - (need - arc) : need - arc;
             bool taken = back ? at <= cl->lo[id] + gap || cl->hi[id] < len
                               : cl->lo[id] > 0.0f || at >= cl->hi[id] - gap;
-            if (taken)
-                return false;
+            if (taken || (!back && !usable(b, id, false) && len - at < merp_node_radius(b, id)))
+                return false; /* ... or a tip's cone left under a radius long: a flat disk */
             if (mark && back)
                 cl->hi[id] = at;
             else if (mark)

@@ -18,6 +18,8 @@ typedef struct tube {
     uint32_t prev_ring;         /* the last ring's first vertex */
     float t_prev[3], normal[3]; /* the last ring's tangent and frame normal */
     float v;                    /* arc length / circumference so far (UV v) */
+    float last_v, last_at, last_r; /* the last ring's v, its distance along its
+                                      internode (a cut's; 0 at a base) and radius */
 } tube;
 
 /* Carries the frame normal `normal` from tangent `from` to tangent `to` by the
@@ -160,6 +162,7 @@ static void ring(merp_builder *b, tube *tb, uint32_t i, bool join)
         span += b->nodes[b->chain[k < count ? k : count - 1]].length;
     float slope = span > 0.0f ? (r[lo] - r[hi]) / span : 0.0f;
     emit_ring(b, tb, center, t, r[i], slope, tb->v, owner, join, NULL, 0);
+    tb->last_v = tb->v, tb->last_at = 0.0f, tb->last_r = r[i];
 }
 
 /* Joint jt's cut ring `cut`, at its distance along the axis's internode k,
@@ -176,8 +179,9 @@ static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, ui
     }
     float slope = n->length > 0.0f ? (r[k] - r[k + 1]) / n->length : 0.0f;
     float circumference = MERP_TWO_PI * 0.5f * (r[k] + r[k + 1]);
-    float v = tb->v + (circumference > 0.0f ? s / circumference : 0.0f);
-    emit_ring(b, tb, center, t, r[k] + (r[k + 1] - r[k]) * f, slope, v, n, join, jt, cut);
+    float v = tb->v + (circumference > 0.0f ? s / circumference : 0.0f), radius = r[k] + (r[k + 1] - r[k]) * f;
+    emit_ring(b, tb, center, t, radius, slope, v, n, join, jt, cut);
+    tb->last_v = v, tb->last_at = s, tb->last_r = radius;
 }
 
 /* The rings of an axis with implicit junctions, with `emit` written (or, on
@@ -259,8 +263,10 @@ static void tip(merp_builder *b, tube *tb)
         disk(b, tb, top_ring, end, tb->t_prev, 1.0f, false, last);
         return;
     }
-    float circumference = MERP_TWO_PI * 0.5f * b->radii[a->count - 1];
-    tb->v += circumference > 0.0f ? last->length / circumference : 0.0f;
+    /* The cone from the last ring (its base, or a patch's cut in it) to the
+     * apex: v runs on by its length over its mean circumference, π r. */
+    float circumference = MERP_TWO_PI * 0.5f * tb->last_r;
+    tb->v = tb->last_v + (circumference > 0.0f ? (last->length - tb->last_at) / circumference : 0.0f);
     uint32_t apex = merp_put_vertex(c, end, last->dir, 0.5f, tb->v, last);
     merp_mesh_color(b, c->part, apex, 1, last);
     for (uint32_t j = 0; j < tb->sides; j++)

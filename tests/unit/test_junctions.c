@@ -178,7 +178,10 @@ static void chosen_forks_get_patches(void **state)
                       m->junctions_open, m->junctions_unfit);
         assert_true(m->junctions > 20);
         assert_int_equal(m->junctions_open, 0);
-        /* Every chosen fork is counted once: patched, open or unfit. */
+        /* The forks the mesher chooses are those mesh.h describes, and each
+         * is counted once: patched, open or unfit (unfit is what the
+         * planner did not plan, so this checks the choice and the sum,
+         * not which heading a fork lands under). */
         assert_int_equal(m->junctions + m->junctions_open + m->junctions_unfit, chosen_forks(s));
         assert_true(m->junctions_unfit < m->junctions);
         /* The fig9 trees' forks all fit: 21 and 3 did not while no shaft could
@@ -222,6 +225,72 @@ static void sylleptic_forks_mesh(void **state)
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open\n", patched, open);
     assert_true(patched > 300);
     assert_true(5 * open < patched);
+}
+
+/* A living tip's cone, from its last ring (at the base of its internode,
+ * or a patch's cut ring in it) to the apex: the bark's v runs on by the
+ * cone's length over its mean circumference, π r. For each apex of the
+ * bark (the vertex at a living tip's end), v_apex − v_ring = d / (π r),
+ * d the distance from the ring's centre to the apex and r its radius, both
+ * read from the mesh. While v ran on from the internode's base whatever
+ * the cut, the cones cut by a patch were off by up to 2.8 ×. */
+static void cone_v_follows_its_length(void **state)
+{
+    (void)state;
+    mer_params p;
+    mer_error err;
+    assert_int_equal(mer_preset_params("fig9-priority-k0.5", &p, &err), MER_OK);
+    mer_scene *s = NULL;
+    assert_int_equal(mer_scene_new(&p, 4, &s, &err), MER_OK);
+    assert_int_equal(mer_scene_step(s, 14, NULL, NULL, NULL, NULL, &err), MER_OK);
+    mer_mesh *m = NULL;
+    const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+    const mer_mesh_part *bk = &m->bark;
+    uint32_t *tri = malloc(bk->index_count * sizeof *tri), cones = 0, cut = 0;
+    for (uint32_t c = 0; c < bk->chunk_count; c++) {
+        const mer_mesh_chunk *ch = &bk->chunks[c];
+        for (uint32_t k = 0; k < ch->index_count; k++)
+            tri[ch->first_index + k] = ch->first_vertex + bk->indices[ch->first_index + k];
+    }
+    for (uint32_t a = 0; a < bk->vertex_count; a++) {
+        mer_node n;
+        assert_int_equal(mer_scene_node(s, bk->node_ids[a], &n, &err), MER_OK);
+        float tip[3];
+        merp_tip_of(&n, tip);
+        if (n.main_child != MER_NO_NODE || n.terminal_bud == MER_BUD_NONE ||
+            memcmp(tip, bk->positions + 3 * (size_t)a, sizeof tip) != 0)
+            continue;
+        /* The ring: the apex's neighbours. */
+        float centre[3] = {0, 0, 0}, v_ring = 0.0f, r = 0.0f;
+        uint32_t ring[64], nr = 0;
+        for (uint32_t t = 0; t < bk->index_count / 3; t++)
+            for (int k = 0; k < 3; k++)
+                if (tri[3 * t + k] == a)
+                    for (int q = 1; q < 3 && nr < 64; q++)
+                        ring[nr++] = tri[3 * t + (k + q) % 3];
+        assert_true(nr > 0);
+        for (uint32_t i = 0; i < nr; i++)
+            for (int k = 0; k < 3; k++)
+                centre[k] += bk->positions[3 * (size_t)ring[i] + k] / (float)nr;
+        for (uint32_t i = 0; i < nr; i++) {
+            float d[3];
+            for (int k = 0; k < 3; k++)
+                d[k] = bk->positions[3 * (size_t)ring[i] + k] - centre[k];
+            r += sqrtf(dot3(d, d)) / (float)nr;
+            v_ring += bk->uvs[2 * (size_t)ring[i] + 1] / (float)nr;
+        }
+        float d[3] = {tip[0] - centre[0], tip[1] - centre[1], tip[2] - centre[2]};
+        float want = sqrtf(dot3(d, d)) / (3.14159265f * r), got = bk->uvs[2 * (size_t)a + 1] - v_ring;
+        assert_float_equal(got, want, 0.02f * want + 1e-4f);
+        cones++;
+        cut += sqrtf(dot3(d, d)) < 0.999f * n.length;
+    }
+    print_message("%u cones, %u of them from a patch's cut ring: v as their length says\n", cones, cut);
+    assert_true(cut > 5);
+    free(tri);
+    mer_mesh_free(m);
+    mer_scene_free(s);
 }
 
 /* Where dual contouring's patch does not close on the fork's grid, it is
@@ -563,6 +632,7 @@ int main(void)
         cmocka_unit_test(whole_tree_is_closed),
         cmocka_unit_test(chosen_forks_get_patches),
         cmocka_unit_test(sylleptic_forks_mesh),
+        cmocka_unit_test(cone_v_follows_its_length),
         cmocka_unit_test(creases_stay_sharp),
         cmocka_unit_test(short_internodes_get_patches),
         cmocka_unit_test(seams_share_normals),

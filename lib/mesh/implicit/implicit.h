@@ -475,7 +475,7 @@ void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triang
  * crease between cap and tube, up to the QEF's regularisation), so each loop
  * lies in its plane; each loop vertex is then moved in that plane, along
  * its ray from o, to just inside the ring's polygon (the surface at a cut is
- * the plain tube, so this undoes the polygonizer's error of up to a cell,
+ * the plain tube, so this undoes the polygonizer's error of about a cell,
  * which the zip would show as a ledge round the shaft). The result's only
  * open edges are the rings' (so a tube that shares the ring closes it),
  * wound outwards.

@@ -161,8 +161,9 @@ static float wrap_2pi(float a)
 /* Moves each vertex of the loop L, in its cut's plane, along its ray from
  * the cut's centre onto the ring's polygon (the edge between the two ring
  * vertices whose angles φ, sorted by `order`, bracket its own). The
- * polygonizer leaves a loop vertex up to a cell off the surface (a cell the
- * cap crosses with no crossing of the tube in it puts its vertex inside),
+ * polygonizer leaves a loop vertex about a cell off the surface, at worst a
+ * cell's diagonal (a cell the cap crosses with no crossing of the tube in
+ * it puts its vertex inside),
  * and the flat band zipped between loop and ring would show that as a ledge
  * round the shaft; seated on the ring's edges the band folds flat to
  * nothing and the shaft runs into the patch without a step. The surface at
@@ -172,7 +173,7 @@ static float wrap_2pi(float a)
  * stays. Each vertex stops SEAT_INSET of its distance short of the edge: a
  * loop vertex at a ring vertex's angle (the grid and the ring often share
  * a diagonal) would otherwise take that vertex's very position, which the
- * closure check (and a welding importer) reads as one vertex. */
+ * closure check, welding bit-equal positions, reads as one vertex. */
 #define SEAT_INSET 1e-3f
 static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], const float v[3], float a0,
                       float sgn, const uint32_t *L, uint32_t m_len, const float *phi, const uint32_t *order)
