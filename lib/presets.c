@@ -219,7 +219,7 @@ static void fig12a(mer_params *p) { fig12(p, 0.1f, 0.1f); }   /* small up η, sm
 static void fig12b(mer_params *p) { fig12(p, -0.1f, 0.1f); }  /* small down η, small ξ */
 static void fig12c(mer_params *p) { fig12(p, -0.8f, 0.6f); }  /* large down η, large ξ */
 static void fig12d(mer_params *p) { fig12(p, -0.4f, 0.1f); }  /* large down η, small ξ */
-/* Fig. 13: "increasing the downward tropism near the end of the simulation" (§4.3).
+/* Fig. 13 (§4.3): the downward tropism raised late in the tree's growth.
  * The paper gives neither the values nor the steps; the tree is shown at about 26
  * steps (22,000 internodes, inside the default 100-wide grid), so η goes from the
  * default 0.05 at step 18 to -1 at step 22: what grows in the last seasons droops
@@ -235,7 +235,7 @@ static void fig13(mer_params *p)
 }
 static void fig14(mer_params *p)
 {
-    /* P09 §4.4, Fig. 14: "approximately 1000 metamers" (§6), a young tree whose
+    /* P09 §4.4, Fig. 14: about a thousand metamers (§6), a young tree whose
      * lower branches, shaded by the crown above, are shed (Takenaka: a branch whose
      * light per internode falls below a threshold is a liability). The environment is
      * the default one (a 0.1, b 2, q_max 6, voxel 1; §4.1 leaves a and b to the user

@@ -122,7 +122,7 @@ static inline float form_new_dir_y(const mer_scene *s, uint32_t from)
 }
 
 /* Gnarl: the mean angle in degrees between an internode and the next one of its axis
- * (its main child): near 0 for straight axes, large for the "highly gnarled branches"
+ * (its main child): near 0 for straight axes, large for the strongly gnarled branches
  * of P09 Fig. 12c, d. */
 static inline float form_gnarl(const mer_scene *s)
 {

@@ -136,7 +136,7 @@ static void test_fig7_lambda_progression(void **state)
 }
 
 /* Fig. 14 (P09 §4.4): shedding raises a tall bole, with the default shadow settings.
- * After 18 steps (about 1,500 internodes, the figure's "approximately 1000 metamers"),
+ * After 18 steps (about 1,500 internodes; the figure's tree has about a thousand metamers),
  * the lowest living branch stands higher with shedding than without, on average by
  * far (measured 12.8 against 1.0) and in most seeds. */
 static void test_fig14_shedding_raises_the_bole(void **state)

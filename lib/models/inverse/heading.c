@@ -1,7 +1,7 @@
 /* meristem — the heading of each growth increment (G04 §4.1, eqs (8)–(9)), and
  * the branching angle.
  *
- * G04 gives θ relative to "the original heading of the branch" but not that
+ * G04 measures θ from the branch's original heading but does not give that
  * heading itself; its §2.2 observes branching angles of about 80° for short
  * shoots and 35° for long ones. The original heading here leaves the parent at
  * the angle interpolated between the two by eq (8)'s s_θ, as eq (9) interpolates

@@ -1,5 +1,5 @@
 /* meristem — the length scaling of higher branch orders (G04 §4.2, eq (12)).
- * Eq (12) is given as a change of eq (7) for "higher order branches": orders 2
+ * Eq (12) changes eq (7) for branches of higher order: orders 2
  * and up. The trunk and order 1 keep eq (7) as §4.1 gives it. */
 #include "config.h"
 
