@@ -24,17 +24,24 @@
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
 #define THIN_CUT 0.4f        /* a cut ring at least this many cells in radius */
 
-/* Whether a shaft may cross or be cut in internode id. A living tip's last
- * internode is a cone (tube.c): a shaft may end in it (`cone`: the tube
- * then runs from the cut ring to the apex), but a fork at its tip has no
- * shaft beyond it. */
+/* Whether internode id (living) is a living tip's last, which tube.c
+ * meshes as a cone. */
+static bool tip_cone(const merp_builder *b, uint32_t id)
+{
+    const mer_node *n = &b->nodes[id];
+    bool child = n->main_child != MER_NO_NODE && b->nodes[n->main_child].alive;
+    return !child && n->terminal_bud != MER_BUD_NONE;
+}
+
+/* Whether a shaft may cross or be cut in internode id: a living one, and
+ * no tip's cone unless `cone` (a shaft may end in a cone, the tube then
+ * running from the cut ring to the apex; a fork at its tip has no shaft
+ * beyond it). */
 static bool usable(const merp_builder *b, uint32_t id, bool cone)
 {
     if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || b->nodes[id].length <= 0.0f)
         return false;
-    const mer_node *n = &b->nodes[id];
-    bool child = n->main_child != MER_NO_NODE && b->nodes[n->main_child].alive;
-    return cone || child || n->terminal_bud == MER_BUD_NONE;
+    return cone || !tip_cone(b, id);
 }
 
 static void segment_of(const merp_builder *b, uint32_t id, merp_seg *s)
@@ -123,7 +130,7 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
             float at = back ? len - (need - arc) : need - arc;
             bool taken = back ? at <= cl->lo[id] + gap || cl->hi[id] < len
                               : cl->lo[id] > 0.0f || at >= cl->hi[id] - gap;
-            if (taken || (!back && !usable(b, id, false) && len - at < merp_node_radius(b, id)))
+            if (taken || (!back && tip_cone(b, id) && len - at < merp_node_radius(b, id)))
                 return false; /* ... or a tip's cone left under a radius long: a flat disk */
             if (mark && back)
                 cl->hi[id] = at;

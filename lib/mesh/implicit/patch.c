@@ -160,7 +160,8 @@ static float wrap_2pi(float a)
 
 /* Moves each vertex of the loop L, in its cut's plane, along its ray from
  * the cut's centre onto the ring's polygon (the edge between the two ring
- * vertices whose angles φ, sorted by `order`, bracket its own). The
+ * vertices whose angles φ, sorted by `order`, bracket its own angle α, both
+ * measured as stitch measures them). The
  * polygonizer leaves a loop vertex about a cell off the surface, at worst a
  * cell's diagonal (a cell the cap crosses with no crossing of the tube in
  * it puts its vertex inside),
@@ -175,8 +176,9 @@ static float wrap_2pi(float a)
  * a diagonal) would otherwise take that vertex's very position, which the
  * closure check, welding bit-equal positions, reads as one vertex. */
 #define SEAT_INSET 1e-3f
-static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], const float v[3], float a0,
-                      float sgn, const uint32_t *L, uint32_t m_len, const float *phi, const uint32_t *order)
+static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], const float v[3],
+                      const uint32_t *L, uint32_t m_len, const float *alpha, const float *phi,
+                      const uint32_t *order)
 {
     uint32_t s = c->sides;
     for (uint32_t i = 0; i < m_len; i++) {
@@ -186,7 +188,7 @@ static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], cons
         if (!(len > 0.0f))
             continue; /* on the axis: no direction to seat it along */
         x /= len, y /= len;
-        float a = wrap_2pi(sgn * (atan2f(y, x) - a0));
+        float a = alpha[i];
         uint32_t k = 0; /* the last ring vertex at or before a, cyclically */
         while (k + 1 < s && phi[order[k + 1]] <= a)
             k++;
@@ -216,7 +218,9 @@ static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, 
     float u[3], v[3];
     v3_any_perp(c->n, u);
     v3_cross(c->n, u, v);
-    float *theta = scratch, *phi = scratch + m_len + 1;
+    /* θ: the loop's angles for the zip; φ: the ring's; α: the loop's as
+     * measured, before θ is smoothed (seat_loop's rays). */
+    float *theta = scratch, *phi = scratch + m_len + 1, *alpha = phi + c->sides;
     float turn = 0.0f, a0 = angle_about(c, u, v, m->positions + 3 * (size_t)L[0]), prev = a0;
     for (uint32_t i = 1; i <= m_len; i++) {
         float a = angle_about(c, u, v, m->positions + 3 * (size_t)L[i % m_len]);
@@ -226,9 +230,10 @@ static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, 
     if (fabsf(fabsf(turn) - MERP_TWO_PI) > 0.5f)
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's loop does not go round its cut");
     float sgn = turn > 0.0f ? 1.0f : -1.0f;
+    for (uint32_t i = 0; i < m_len; i++)
+        alpha[i] = wrap_2pi(sgn * (angle_about(c, u, v, m->positions + 3 * (size_t)L[i]) - a0));
     for (uint32_t i = 0; i <= m_len; i++) /* unwrapped, increasing, θ_0 = 0, θ_m = 2π */
-        theta[i] = i == m_len ? MERP_TWO_PI
-                              : wrap_2pi(sgn * (angle_about(c, u, v, m->positions + 3 * (size_t)L[i]) - a0));
+        theta[i] = i == m_len ? MERP_TWO_PI : alpha[i];
     /* A loop that wiggles about its start: a vertex just before L_0 (the
      * loop's second, θ near 2π) or one just past it at the end (θ near 0)
      * takes the angle of the vertex before it. Left near 2π, the second
@@ -256,7 +261,7 @@ static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, 
             uint32_t t = order[k];
             order[k] = order[k - 1], order[k - 1] = t;
         }
-    seat_loop(m, c, u, v, a0, sgn, L, m_len, phi, order);
+    seat_loop(m, c, u, v, L, m_len, alpha, phi, order);
     uint32_t i = 0, j = 0, s = c->sides;
     while (i < m_len || j < s) {
         float next_ring = j + 1 < s ? phi[order[j + 1]] : phi[order[0]] + MERP_TWO_PI;
