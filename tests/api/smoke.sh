@@ -10,6 +10,9 @@ own=
 if [ -z "$base" ] && [ -n "${MERISTEMD:-}" ]; then
   data=$(mktemp -d)
   log=$data/log
+  # The log exists before the daemon starts: the redirection below happens in
+  # the background child, and the loop's first read may come before it.
+  : >"$log"
   "$MERISTEMD" --port 0 --web-root "$MER_WEB_ROOT" --data-dir "$data" >"$log" 2>&1 &
   own=$!
   trap 'kill $own 2>/dev/null; rm -rf "$data"' EXIT

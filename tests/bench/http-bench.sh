@@ -16,6 +16,10 @@ web=$(mktemp -d)
 trap 'kill $pid 2>/dev/null; rm -rf "$data" "$web"' EXIT
 
 start() {
+  # A fresh log before the daemon starts: the redirection below happens in the
+  # background child, so the loop may read first (and must not read an earlier
+  # start's port).
+  : >"$log"
   "$exe" --port 0 --web-root "$web" --data-dir "$data/j" --quiet --threads 2 --workers 2 \
     --max-sessions 100000 --max-steps 100000 "$@" >"$log" 2>&1 &
   pid=$!
