@@ -73,12 +73,17 @@
  * shaft runs across as many short internodes as its cut needs while its axis
  * stays nearly straight, and the tube and the patch share each ring vertex's
  * normal and b; a continuation or lateral may be cut in a growing tip's last
- * internode, whose cone then runs from the cut ring to the apex. A fork at a
- * living tip (no continuation beyond it), whose axes bend too much there,
- * whose cuts would fall in another fork's patch (thickest laterals are served
- * first) or past a growing tip's apex, whose cut ring would be under 0.4 of
- * its grid's cell in radius, or whose laterals run nearly along their parent,
- * stays tubes (`junctions_unfit` counts those). A patch is
+ * internode, whose cone then runs from the cut ring to the apex. A fork with
+ * no living continuation (its parent ends in its terminal bud, dormant or
+ * flowered, or in a cut: a sympodium's forks) is relayed: its thickest
+ * lateral goes on from the parent as one solid with it, with the bud scale
+ * scar where its shoot began, the other lateral blending in with its ridge,
+ * and the parent's tip (a cone, or a disk) lies inside the patch. A fork
+ * whose axes bend too much there, whose cuts would fall in another fork's
+ * patch (thickest laterals are served first) or past a growing tip's apex,
+ * whose cut ring would be under 0.4 of its grid's cell in radius, or whose
+ * laterals run nearly along their parent, stays tubes (`junctions_unfit`
+ * counts those). A patch is
  * polygonized by dual contouring, which keeps the ridge's crease sharp, on
  * the fork's grid, else on one 0.7 × as fine; where neither closes, by
  * marching tetrahedra on each (`junctions_smooth` counts those); a fork
@@ -195,9 +200,9 @@ typedef struct mer_mesh {
     uint32_t junctions_smooth; /* of `junctions`, the patches by marching
                                   tetrahedra: their ridge's crease is not sharp */
     uint32_t junctions_unfit; /* forks thick enough, with a lateral thick
-                                 enough, that no patch fits (Junctions: a
-                                 fork at a living tip, axes that bend or
-                                 still thicken past the cuts, cuts in
+                                 enough, that no patch fits (Junctions:
+                                 axes that bend or still thicken past the
+                                 cuts, cuts in
                                  another fork's patch, past a tip or in a
                                  ring under 0.4 cells, a lateral along its
                                  parent or drawn as a twig): meshed as tubes */

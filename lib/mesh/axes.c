@@ -56,6 +56,7 @@ mer_result merp_mesh_collect_axes(merp_builder *b, mer_error *err)
         a->base_cap = trunk;
         a->extra_rings = 0;
         a->lost_bands = 0;
+        a->ends_in = 0;
         uint32_t last = id;
         while (alive(b, b->nodes[last].main_child)) {
             last = b->nodes[last].main_child;

@@ -22,7 +22,7 @@ static void unplan(merp_builder *b, merp_joint *jt)
     b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
     for (uint32_t s = 1; s < jt->cuts; s++)
         b->cut_end[jt->node[s]] = UINT32_MAX;
-    for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
+    for (uint32_t s = jt->relay ? MERP_CUT_OUT : MERP_CUT_LATERAL; s < jt->cuts; s++)
         b->lateral_in[jt->start[s]] = UINT32_MAX;
 }
 
@@ -35,7 +35,7 @@ static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
         const mer_node *first = &b->nodes[a->first];
         bool starts_in = b->lateral_in[a->first] != UINT32_MAX, cuts = starts_in;
         a->base_cap = first->parent == MER_NO_NODE || !starts_in;
-        a->extra_rings = 0, a->lost_bands = 0;
+        a->extra_rings = 0, a->lost_bands = 0, a->ends_in = 0;
         uint32_t id = a->first;
         for (uint32_t k = 0; k < a->count && !cuts; k++, id = b->nodes[id].main_child)
             cuts = b->cut_begin[id] != UINT32_MAX || b->cut_end[id] != UINT32_MAX;

@@ -122,7 +122,9 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
     float arc = 0.0f;
     uint32_t id = first;
     for (uint32_t passed = 0;; passed++) {
-        if (!usable(b, id, !back) || passed > MAX_SPAN)
+        /* a relayed fork's parent may be a tip's cone: the patch covers its tip */
+        bool cone = !back || (jt->relay && id == first);
+        if (!usable(b, id, cone) || passed > MAX_SPAN)
             return false;
         const mer_node *n = &b->nodes[id];
         float len = n->length, gap = CUT_GAP * merp_node_radius(b, id);
@@ -235,35 +237,64 @@ static bool place_cuts(const merp_builder *b, claims *cl, const uint32_t *first,
     return true;
 }
 
+/* Whether lateral L of P may be a shaft of P's patch: a living axis of its
+ * own (no twig), at least LATERAL_RATIO of P's diameter, from J. */
+static bool patch_lateral(const merp_builder *b, const mer_node *p, const float J[3], uint32_t L)
+{
+    if (!usable(b, L, true) || b->nodes[L].diameter < LATERAL_RATIO * p->diameter)
+        return false;
+    const merp_axis *a = axis_from(b, L);
+    float gap[3];
+    for (int i = 0; i < 3; i++)
+        gap[i] = b->nodes[L].base[i] - J[i];
+    return a != NULL && !merp_mesh_is_twig(b, a) && v3_len(gap) <= 1e-4f * (1.0f + v3_len(J));
+}
+
 /* Plans the fork at P's tip into jt (cuts, field); false when it does not
- * fit between the patches planned so far. */
+ * fit between the patches planned so far.
+ *
+ * A fork with no living continuation (P ends in its terminal bud, dormant
+ * or flowered, or in a cut: the forks of a sympodium, and of trees whose
+ * apical control lets the laterals outgrow the leader) is relayed: its
+ * thickest lateral takes the continuation's place in the patch, one solid
+ * with P (A = max(in, out), with the bud scale scar where its shoot began),
+ * and the other laterals blend into both with their ridges. That is how
+ * the tree itself goes on (the relay shoot becomes the axis; G04's ridge
+ * forms between a branch and the stem it leaves, and the stem here is P and
+ * its relay); P's tip, which tube.c would draw as a cone (or a disk) with
+ * the laterals leaving its apex, lies inside the patch, whose field ends
+ * P's shaft in its capsule's round end. */
 static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
 {
     const mer_node *p = &b->nodes[P];
     uint32_t C = p->main_child;
-    if (!usable(b, P, false) || !usable(b, C, true))
+    const bool relay = C == MER_NO_NODE || !b->nodes[C].alive;
+    float J[3];
+    merp_tip_of(p, J);
+    uint32_t lat[2], nl = 0;
+    for (int k = 0; k < 2; k++)
+        if (patch_lateral(b, p, J, p->lateral_child[k]))
+            lat[nl++] = p->lateral_child[k];
+    if (relay) { /* the thickest lateral relays the axis (the first of equals) */
+        if (nl == 0)
+            return false;
+        uint32_t t = nl == 2 && b->nodes[lat[1]].diameter > b->nodes[lat[0]].diameter;
+        C = lat[t];
+        lat[0] = lat[1 - t];
+        nl--;
+    }
+    if (!usable(b, P, relay) || !usable(b, C, true) || (nl == 0 && !relay))
         return false;
-    *jt = (merp_joint){.start = {P, C}, .cuts = 2};
+    *jt = (merp_joint){.start = {P, C}, .cuts = 2, .relay = relay};
     merp_junction *f = &jt->field;
     segment_of(b, P, &f->in);
     segment_of(b, C, &f->out);
     f->w = PCM_WIDTH;
-    for (int k = 0; k < 2; k++) {
-        uint32_t L = p->lateral_child[k];
-        if (!usable(b, L, true) || b->nodes[L].diameter < LATERAL_RATIO * p->diameter)
-            continue;
-        const merp_axis *a = axis_from(b, L);
-        float gap[3];
-        for (int i = 0; i < 3; i++)
-            gap[i] = b->nodes[L].base[i] - f->in.b[i];
-        if (a == NULL || merp_mesh_is_twig(b, a) || v3_len(gap) > 1e-4f * (1.0f + v3_len(f->in.b)))
-            continue;
-        segment_of(b, L, &f->lateral[f->laterals]);
-        jt->start[jt->cuts++] = L;
+    for (uint32_t k = 0; k < nl; k++) {
+        segment_of(b, lat[k], &f->lateral[f->laterals]);
+        jt->start[jt->cuts++] = lat[k];
         f->laterals++;
     }
-    if (f->laterals == 0)
-        return false;
     float h = merp_joint_cell(b, jt);
     /* Each shaft's direction away from J, and its primitives' supports. */
     float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS], need[MERP_PATCH_CUTS];
@@ -325,9 +356,9 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
     /* The bark ages with the oldest lateral (G04 Fig. 7). The parent's bud
      * scale scar exists only where J ends one season's shoot and C begins the
      * next's, and ages with C's shoot. */
-    uint32_t born = b->nodes[first[2]].born;
-    for (uint32_t k = 1; k < f->laterals; k++)
-        born = born < b->nodes[first[2 + k]].born ? born : b->nodes[first[2 + k]].born;
+    uint32_t born = b->nodes[C].born; /* a relay's own, where it has no lateral */
+    for (uint32_t k = 0; k < f->laterals; k++)
+        born = k == 0 || b->nodes[first[2 + k]].born < born ? b->nodes[first[2 + k]].born : born;
     merp_junction_age(f, ridge_up, years_since(b, born));
     f->scar_weight = b->nodes[C].born == p->born
                          ? 0.0f
@@ -415,7 +446,7 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         b->cut_begin[jt.node[MERP_CUT_IN]] = b->joint_count;
         for (uint32_t s = 1; s < jt.cuts; s++) {
             b->cut_end[jt.node[s]] = b->joint_count * MERP_PATCH_CUTS + s;
-            if (s >= MERP_CUT_LATERAL)
+            if (s >= MERP_CUT_LATERAL || jt.relay) /* an axis that begins in the patch */
                 b->lateral_in[jt.start[s]] = b->joint_count * MERP_PATCH_CUTS + s;
         }
         b->joint_count++;

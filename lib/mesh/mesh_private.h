@@ -31,18 +31,24 @@ typedef struct merp_axis {
     uint8_t base_cap; /* 1 for a plant's trunk (and, with implicit junctions, a
                          lateral that starts in no patch) */
     /* With implicit junctions: rings added (two cut rings) less rings dropped
-     * (inside a patch), and the quads between rings dropped, on this axis. */
+     * (inside a patch), and the quads between rings dropped, on this axis;
+     * ends_in when it ends inside a patch (a relayed fork's parent, whose
+     * tip the patch covers): no cone or disk then. */
     int32_t extra_rings;
-    uint32_t lost_bands;
+    int32_t lost_bands;
+    uint8_t ends_in;
 } merp_axis;
 
 /* The cuts of an implicit junction (mesh.h, Junctions): the parent's shaft
- * below J, its continuation above, and each lateral in the patch. */
+ * below J, its continuation above (or, at a fork with no living
+ * continuation, the lateral that relays the axis), and each lateral in the
+ * patch. */
 enum { MERP_CUT_IN, MERP_CUT_OUT, MERP_CUT_LATERAL };
 
 /* One fork meshed as an implicit patch (joints.c). */
 typedef struct merp_joint {
-    uint32_t start[MERP_PATCH_CUTS]; /* each shaft's internode at J: P, C, L_k */
+    uint32_t start[MERP_PATCH_CUTS]; /* each shaft's internode at J: P, C (or
+                                       the relay), L_k */
     uint32_t node[MERP_PATCH_CUTS]; /* the internode each cut lies in: P or an
                                        internode below it on its axis, C or one
                                        above it, L_k or one along its axis */
@@ -57,6 +63,8 @@ typedef struct merp_joint {
     float ring_normal[MERP_PATCH_CUTS][3 * MERP_MAX_SIDES]; /* the one normal the
                                        tube and the patch give each ring vertex */
     uint32_t sides[MERP_PATCH_CUTS];
+    bool relay;                     /* P has no living continuation: cut 1's
+                                       shaft is a lateral axis (joints_plan.c) */
     bool ok;                        /* planned, and its patch built */
     bool smooth;                    /* ... by marching tetrahedra (no sharp crease) */
     merp_junction field;
@@ -132,20 +140,23 @@ static inline bool merp_mesh_is_twig(const merp_builder *b, const merp_axis *a)
 }
 
 /* Exactly the vertices tube.c writes for `a`: its rings (with the seam vertex
- * when `seam`), then the apex of a tip or the disk of a cut, and a trunk's base disk. */
+ * when `seam`), then the apex of a tip or the disk of a cut (neither where it
+ * ends inside a patch), and a trunk's base disk. */
 static inline uint64_t merp_axis_vertices(const merp_axis *a, bool seam)
 {
     const uint64_t ring = seam ? a->sides + 1 : a->sides, cap = a->sides + 1;  // cap: centre + rim
-    const uint64_t v = a->end == MERP_END_TIP ? a->count * ring + 1 : (a->count + 1) * ring + cap;
+    const uint64_t end = a->ends_in ? 0 : a->end == MERP_END_TIP ? 1 : cap;
+    const uint64_t v = a->end == MERP_END_TIP ? a->count * ring + end : (a->count + 1) * ring + end;
     return (uint64_t)((int64_t)(a->base_cap ? v + cap : v) + (int64_t)a->extra_rings * (int64_t)ring);
 }
 
 /* Exactly the indices tube.c writes for `a`: two triangles per side between
- * rings, one per side in the cone or disk at the end and in a base disk. */
+ * rings, one per side in the cone or disk at the end (unless it ends inside a
+ * patch) and in a base disk. */
 static inline uint64_t merp_axis_indices(const merp_axis *a)
 {
-    uint64_t quads = (a->end == MERP_END_TIP ? a->count - 1 : a->count) - a->lost_bands;
-    uint64_t i = quads * a->sides * 6 + (uint64_t)a->sides * 3;
+    int64_t quads = (int64_t)(a->end == MERP_END_TIP ? a->count - 1 : a->count) - a->lost_bands;
+    uint64_t i = (uint64_t)quads * a->sides * 6 + (a->ends_in ? 0 : (uint64_t)a->sides * 3);
     return a->base_cap ? i + (uint64_t)a->sides * 3 : i;
 }
 

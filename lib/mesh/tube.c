@@ -189,8 +189,9 @@ static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, ui
  * at the base of internode i unless it lies inside a patch, and in
  * internode i the cut that ends a patch (a lateral's first, or the out cut
  * of a fork below) and then the cut that begins one (the in cut of a fork
- * at or above its tip). A patch's span may cover several internodes. */
-static void rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *rings, uint32_t *bands)
+ * at or above its tip). A patch's span may cover several internodes.
+ * Returns whether the axis ends inside a patch (a relayed fork at its tip). */
+static bool rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *rings, uint32_t *bands)
 {
     const uint32_t count = tb->a->count;
     bool inside = b->lateral_in[b->chain[0]] != UINT32_MAX, any = false;
@@ -221,7 +222,7 @@ static void rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *ri
             ++*rings, ++*bands, inside = true;
         }
     }
-    assert(!inside);
+    return inside;
 }
 
 /* A flat disk over the ring at `ring_at`: a centre vertex at `at` and a rim of
@@ -250,7 +251,8 @@ static void disk(merp_builder *b, const tube *tb, uint32_t ring_at, const float 
     }
 }
 
-/* A living tip's cone to its end point, or a cut's disk. */
+/* A living tip's cone to its end point, or a cut's disk; nothing where the
+ * axis ends inside a patch. */
 static void tip(merp_builder *b, tube *tb)
 {
     merp_cursor *c = &b->bark;
@@ -259,6 +261,8 @@ static void tip(merp_builder *b, tube *tb)
     const uint32_t top_ring = tb->prev_ring;
     float end[3];
     merp_tip_of(last, end);
+    if (a->ends_in)
+        return; /* the patch it ends in covers its tip */
     if (a->end != MERP_END_TIP) {
         disk(b, tb, top_ring, end, tb->t_prev, 1.0f, false, last);
         return;
@@ -306,8 +310,11 @@ static mer_result mesh_axis(merp_builder *b, const merp_axis *a, const float *co
     tube_start(b, a, cos_t, sin_t, &tb);
     const mer_node *first = &b->nodes[b->chain[0]];
     uint32_t rings, bands;
-    if (b->joints != NULL)
-        rings_with_joints(b, &tb, true, &rings, &bands);
+    if (b->joints != NULL) {
+        bool ends_in = rings_with_joints(b, &tb, true, &rings, &bands);
+        assert(ends_in == (bool)a->ends_in); /* as the counting walk found */
+        (void)ends_in;
+    }
     else
         for (uint32_t i = 0; i < tb.rings; i++)
             ring(b, &tb, i, i > 0);
@@ -345,10 +352,10 @@ mer_result merp_mesh_record_rings(merp_builder *b, merp_axis *a, bool record, me
     uint32_t rings, bands;
     b->dry = true;
     tube_start(b, a, cos_t, sin_t, &tb);
-    rings_with_joints(b, &tb, record, &rings, &bands);
+    a->ends_in = rings_with_joints(b, &tb, record, &rings, &bands);
     b->dry = false;
     a->extra_rings = (int32_t)rings - (int32_t)tb.rings;
-    a->lost_bands = tb.rings - 1 - bands;
+    a->lost_bands = (int32_t)tb.rings - 1 - (int32_t)bands;
     return MER_OK;
 }
 

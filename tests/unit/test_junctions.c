@@ -227,6 +227,62 @@ static void sylleptic_forks_mesh(void **state)
     assert_true(5 * open < patched);
 }
 
+/* Forks with no living continuation (P ends in its terminal bud, dormant
+ * or flowered: a sympodium's relays, a tree whose laterals outgrow its
+ * leaders) are patched too, the thickest lateral relaying the axis through
+ * the patch: the trees' P ends in a cone (tubes) or inside the patch, and
+ * the bark stays closed. While such forks had no patch, 463 of fig6-sympodial's
+ * 762 chosen forks over seeds 1-5 and all 56 of fig10-center's with no
+ * continuation were left tubes, each a lateral standing on its parent's
+ * cone tip by its base disk. */
+static void relayed_forks_get_patches(void **state)
+{
+    (void)state;
+    const char *presets[] = {"fig6-sympodial", "fig10-center"};
+    for (size_t t = 0; t < sizeof presets / sizeof *presets; t++) {
+        mer_params p;
+        mer_error err;
+        assert_int_equal(mer_preset_params(presets[t], &p, &err), MER_OK);
+        mer_scene *s = NULL;
+        assert_int_equal(mer_scene_new(&p, 1, &s, &err), MER_OK);
+        assert_int_equal(mer_scene_step(s, 14, NULL, NULL, NULL, NULL, &err), MER_OK);
+        /* The chosen forks whose parent has no living continuation. */
+        uint32_t n = mer_scene_node_bound(s), relayed = 0;
+        mer_node *nodes = calloc(n, sizeof *nodes);
+        for (uint32_t id = 0; id < n; id++)
+            assert_int_equal(mer_scene_node(s, id, &nodes[id], &err), MER_OK);
+        mer_mesh *m = NULL;
+        const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
+        assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+        uint32_t chosen = chosen_forks(s);
+        float thickest = 0.0f;
+        for (uint32_t id = 0; id < n; id++)
+            thickest = nodes[id].alive ? fmaxf(thickest, nodes[id].diameter) : thickest;
+        for (uint32_t id = 0; id < n; id++) {
+            const mer_node *q = &nodes[id];
+            uint32_t c = q->main_child;
+            bool lateral = false;
+            for (int k = 0; k < 2; k++) {
+                uint32_t L = q->lateral_child[k];
+                lateral |= L != MER_NO_NODE && nodes[L].alive && nodes[L].diameter >= 0.25f * q->diameter;
+            }
+            relayed += q->alive && q->diameter >= 0.2f * thickest && lateral &&
+                       (c == MER_NO_NODE || !nodes[c].alive);
+        }
+        print_message("%s seed 1: %u chosen forks, %u with no living continuation; %u patched, %u open, "
+                      "%u unfit\n",
+                      presets[t], chosen, relayed, m->junctions, m->junctions_open, m->junctions_unfit);
+        assert_true(relayed >= 10);
+        assert_int_equal(m->junctions + m->junctions_open + m->junctions_unfit, chosen);
+        assert_int_equal(m->junctions_open, 0);
+        assert_true(10 * m->junctions_unfit < relayed);
+        mer_mesh_free(m);
+        free(nodes);
+        assert_true(closed_with_junctions(s) > 20);
+        mer_scene_free(s);
+    }
+}
+
 /* A living tip's cone, from its last ring (at the base of its internode,
  * or a patch's cut ring in it) to the apex: the bark's v runs on by the
  * cone's length over its mean circumference, π r. For each apex of the
@@ -551,10 +607,9 @@ static void thick_below_the_fork_is_patched(void **state)
 
 /* Patches built on 1, 2, 3 and 8 threads give the same GLB, byte for byte
  * (patches land in their fork's own arrays and are written in fork order). */
-static void same_bytes_whatever_the_threads(void **state)
+/* The GLB of s with implicit junctions is the same on 1, 2, 3 and 8 threads. */
+static void same_bytes_on_threads(mer_scene *s)
 {
-    (void)state;
-    mer_scene *s = grown(12);
     mer_error err;
     const uint32_t threads[4] = {1, 2, 3, 8};
     uint8_t *glb[4] = {0};
@@ -573,6 +628,21 @@ static void same_bytes_whatever_the_threads(void **state)
     }
     for (int i = 0; i < 4; i++)
         mer_gltf_free(glb[i]);
+}
+
+/* ... on fig7-bh-0.54's tree and on a sympodium's, whose forks are relayed. */
+static void same_bytes_whatever_the_threads(void **state)
+{
+    (void)state;
+    mer_scene *s = grown(12);
+    same_bytes_on_threads(s);
+    mer_scene_free(s);
+    mer_params p;
+    mer_error err;
+    assert_int_equal(mer_preset_params("fig6-sympodial", &p, &err), MER_OK);
+    assert_int_equal(mer_scene_new(&p, 2, &s, &err), MER_OK);
+    assert_int_equal(mer_scene_step(s, 12, NULL, NULL, NULL, NULL, &err), MER_OK);
+    same_bytes_on_threads(s);
     mer_scene_free(s);
 }
 
@@ -632,6 +702,7 @@ int main(void)
         cmocka_unit_test(whole_tree_is_closed),
         cmocka_unit_test(chosen_forks_get_patches),
         cmocka_unit_test(sylleptic_forks_mesh),
+        cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(cone_v_follows_its_length),
         cmocka_unit_test(creases_stay_sharp),
         cmocka_unit_test(short_internodes_get_patches),

@@ -314,7 +314,9 @@ typedef struct merp_junction {
     merp_seg in, out;        /* the parent's axis; out.ra = 0: no continuation */
     merp_seg lateral[MERP_JUNCTION_LATERALS];
     merp_bound bound[MERP_JUNCTION_LATERALS];
-    uint32_t laterals;       /* 1..MERP_JUNCTION_LATERALS */
+    uint32_t laterals;       /* 0..MERP_JUNCTION_LATERALS (0: an elbow of the
+                                axis, its scar alone, where a relay shoot
+                                goes on from a tip) */
     float w;                 /* PCM's bulge width (field units) */
     /* The bud scale scar between the parent's last shoot (in) and this
      * year's (out): A = F_s·max(in', out') + (1 − F_s)·max(in, out) with F_s =

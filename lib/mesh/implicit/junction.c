@@ -85,7 +85,7 @@ static void ring_bound(const merp_junction *j, uint32_t k, const float up[3], me
 
 void merp_junction_age(merp_junction *j, const float up[3], float years)
 {
-    assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
+    assert(j->laterals <= MERP_JUNCTION_LATERALS);
     float sigma = merp_junction_scar_weight(years), m = 1.0f - sigma;
     /* The parent's scar: a band about its axis at J, 0.6 r_P either side.
      * F_b = 1 must hold on the surface all round, which the scar's own
@@ -168,7 +168,7 @@ static void add_reach(merp_jprep *jp, const merp_bound *b)
 
 void merp_jprep_init(merp_jprep *jp, const merp_junction *j)
 {
-    assert(j->laterals >= 1 && j->laterals <= MERP_JUNCTION_LATERALS);
+    assert(j->laterals <= MERP_JUNCTION_LATERALS);
     assert(j->in.ra > 0.0f && j->in.rb > 0.0f);
     jp->j = j;
     jp->reaches = 0;
