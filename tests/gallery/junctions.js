@@ -5,7 +5,9 @@
 //   junctions-tree.png   a whole tree with implicit junctions;
 //   junctions-fork.png   the page's fork close-up of that tree (?fork=thickest);
 //   junctions-years.png  one fork when its lateral is 1, 4, 7 and 10 years old (the
-//                        years of G04 Fig. 7), a 2×2 montage.
+//                        years of G04 Fig. 7), a 2×2 montage;
+//   junctions-relay.png  a sympodium's fork with no living continuation, as tubes and
+//                        relayed through a patch, side by side.
 // usage: node junctions.js OUT
 // The engine is deterministic, so "the same fork, older" is the same preset and seed
 // stepped further: one session per year, each drawn at ?fork=LATERAL.
@@ -21,6 +23,9 @@ const TREE = { preset: 'fig7-bh-0.54', seed: 1, steps: 12 };
  * it) after `born` + age steps. */
 const FORK = { preset: 'fig7-bh-0.54', seed: 7, lateral: 58, born: 4 };
 const YEARS = [1, 4, 7, 10];
+/** A fork whose parent (node 92, a flowered tip) has no living continuation: its one
+ * lateral, 126, relays the axis. */
+const RELAY = { preset: 'fig6-sympodial', seed: 1, steps: 14, lateral: 126 };
 
 /** Grows a new session of `preset` to `steps` steps; resolves to its summary. */
 async function grow(url, preset, seed, steps) {
@@ -32,9 +37,10 @@ async function grow(url, preset, seed, steps) {
   return summary;
 }
 
-/** Opens the gallery view of session `id` with `query` and waits until it is drawn. */
-async function show(page, base, id, query) {
-  await page.goto(`${base}/?session=${id}&view=gallery&leaves=0&detail=4&junctions=implicit&${query}`);
+/** Opens the gallery view of session `id` with `query` (junctions `junctions`, implicit
+ * unless said) and waits until it is drawn. */
+async function show(page, base, id, query, junctions = 'implicit') {
+  await page.goto(`${base}/?session=${id}&view=gallery&leaves=0&detail=4&junctions=${junctions}&${query}`);
   await page.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null, null, { timeout: 600000 });
 }
 
@@ -53,11 +59,11 @@ function closeUpState(page) {
   });
 }
 
-/** Four images as a 2×2 montage with their captions, `size` px each. */
+/** Images two to a row with their captions, `size` px each. */
 async function montage(page, images, size, file) {
   const cells = images.map(({ png, label }) => `<figure><img src="data:image/png;base64,${png.toString('base64')}">` +
     `<figcaption>${label}</figcaption></figure>`).join('');
-  await page.setViewportSize({ width: 2 * size, height: 2 * size });
+  await page.setViewportSize({ width: 2 * size, height: Math.ceil(images.length / 2) * size });
   await page.setContent(`<style>body{margin:0;display:grid;grid-template-columns:${size}px ${size}px;background:#fff}
     figure{margin:0;position:relative;width:${size}px;height:${size}px}img{width:${size}px;height:${size}px;display:block}
     figcaption{position:absolute;left:8px;top:6px;font:bold 18px sans-serif;color:#333;background:rgba(255,255,255,.7);padding:1px 6px}
@@ -97,6 +103,20 @@ async function montage(page, images, size, file) {
       images.push({ png: await page.screenshot(), label: year === 1 ? '1 year' : `${year} years` });
     }
     await montage(page, images, size, path.join(out, 'junctions-years.png'));
+
+    await page.setViewportSize({ width: size, height: size });
+    const relay = await grow(d.url, RELAY.preset, RELAY.seed, RELAY.steps);
+    const pair = [];
+    for (const j of ['tubes', 'implicit']) {
+      await show(page, d.url, relay.id, `color=none&fork=${RELAY.lateral}`, j);
+      const st = await closeUpState(page);
+      console.log(`relay, ${j}: ${JSON.stringify(st)}`);
+      if (!st || st.lateral !== RELAY.lateral || (j === 'implicit') !== (st.ridgePoints > 0)) {
+        throw new Error(`the relayed fork of lateral ${RELAY.lateral} is not ${j === 'tubes' ? 'tubes' : 'a patch'}: ${JSON.stringify(st)}`);
+      }
+      pair.push({ png: await page.screenshot(), label: j === 'tubes' ? 'tubes' : 'implicit, relayed' });
+    }
+    await montage(page, pair, size, path.join(out, 'junctions-relay.png'));
   } finally {
     await browser.close();
     await d.stop();
