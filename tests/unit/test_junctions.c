@@ -283,6 +283,69 @@ static void relayed_forks_get_patches(void **state)
     }
 }
 
+/* Bark vertices of s's mesh with options o within 1e-5 of any of the n
+ * points at. */
+static uint32_t vertices_at(const mer_scene *s, const mer_mesh_options *o, const float (*at)[3], uint32_t n)
+{
+    mer_error err;
+    mer_mesh *m = NULL;
+    assert_int_equal(mer_mesh_build(s, o, &m, &err), MER_OK);
+    uint32_t found = 0;
+    for (uint32_t v = 0; v < m->bark.vertex_count; v++)
+        for (uint32_t i = 0; i < n; i++) {
+            const float *p = m->bark.positions + 3 * (size_t)v;
+            float d[3] = {p[0] - at[i][0], p[1] - at[i][1], p[2] - at[i][2]};
+            found += dot3(d, d) < 1e-10f;
+        }
+    mer_mesh_free(m);
+    return found;
+}
+
+/* A pruned continuation leaves its parent's axis ending in a cut: a disk
+ * centred on the fork's J (and with implicit junctions, a lateral in no
+ * patch has a base disk there too). Where the lateral is thick, it relays
+ * the axis and the disks lie inside the patch: on a grown tree whose thick
+ * forks' continuations are pruned, no bark vertex is left at those forks' J
+ * with implicit junctions (as tubes, one each; with junctions but no relay,
+ * two), the bark's counts are exact (or mer_mesh_build's assertions fire)
+ * and it is closed. */
+static void pruned_forks_are_relayed(void **state)
+{
+    (void)state;
+    mer_scene *s = grown(12);
+    mer_error err;
+    uint32_t n = mer_scene_node_bound(s), pruned = 0;
+    float thickest = 0.0f, J[4][3];
+    for (uint32_t id = 0; id < n; id++) {
+        mer_node q;
+        assert_int_equal(mer_scene_node(s, id, &q, &err), MER_OK);
+        thickest = q.alive ? fmaxf(thickest, q.diameter) : thickest;
+    }
+    for (uint32_t id = 0; id < n && pruned < 4; id++) {
+        mer_node q, c, l;
+        assert_int_equal(mer_scene_node(s, id, &q, &err), MER_OK);
+        if (!q.alive || q.diameter < 0.3f * thickest || q.main_child == MER_NO_NODE ||
+            q.lateral_child[0] == MER_NO_NODE)
+            continue;
+        assert_int_equal(mer_scene_node(s, q.main_child, &c, &err), MER_OK);
+        assert_int_equal(mer_scene_node(s, q.lateral_child[0], &l, &err), MER_OK);
+        if (!c.alive || !l.alive || l.diameter < 0.5f * q.diameter)
+            continue;
+        assert_int_equal(mer_scene_prune(s, q.main_child, &err), MER_OK);
+        memcpy(J[pruned++], l.base, sizeof J[0]);
+    }
+    assert_true(pruned >= 2);
+    const mer_mesh_options tubes = {0}, implicit = {.junctions = MER_JUNCTIONS_IMPLICIT};
+    uint32_t as_tubes = vertices_at(s, &tubes, (const float(*)[3])J, pruned);
+    uint32_t as_patches = vertices_at(s, &implicit, (const float(*)[3])J, pruned);
+    print_message("%u continuations pruned: bark vertices at their forks %u as tubes, %u with junctions\n", pruned,
+                  as_tubes, as_patches);
+    assert_true(as_tubes >= pruned);
+    assert_int_equal(as_patches, 0);
+    assert_true(closed_with_junctions(s) > 5);
+    mer_scene_free(s);
+}
+
 /* A living tip's cone, from its last ring (at the base of its internode,
  * or a patch's cut ring in it) to the apex: the bark's v runs on by the
  * cone's length over its mean circumference, π r. For each apex of the
@@ -703,6 +766,7 @@ int main(void)
         cmocka_unit_test(chosen_forks_get_patches),
         cmocka_unit_test(sylleptic_forks_mesh),
         cmocka_unit_test(relayed_forks_get_patches),
+        cmocka_unit_test(pruned_forks_are_relayed),
         cmocka_unit_test(cone_v_follows_its_length),
         cmocka_unit_test(creases_stay_sharp),
         cmocka_unit_test(short_internodes_get_patches),
