@@ -79,6 +79,9 @@
  * lateral goes on from the parent as one solid with it, with the bud scale
  * scar where its shoot began, the other lateral blending in with its ridge,
  * and the parent's tip (a cone, or a disk) lies inside the patch. A fork
+ * that does not fit as it grew and whose continuation is thinner than its
+ * thickest lateral is relayed the same way, the continuation then one of
+ * the patch's laterals (a sylleptic shoot's forks). A fork
  * whose axes bend too much there, whose cuts would fall in another fork's
  * patch (thickest laterals are served first) or past a growing tip's apex,
  * whose cut ring would be under 0.4 of its grid's cell in radius, or whose

@@ -263,12 +263,20 @@ static bool patch_lateral(const merp_builder *b, const mer_node *p, const float 
  * forms between a branch and the stem it leaves, and the stem here is P and
  * its relay); P's tip, which tube.c would draw as a cone (or a disk) with
  * the laterals leaving its apex, lies inside the patch, whose field ends
- * P's shaft in its capsule's round end. */
-static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
+ * P's shaft in its capsule's round end.
+ *
+ * With `swap`, a fork whose continuation is thinner than its thickest
+ * lateral is relayed too: that lateral goes on from P, the continuation
+ * becomes one of the patch's laterals (its cut ring ends the patch on P's
+ * own axis, whose tube goes on from it). merp_mesh_joints_plan asks for it
+ * only where the fork does not fit as it grew (fig6-sylleptic's, whose
+ * laterals grow in their parent's season and outgrow its continuation),
+ * so a fork that fits keeps its continuation. */
+static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_joint *jt)
 {
     const mer_node *p = &b->nodes[P];
     uint32_t C = p->main_child;
-    const bool relay = C == MER_NO_NODE || !b->nodes[C].alive;
+    const bool none = C == MER_NO_NODE || !b->nodes[C].alive, relay = none || swap;
     float J[3];
     merp_tip_of(p, J);
     uint32_t lat[2], nl = 0;
@@ -278,12 +286,18 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, merp_joint *jt)
     if (relay) { /* the thickest lateral relays the axis (the first of equals) */
         if (nl == 0)
             return false;
-        uint32_t t = nl == 2 && b->nodes[lat[1]].diameter > b->nodes[lat[0]].diameter;
-        C = lat[t];
-        lat[0] = lat[1 - t];
-        nl--;
+        uint32_t t = nl == 2 && b->nodes[lat[1]].diameter > b->nodes[lat[0]].diameter, L = lat[t];
+        if (swap) { /* the continuation, thinner, in the relay's place among the laterals */
+            if (none || !usable(b, C, true) || !(b->nodes[C].diameter < b->nodes[L].diameter))
+                return false;
+            lat[t] = C;
+        } else {
+            lat[0] = lat[1 - t];
+            nl--;
+        }
+        C = L;
     }
-    if (!usable(b, P, relay) || !usable(b, C, true) || (nl == 0 && !relay))
+    if (!usable(b, P, none) || !usable(b, C, true) || (nl == 0 && !relay))
         return false;
     *jt = (merp_joint){.start = {P, C}, .cuts = 2, .relay = relay};
     merp_junction *f = &jt->field;
@@ -429,7 +443,7 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
     merp_joint jt;
     for (uint32_t i = 0; i < count && rc == MER_OK; i++) {
         uint32_t id = c[i].id;
-        if (!plan_one(b, &cl, id, &jt))
+        if (!plan_one(b, &cl, id, false, &jt) && !plan_one(b, &cl, id, true, &jt))
             continue;
         if (b->joint_count == cap) {
             cap = cap ? 2 * cap : 16;
@@ -446,7 +460,7 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         b->cut_begin[jt.node[MERP_CUT_IN]] = b->joint_count;
         for (uint32_t s = 1; s < jt.cuts; s++) {
             b->cut_end[jt.node[s]] = b->joint_count * MERP_PATCH_CUTS + s;
-            if (s >= MERP_CUT_LATERAL || jt.relay) /* an axis that begins in the patch */
+            if (jt.start[s] != b->nodes[id].main_child) /* an axis that begins in the patch */
                 b->lateral_in[jt.start[s]] = b->joint_count * MERP_PATCH_CUTS + s;
         }
         b->joint_count++;

@@ -40,9 +40,9 @@ typedef struct merp_axis {
 } merp_axis;
 
 /* The cuts of an implicit junction (mesh.h, Junctions): the parent's shaft
- * below J, its continuation above (or, at a fork with no living
- * continuation, the lateral that relays the axis), and each lateral in the
- * patch. */
+ * below J, its continuation above (or, at a relayed fork, the lateral that
+ * relays the axis), and each lateral in the patch (at a relayed fork, the
+ * continuation, where it has one, among them). */
 enum { MERP_CUT_IN, MERP_CUT_OUT, MERP_CUT_LATERAL };
 
 /* One fork meshed as an implicit patch (joints.c). */
@@ -63,8 +63,10 @@ typedef struct merp_joint {
     float ring_normal[MERP_PATCH_CUTS][3 * MERP_MAX_SIDES]; /* the one normal the
                                        tube and the patch give each ring vertex */
     uint32_t sides[MERP_PATCH_CUTS];
-    bool relay;                     /* P has no living continuation: cut 1's
-                                       shaft is a lateral axis (joints_plan.c) */
+    bool relay;                     /* P has no living continuation, or a
+                                       thinner one among the laterals: cut
+                                       1's shaft is a lateral axis going on
+                                       from P (joints_plan.c) */
     bool ok;                        /* planned, and its patch built */
     bool smooth;                    /* ... by marching tetrahedra (no sharp crease) */
     merp_junction field;

@@ -201,8 +201,11 @@ static void chosen_forks_get_patches(void **state)
  * copies already stitched as if they were loop vertices (memory never
  * written) and crashed. Its continuations are far thinner than their
  * laterals: where one's cut ring is under THIN_CUT cells the fork is not
- * planned, so few patches are tried in vain (171 open to 433 patched over
- * these five trees before, 52 to 432 with it). */
+ * planned as it grew, so few patches are tried in vain (171 open to 433
+ * patched over these five trees before, 52 to 432 with it), but relayed:
+ * its thickest lateral goes on from the parent and the continuation is one
+ * of the patch's laterals, on a grid as fine as it needs (613 patched, 84
+ * open; 434 and 52 before). */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
@@ -223,7 +226,7 @@ static void sylleptic_forks_mesh(void **state)
         mer_scene_free(s);
     }
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open\n", patched, open);
-    assert_true(patched > 300);
+    assert_true(patched > 550);
     assert_true(5 * open < patched);
 }
 
