@@ -292,7 +292,8 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
                 return false;
             lat[t] = C;
         } else {
-            lat[0] = lat[1 - t];
+            if (nl == 2)
+                lat[0] = lat[1 - t];
             nl--;
         }
         C = L;
