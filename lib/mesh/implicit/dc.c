@@ -109,12 +109,14 @@ static uint32_t map_find(const edge_map *m, uint32_t key)
     return i;
 }
 
-/* Room for one more key: doubles the table when it would be half full. */
-static bool map_room(edge_map *m)
+/* Room for `more` keys: doubles the table while they would fill it over half. */
+static bool map_room(edge_map *m, uint32_t more)
 {
-    if (m->slot != NULL && 2 * (m->n + 1) <= m->mask + 1)
+    if (m->slot != NULL && 2 * (m->n + more) <= m->mask + 1)
         return true;
     uint32_t size = m->slot == NULL ? 1024 : 2 * (m->mask + 1);
+    while (2 * (m->n + more) > size)
+        size *= 2;
     edge_map g = {merp_calloc(size, sizeof(uint32_t)), merp_malloc(size * sizeof(uint32_t)), size - 1, m->n};
     if (g.slot == NULL || g.value == NULL) {
         merp_free(g.slot), merp_free(g.value);
@@ -171,14 +173,12 @@ static uint32_t cell_index(const dc *d, const uint32_t cell[3])
 
 /* The crossing on edge e of the cell whose lowest sample is s0 (corners
  * differ in sign): solved on first use. Needs room for one more crossing
- * (crossing_room). */
+ * (crossing_room) and one more key in the edge map (map_room). */
 static const crossing *edge_crossing(dc *d, const uint32_t cell[3], uint32_t s0, const float cf[8], int e)
 {
     const merp_grid *g = d->w->g;
     uint8_t c1 = cube_edge[e][0], c2 = cube_edge[e][1];
     uint32_t key = 3 * (s0 + d->w->corner[c1]) + (uint32_t)(e >> 2);
-    if (!map_room(&d->edges))
-        return NULL;
     uint32_t slot = map_find(&d->edges, key);
     if (d->edges.slot[slot] != 0)
         return &d->x[d->edges.value[slot]];
@@ -334,7 +334,7 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
     }
     cs->first = d->out->vertex_count;
     cs->mask = mask;
-    if (!crossing_room(d, 12))
+    if (!crossing_room(d, 12) || !map_room(&d->edges, 12))
         return MER_ERR_NOMEM;
     const uint32_t s0 = merp_walk_sample(d->w, cell[0], cell[1], cell[2]);
     for (int s = 0; s < n; s++) {
@@ -344,8 +344,7 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
         for (int e = 0; e < 12; e++) {
             if (!(crossed >> e & 1) || cs->sheet[e] != s)
                 continue;
-            if ((x[nx++] = edge_crossing(d, cell, s0, cf, e)) == NULL)
-                return MER_ERR_NOMEM;
+            x[nx++] = edge_crossing(d, cell, s0, cf, e);
             corners |= (uint8_t)(1u << cube_edge[e][0] | 1u << cube_edge[e][1]);
         }
         sheet_vertex(d, cell, x, nx, corners);

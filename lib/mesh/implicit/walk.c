@@ -101,8 +101,11 @@ uint8_t merp_walk_corners(merp_walk *w, const uint32_t cell[3], float cf[8])
     const uint32_t s0 = merp_walk_sample(w, cell[0], cell[1], cell[2]);
     uint8_t mask = 0;
     for (uint32_t c = 0; c < 8; c++) {
-        uint32_t i = cell[0] + (c & 1), j = cell[1] + (c >> 1 & 1), k = cell[2] + (c >> 2 & 1);
-        cf[c] = value_at(w, s0 + w->corner[c], i, j, k);
+        const uint32_t s = s0 + w->corner[c];
+        /* known: most corners (a cell shares them with the cells walked before it) */
+        cf[c] = w->known[s >> 5] >> (s & 31) & 1u
+                    ? w->value[s]
+                    : value_at(w, s, cell[0] + (c & 1), cell[1] + (c >> 1 & 1), cell[2] + (c >> 2 & 1));
         mask |= (uint8_t)((cf[c] >= MERP_ISO) << c);
     }
     return mask;
