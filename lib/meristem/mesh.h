@@ -12,9 +12,9 @@
  * so no gap or crack shows at a fork.
  *
  * Caps. A living tip's last internode is a cone from its lower ring to its end
- * point: a twig tapers to its tip, and one apex vertex closes the tube (on a
- * tree of many short twigs this halves the vertex count against a ring and a
- * cap). A cut surface (an axis whose continuation was pruned or shed) keeps its
+ * point (but where an implicit junction's patch covers it, Junctions): a twig
+ * tapers to its tip, and one apex vertex closes the tube (on a tree of many
+ * short twigs this halves the vertex count against a ring and a cap). A cut surface (an axis whose continuation was pruned or shed) keeps its
  * ring and gets a flat disk with its own normals, and so does a trunk's base.
  *
  * Level of detail. `detail` 1..5 sets the sides of the thickest axis (4, 6, 8,
@@ -99,7 +99,8 @@
  * F_b), in `ridge` (glTF `_RIDGE`); with a colour mode the colour is darkened by it. Patch UVs
  * continue the bark's of the nearest shaft (u by angle in that shaft's ring
  * frame, v by arc length), with seam vertices of their own. The bark ages with
- * the fork's oldest lateral, in years (steps, 1 in the season it appears; G04
+ * the fork's oldest lateral (at a relayed fork, not counting the relay but
+ * where it has no other), in years (steps, 1 in the season it appears; G04
  * Fig. 7): the lateral's scar ring round its base moves into the crotch as its
  * bark ridge, and where the fork also ends one season's shoot, the parent's bud
  * scale scar there fades with the years of the parent's next shoot (weight

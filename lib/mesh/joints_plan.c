@@ -35,8 +35,8 @@ static bool tip_cone(const merp_builder *b, uint32_t id)
 
 /* Whether a shaft may cross or be cut in internode id: a living one, and
  * no tip's cone unless `cone` (a shaft may end in a cone, the tube then
- * running from the cut ring to the apex; a fork at its tip has no shaft
- * beyond it). */
+ * running from the cut ring to the apex; and a relayed fork's parent may be
+ * one, its tip inside the patch). */
 static bool usable(const merp_builder *b, uint32_t id, bool cone)
 {
     if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || b->nodes[id].length <= 0.0f)
@@ -59,7 +59,7 @@ static void segment_of(const merp_builder *b, uint32_t id, merp_seg *s)
 float merp_joint_cell(const merp_builder *b, const merp_joint *jt)
 {
     float h = merp_node_radius(b, jt->start[MERP_CUT_IN]) / CELLS_PER_RADIUS;
-    for (uint32_t s = MERP_CUT_LATERAL; s < jt->cuts; s++)
+    for (uint32_t s = jt->relay ? MERP_CUT_OUT : MERP_CUT_LATERAL; s < jt->cuts; s++) /* a relay is a lateral */
         h = fminf(h, merp_node_radius(b, jt->start[s]) / CELLS_PER_LATERAL_RADIUS);
     return h;
 }
@@ -114,7 +114,8 @@ static void point_on(const mer_node *n, float at, float o[3])
 /* Cut s of jt: `need` along its shaft's axis from J, forwards from J at the
  * base of `first` or, `back`, backwards from J at its tip; across as many
  * internodes as that takes (short internodes of a thick axis), none of them
- * claimed by another patch, none a living tip's cone. Sets node[s], at[s];
+ * claimed by another patch, none a living tip's cone (but a relayed fork's
+ * parent, whose tip the patch covers). Sets node[s], at[s];
  * with `mark`, claims what the shaft covers. False when it does not fit. */
 static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back, float need, bool mark,
                    merp_joint *jt, uint32_t s)
@@ -181,6 +182,16 @@ static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first
     return true;
 }
 
+/* The parent's radius at J in jt's field: its tube's there (the next ring's,
+ * its continuation's), but a relayed fork's parent keeps its own, which the
+ * pipe model gives the relay's pipes too: its tube's next ring (a thinner
+ * continuation's) lies inside the patch. */
+static float in_radius(const merp_builder *b, const merp_joint *jt)
+{
+    uint32_t P = jt->start[MERP_CUT_IN];
+    return jt->relay ? merp_node_radius(b, P) : merp_node_end_radius(b, P);
+}
+
 /* Shaft s's segment of the field: the straight line from its start at J
  * through its cut's centre, reaching EXTEND cells past it (so the surface
  * at the cut is the plain tube), its radius r0 at J and the tube's at the cut. */
@@ -230,7 +241,7 @@ static bool place_cuts(const merp_builder *b, claims *cl, const uint32_t *first,
         merp_seg *g[MERP_PATCH_CUTS] = {&f->in, &f->out, &f->lateral[0], &f->lateral[1]};
         for (uint32_t s = 0; s < jt->cuts; s++) {
             const float *from = s < MERP_CUT_LATERAL ? J : b->nodes[first[s]].base;
-            float r0 = s == MERP_CUT_IN ? merp_node_end_radius(b, first[s]) : merp_node_radius(b, first[s]);
+            float r0 = s == MERP_CUT_IN ? in_radius(b, jt) : merp_node_radius(b, first[s]);
             shaft_segment(b, jt, s, from, r0, h, g[s]);
         }
     }
@@ -304,6 +315,7 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
     merp_junction *f = &jt->field;
     segment_of(b, P, &f->in);
     segment_of(b, C, &f->out);
+    f->in.rb = in_radius(b, jt); /* a relayed parent keeps its own */
     f->w = PCM_WIDTH;
     for (uint32_t k = 0; k < nl; k++) {
         segment_of(b, lat[k], &f->lateral[f->laterals]);

@@ -108,7 +108,8 @@ typedef struct merp_builder {
     uint32_t joints_unfit;  /* candidates no patch was planned for: tubes */
     uint32_t *joint_at;     /* by node id: the joint at its tip, or UINT32_MAX */
     uint32_t *lateral_in;   /* by node id: joint · MERP_PATCH_CUTS + cut of a lateral
-                               whose shaft starts in a patch, or UINT32_MAX */
+                               (or a relay, cut 1) whose shaft starts in a
+                               patch, or UINT32_MAX */
     uint32_t *cut_end;      /* by node id: joint · MERP_PATCH_CUTS + cut of the out
                                or lateral cut in it (a patch ends), or UINT32_MAX */
     uint32_t *cut_begin;    /* by node id: the joint whose in cut lies in it (a
@@ -169,7 +170,7 @@ static inline uint64_t merp_axis_indices(const merp_axis *a)
 mer_result merp_mesh_bark(merp_builder *b, mer_error *err);
 
 /* Walks axis a's rings as merp_mesh_bark does, writing nothing: sets a's
- * extra_rings and lost_bands and, with `record`, records each cut ring's
+ * extra_rings, lost_bands and ends_in and, with `record`, records each cut ring's
  * positions, frame and UV v in its joint (for joints.c). */
 mer_result merp_mesh_record_rings(merp_builder *b, merp_axis *a, bool record, mer_error *err);
 

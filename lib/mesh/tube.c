@@ -187,9 +187,10 @@ static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, ui
 /* The rings of an axis with implicit junctions, with `emit` written (or, on
  * a dry run, recorded), else only counted into *rings and *bands: ring i
  * at the base of internode i unless it lies inside a patch, and in
- * internode i the cut that ends a patch (a lateral's first, or the out cut
- * of a fork below) and then the cut that begins one (the in cut of a fork
- * at or above its tip). A patch's span may cover several internodes.
+ * internode i the cut that ends a patch (a lateral's or a relay's first,
+ * the out cut of a fork below, or at a relayed fork the cut of the thinner
+ * continuation, one of its laterals) and then the cut that begins one (the
+ * in cut of a fork at or above its tip). A patch's span may cover several internodes.
  * Returns whether the axis ends inside a patch (a relayed fork at its tip). */
 static bool rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *rings, uint32_t *bands)
 {

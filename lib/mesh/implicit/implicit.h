@@ -311,7 +311,8 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
  * contact (the branch bark ridge) in the crotch above each lateral, where its
  * bound sits, and the smooth blend elsewhere. */
 typedef struct merp_junction {
-    merp_seg in, out;        /* the parent's axis; out.ra = 0: no continuation */
+    merp_seg in, out;        /* the parent's axis (out: its continuation, or a
+                                lateral that relays it); out.ra = 0: none */
     merp_seg lateral[MERP_JUNCTION_LATERALS];
     merp_bound bound[MERP_JUNCTION_LATERALS];
     uint32_t laterals;       /* 0..MERP_JUNCTION_LATERALS (0: an elbow of the
@@ -327,7 +328,7 @@ typedef struct merp_junction {
 } merp_junction;
 
 /* Places lateral k's bound at the crotch C between it and the parent's
- * continuation (`up`, unit): where the parent's surface meets the lateral's
+ * continuation or relay (`up`, unit): where the parent's surface meets the lateral's
  * upper side in the plane of the two axes, reaching along the lateral, with
  * its extent and r_in, r_out proportional to the lateral's radius and grown by
  * `ridge` ∈ [0, 1] (the ridge's age, G04 Fig. 7; 0: no ridge, F_b = 0). */
