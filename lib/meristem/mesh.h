@@ -81,9 +81,16 @@
  * and the parent's tip (a cone, or a disk) lies inside the patch. A fork
  * that does not fit as it grew and whose continuation is thinner than its
  * thickest lateral is relayed the same way, the continuation then one of
- * the patch's laterals (a sylleptic shoot's forks). A fork
+ * the patch's laterals (a sylleptic shoot's forks). Forks a few radii
+ * apart up one axis (a thick axis's short internodes), whose cuts would
+ * fall in each other's patches, are patched together as a run: one patch
+ * for up to four forks, the parent's axis through all of them one solid
+ * (with each fork's bud scale scar), every fork's laterals blending in
+ * with their ridges. A fork
  * whose axes bend too much there, whose cuts would fall in another fork's
- * patch (thickest laterals are served first) or past a growing tip's apex,
+ * patch that no run takes in (thickest laterals are served first; a
+ * patch on another axis, such as a fork near the base of another patch's
+ * lateral, or a run of more than four) or past a growing tip's apex,
  * whose cut ring would be under 0.4 of its grid's cell in radius, or whose
  * laterals run nearly along their parent, stays tubes (`junctions_unfit`
  * counts those). A patch is
@@ -197,12 +204,14 @@ typedef struct mer_mesh {
     float *points;          /* 3 per marker */
     uint32_t axes;          /* generalized cylinders in `bark` */
     uint32_t internodes;    /* living internodes meshed */
-    uint32_t junctions;     /* forks meshed as implicit patches */
+    uint32_t junctions;     /* forks meshed as implicit patches (a run's
+                               patch serves several) */
     uint32_t junctions_open; /* forks chosen for a patch that got none (it closed
                                 on neither grid, or its grid would be too
                                 large; Junctions): meshed as tubes */
-    uint32_t junctions_smooth; /* of `junctions`, the patches by marching
-                                  tetrahedra: their ridge's crease is not sharp */
+    uint32_t junctions_smooth; /* of `junctions`, the forks whose patch is by
+                                  marching tetrahedra: their ridge's crease
+                                  is not sharp */
     uint32_t junctions_unfit; /* forks thick enough, with a lateral thick
                                  enough, that no patch fits (Junctions:
                                  axes that bend or still thicken past the

@@ -138,8 +138,9 @@ static void mesh_bound(const merp_builder *b, mesh_size *out)
         out->bark_vertices += v;
         out->bark_indices += i;
         for (uint32_t k = 0; k < b->joint_count; k++) {
-            out->junctions += b->joints[k].ok;
-            out->smooth += b->joints[k].ok && b->joints[k].smooth;
+            /* forks: a run's patch serves several */
+            out->junctions += b->joints[k].ok ? b->joints[k].forks : 0;
+            out->smooth += b->joints[k].ok && b->joints[k].smooth ? b->joints[k].forks : 0;
         }
     }
 }

@@ -18,12 +18,14 @@
 static void unplan(merp_builder *b, merp_joint *jt)
 {
     jt->ok = false;
-    b->joint_at[jt->start[MERP_CUT_IN]] = UINT32_MAX;
+    for (uint32_t i = 0; i < jt->forks; i++)
+        b->joint_at[jt->fork_node[i]] = UINT32_MAX;
     b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
     for (uint32_t s = 1; s < jt->cuts; s++)
         b->cut_end[jt->node[s]] = UINT32_MAX;
-    for (uint32_t s = jt->relay ? MERP_CUT_OUT : MERP_CUT_LATERAL; s < jt->cuts; s++)
-        b->lateral_in[jt->start[s]] = UINT32_MAX;
+    for (uint32_t s = 1; s < jt->cuts; s++)
+        if (merp_joint_begins_axis(b->nodes, jt, s))
+            b->lateral_in[jt->start[s]] = UINT32_MAX;
 }
 
 /* Each axis's ring counts and, for a lateral not in a patch, its base
@@ -48,15 +50,23 @@ static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
     return MER_OK;
 }
 
-/* The grid of jt's patch: the box of every shaft from J to just past its
+/* Where shaft s of jt leaves the parent's axis: its fork's J. */
+static const float *shaft_origin(const merp_joint *jt, uint32_t s)
+{
+    uint32_t k;
+    return jt->field[merp_joint_fork_of(jt, s, &k)].in.b;
+}
+
+/* The grid of jt's patch: the box of every shaft from its J to just past its
  * cut, grown by the shell its surface stays in, with cells of h. */
 static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g)
 {
-    const float *J = jt->field.in.b;
+    const float *J = jt->field[0].in.b;
     float lo[3], hi[3];
     for (int k = 0; k < 3; k++)
         lo[k] = hi[k] = J[k];
     for (uint32_t s = 0; s < jt->cuts; s++) {
+        J = shaft_origin(jt, s);
         /* The shaft's segment runs from its radius at J to the tube's at the cut. */
         float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
         float e = SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
@@ -77,19 +87,34 @@ static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, mer
     return cells <= MAX_CELLS;
 }
 
-/* The shaft nearest p: the smallest distance in units of the shaft's radius. */
+/* Shaft s's segment in jt's field, and its lane in jp's segment rows
+ * (merp_jprep: the axis, then the laterals fork by fork). */
+static const merp_seg *shaft_segment(const merp_joint *jt, const merp_jprep *jp, uint32_t s, uint32_t *lane)
+{
+    uint32_t k, i = merp_joint_fork_of(jt, s, &k);
+    if (s == MERP_CUT_IN)
+        return *lane = MERP_JSEG_IN, &jt->field[0].in;
+    if (s == MERP_CUT_OUT)
+        return *lane = jt->forks, &jt->field[i].out;
+    *lane = jp->lateral_lane + s - MERP_CUT_LATERAL;
+    return &jt->field[i].lateral[k];
+}
+
+/* The shaft nearest p: the smallest distance in units of the shaft's radius
+ * (a run's axis between its forks counts as none: a point there goes to the
+ * nearer of its in and out shafts). */
 static uint32_t nearest_shaft(const merp_joint *jt, const merp_jprep *jp, const float p[3])
 {
-    const merp_junction *f = &jt->field;
-    /* The shafts' lanes of jp's segment row: in, out, the laterals. */
-    _Static_assert(MERP_JSEG_IN == 0 && MERP_JSEG_OUT == 1 && MERP_JSEG_LATERAL == 2, "shaft s is lane s");
-    merp_row_point c;
-    merp_row_closest(&jp->seg, p, &c);
+    merp_row_point c[MERP_JROWS];
+    for (uint32_t r = 0; r < jp->rows; r++)
+        merp_row_closest(&jp->seg[r], p, &c[r]);
     uint32_t best = 0;
     float best_x = INFINITY;
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        const merp_seg *g = s == 0 ? &f->in : s == 1 ? &f->out : &f->lateral[s - 2];
-        float t = c.t[s], d = sqrtf(c.d2[s]), x = d / ((1.0f - t) * g->ra + t * g->rb);
+        uint32_t l;
+        const merp_seg *g = shaft_segment(jt, jp, s, &l);
+        const merp_row_point *q = &c[l / MERP_ROW];
+        float t = q->t[l % MERP_ROW], d = sqrtf(q->d2[l % MERP_ROW]), x = d / ((1.0f - t) * g->ra + t * g->rb);
         if (x < best_x)
             best_x = x, best = s;
     }
@@ -145,18 +170,23 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
     }
 }
 
-/* b of the bark at a point where the bound row's values are F
+/* b of the bark at a point where the bound rows' values are F
  * (merp_jprep_bound_field; a bound left out is 0; mesh.h, Junctions): the
- * laterals' F_b and the parent's bud scale scar, σ(y)·F_b of its band (G04
+ * laterals' F_b and the parent's bud scale scars, σ(y)·F_b of each band (G04
  * §3.2: the bounding field marks the PCM region's texture, Fig. 7: the scar
  * fades). */
-static float bark_mark(const merp_junction *f, const float F[MERP_ROW])
+static float bark_mark(const merp_jprep *jp, const float *F)
 {
     float b = 0.0f;
-    for (uint32_t k = 0; k < f->laterals; k++) /* merp_junction_ridge */
-        b = F[MERP_JBOUND_LATERAL + k] > b ? F[MERP_JBOUND_LATERAL + k] : b;
-    if (f->scar_weight > 0.0f && f->out.ra > 0.0f)
-        b = fmaxf(b, f->scar_weight * F[MERP_JBOUND_SCAR]);
+    const float *B = F + jp->bound_lane;
+    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) /* merp_junction_ridge */
+            b = B[n] > b ? B[n] : b;
+    for (uint32_t i = 0; i < jp->forks; i++) {
+        const merp_junction *f = &jp->j[i];
+        if (f->scar_weight > 0.0f && f->out.ra > 0.0f)
+            b = fmaxf(b, f->scar_weight * F[i]);
+    }
     return b;
 }
 
@@ -189,16 +219,16 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
     for (uint32_t s = 0; s < jt->cuts; s++)
         ring_first -= jt->sides[s];
     merp_jprep jp;
-    merp_jprep_init(&jp, &jt->field);
+    merp_jprep_init_run(&jp, jt->field, jt->forks);
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
-        float F[MERP_ROW]; /* the bound row's values at p: bark_mark's */
+        float F[MERP_JROWS * MERP_ROW]; /* the bound rows' values at p: bark_mark's */
         merp_jprep_gradient_bounds(&jp, p, nr, F);
         for (int k = 0; k < 3; k++)
             nr[k] = -nr[k];
         if (!v3_normalize(nr))
             nr[0] = 0.0f, nr[1] = 1.0f, nr[2] = 0.0f;
-        jt->ridge[v] = bark_mark(&jt->field, F) * mark_fade(b, jt, p);
+        jt->ridge[v] = bark_mark(&jp, F) * mark_fade(b, jt, p);
         if (v < ring_first) {
             uint32_t s = nearest_shaft(jt, &jp, p);
             jt->shaft[v] = (uint8_t)s;
@@ -238,7 +268,7 @@ static mer_result polygonize_patch(const merp_patch *pt, const merp_joint *jt, m
  * patch does not close on its cuts. */
 static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, uint32_t sharp, mer_error *err)
 {
-    merp_patch pt = {.j = &jt->field, .cuts = jt->cuts, .sharp = sharp};
+    merp_patch pt = {.j = jt->field, .forks = jt->forks, .cuts = jt->cuts, .sharp = sharp};
     if (!patch_grid(b, jt, h, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
     for (uint32_t s = 0; s < jt->cuts; s++) {
@@ -335,6 +365,9 @@ static void patch_item(void *ctx, uint32_t i)
 {
     patch_run *r = ctx;
     mer_error e;
+    r->rc[i] = MER_OK;
+    if (!r->b->joints[i].ok)
+        return; /* a fork a run took in (joints_plan.c) */
     r->rc[i] = build_patch(r->b, &r->b->joints[i], &e);
     if (r->rc[i] != MER_OK)
         free_patch(&r->b->joints[i]);
@@ -353,8 +386,8 @@ static mer_result build_patches(merp_builder *b, mer_error *err)
     mer_result rc = MER_OK;
     for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
         if (r.rc[i] == MER_ERR_INVALID) {
-            unplan(b, &b->joints[i]); /* this fork stays tubes */
-            b->joints_open++;
+            unplan(b, &b->joints[i]); /* this fork (or run) stays tubes */
+            b->joints_open += b->joints[i].forks;
         } else if (r.rc[i] != MER_OK) {
             rc = mer_error_set(err, r.rc[i], NULL, "out of memory for a junction");
         }

@@ -1,7 +1,8 @@
 /* meristem — implicit junctions in the bark (meristem/mesh.h, Junctions; G04
- * §3, issue 18): which forks get a patch and where their shafts are cut,
- * each shaft across as many short internodes as its cut needs; the field
- * each patch polygonizes (joints.c builds and writes the patches). */
+ * §3, issue 18): which forks get a patch (a fork of its own, or a run of
+ * forks a few radii apart up one axis) and where their shafts are cut, each
+ * shaft across as many short internodes as its cut needs; the field each
+ * patch polygonizes (joints.c builds and writes the patches). */
 #include "config.h"
 
 #include <math.h>
@@ -23,6 +24,8 @@
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
 #define THIN_CUT 0.4f        /* a cut ring at least this many cells in radius */
+#define RUN_GAP 10.0f        /* a run's next fork: within this × the fork's radius along the axis */
+#define RUN_CLEAR 40.0f      /* a run's cut: within this × its shaft's radius of its J */
 
 /* Whether internode id (living) is a living tip's last, which tube.c
  * meshes as a cone. */
@@ -99,9 +102,13 @@ static float years_since(const merp_builder *b, uint32_t born)
 /* What the patches planned so far cover, by node id: an internode is
  * claimed from its base up to lo[id] (a patch's out or lateral shaft ends
  * in it) and from hi[id] up to its tip (an in shaft begins in it); a node
- * inside a patch has lo = its length, hi = 0. */
+ * inside a patch has lo = its length, hi = 0. own_lo and own_hi say which
+ * joint claims each part (UINT32_MAX: none); `blocker` is the joint whose
+ * claim the last failed placement met (UINT32_MAX: none). */
 typedef struct claims {
     float *lo, *hi;
+    uint32_t *own_lo, *own_hi;
+    uint32_t blocker;
 } claims;
 
 /* The centre of the cut at `at` along internode id. */
@@ -131,10 +138,14 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
         float len = n->length, gap = CUT_GAP * merp_node_radius(b, id);
         if (arc + len > need) {
             float at = back ? len - (need - arc) : need - arc;
-            bool taken = back ? at <= cl->lo[id] + gap || cl->hi[id] < len
-                              : cl->lo[id] > 0.0f || at >= cl->hi[id] - gap;
-            if (taken || (!back && tip_cone(b, id) && len - at < merp_node_radius(b, id)))
-                return false; /* ... or a tip's cone left under a radius long: a flat disk */
+            bool by_lo = back ? at <= cl->lo[id] + gap : cl->lo[id] > 0.0f;
+            bool by_hi = back ? cl->hi[id] < len : at >= cl->hi[id] - gap;
+            if (by_lo || by_hi) {
+                cl->blocker = by_lo ? cl->own_lo[id] : cl->own_hi[id];
+                return false;
+            }
+            if (!back && tip_cone(b, id) && len - at < merp_node_radius(b, id))
+                return false; /* a tip's cone left under a radius long: a flat disk */
             if (mark && back)
                 cl->hi[id] = at;
             else if (mark)
@@ -142,8 +153,10 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
             jt->node[s] = id, jt->at[s] = at;
             return true;
         }
-        if (cl->lo[id] > 0.0f || cl->hi[id] < len)
+        if (cl->lo[id] > 0.0f || cl->hi[id] < len) {
+            cl->blocker = cl->lo[id] > 0.0f ? cl->own_lo[id] : cl->own_hi[id];
             return false;
+        }
         if (mark)
             cl->lo[id] = len, cl->hi[id] = 0.0f;
         arc += len;
@@ -214,12 +227,10 @@ static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t 
 
 /* Places jt's cuts (see follow), `need` each from J, and with them its
  * field's shafts; with `mark`, claims them. False when one does not fit. */
-static bool place_cuts(const merp_builder *b, claims *cl, const uint32_t *first, const float *need, float h,
-                       bool mark, merp_joint *jt)
+static bool place_cuts(const merp_builder *b, claims *cl, const float *need, float h, bool mark, merp_joint *jt)
 {
-    merp_junction *f = &jt->field;
-    float J[3];
-    memcpy(J, f->in.b, sizeof J);
+    const uint32_t *first = jt->start;
+    uint32_t k;
     for (uint32_t s = 0; s < jt->cuts; s++) {
         bool back = s == MERP_CUT_IN;
         if (!follow(b, cl, first[s], back, need[s], mark, jt, s))
@@ -228,9 +239,10 @@ static bool place_cuts(const merp_builder *b, claims *cl, const uint32_t *first,
         /* The cut plane is square to the shaft's segment, and so is the
          * tube's cut ring (tube.c), which is then a cross-section of the
          * segment's capsule however the axis bends beyond it. */
+        const float *J = jt->field[merp_joint_fork_of(jt, s, &k)].in.b;
         const float *from = s < MERP_CUT_LATERAL ? J : b->nodes[first[s]].base;
-        for (int k = 0; k < 3; k++)
-            jt->n[s][k] = jt->o[s][k] - from[k];
+        for (int a = 0; a < 3; a++)
+            jt->n[s][a] = jt->o[s][a] - from[a];
         jt->d[s] = v3_len(jt->n[s]);
         if (!v3_normalize(jt->n[s]))
             return false;
@@ -238,13 +250,127 @@ static bool place_cuts(const merp_builder *b, claims *cl, const uint32_t *first,
             return false;
     }
     if (!mark) {
-        merp_seg *g[MERP_PATCH_CUTS] = {&f->in, &f->out, &f->lateral[0], &f->lateral[1]};
         for (uint32_t s = 0; s < jt->cuts; s++) {
-            const float *from = s < MERP_CUT_LATERAL ? J : b->nodes[first[s]].base;
+            merp_junction *f = &jt->field[merp_joint_fork_of(jt, s, &k)];
+            merp_seg *g = s == MERP_CUT_IN ? &f->in : s == MERP_CUT_OUT ? &f->out : &f->lateral[k];
+            const float *from = s < MERP_CUT_LATERAL ? f->in.b : b->nodes[first[s]].base;
             float r0 = s == MERP_CUT_IN ? in_radius(b, jt) : merp_node_radius(b, first[s]);
-            shaft_segment(b, jt, s, from, r0, h, g[s]);
+            shaft_segment(b, jt, s, from, r0, h, g);
         }
     }
+    return true;
+}
+
+/* A primitive of a run's field as its cuts' clearance sees it: from o along
+ * unit m for len (INFINITY: a shaft, whose far end the cut decides), its
+ * support R; `axis` for the parent's axis (its in and out shafts and the
+ * segments between the forks), which is one solid. */
+typedef struct run_prim {
+    float o[3], m[3], len, R;
+    bool axis;
+} run_prim;
+
+static float prim_distance(const run_prim *q, const float p[3])
+{
+    float d[3];
+    for (int a = 0; a < 3; a++)
+        d[a] = p[a] - q->o[a];
+    float t = merp_clampf(v3_dot(d, q->m), 0.0f, q->len);
+    for (int a = 0; a < 3; a++)
+        d[a] -= t * q->m[a];
+    return v3_len(d);
+}
+
+/* How far from its J along its direction shaft s's cut must lie (see
+ * clear_of, which a single fork's shafts, all from one J, solve in closed
+ * form): the first d from r in steps of h/2 where the cut's centre is at
+ * least R + ρ from every other primitive (but the axis's, for an axis
+ * shaft); -1 when none within RUN_CLEAR × r. */
+static float clear_of_run(const run_prim *prim, uint32_t n, uint32_t s, float r, float rho, float h)
+{
+    for (float d = r; d <= RUN_CLEAR * r; d += 0.5f * h) {
+        float p[3];
+        for (int a = 0; a < 3; a++)
+            p[a] = prim[s].o[a] + d * prim[s].m[a];
+        bool clear = true;
+        for (uint32_t o = 0; o < n && clear; o++)
+            if (o != s && !(prim[o].axis && prim[s].axis))
+                clear = prim_distance(&prim[o], p) >= prim[o].R + rho;
+        if (clear)
+            return d;
+    }
+    return -1.0f;
+}
+
+/* What a patch's cuts must clear: a single fork's shafts all leave one J
+ * (clear_of, from their directions and supports), a run's leave several
+ * (clear_of_run over its primitives, when `prim` is set). */
+typedef struct clearance {
+    float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS];
+    const run_prim *prim;
+    uint32_t prims;
+} clearance;
+
+/* How far from its J cut s of jt must lie, its reach rho; -1 when no
+ * distance clears the others. */
+static float clear_distance(const merp_builder *b, const merp_joint *jt, const clearance *c, uint32_t s,
+                            float rho, float h)
+{
+    float d = merp_node_radius(b, jt->start[s]);
+    if (c->prim != NULL)
+        return clear_of_run(c->prim, c->prims, s, d, rho, h);
+    for (uint32_t o = 0; o < jt->cuts; o++) {
+        if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
+            continue;
+        float x = clear_of(c->dir[s], c->dir[o], c->R[o], rho);
+        if (x < 0.0f)
+            return -1.0f;
+        d = fmaxf(d, x);
+    }
+    return d;
+}
+
+/* Places jt's cuts (place_cuts, not claimed), each clear of the other
+ * primitives by its reach, into need[]. Each cut's reach is sized by the
+ * tube's radius at the cut (joints.c), which is known only once the cut is
+ * placed: first the radius at J, then, while a cut lands where its axis is
+ * thicker, again with that radius (the cut moves out, clear of the others
+ * by the wider reach). A cut ring under THIN_CUT cells in radius is
+ * refused: its loop on the grid is a cell or two, and no polygonizer's
+ * patch closed on it (fig6-sylleptic, whose continuations are far thinner
+ * than their laterals and taper fast beyond them: 119 of 171 open patches;
+ * the rest of its forks, and every other preset's, are unchanged by it);
+ * such a fork is not planned, so its shafts are free for the forks beside
+ * it. False when the cuts do not fit. */
+static bool settle_cuts(const merp_builder *b, claims *cl, merp_joint *jt, const clearance *c, float h,
+                        float *need)
+{
+    float r_reach[MERP_PATCH_CUTS];
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        r_reach[s] = merp_node_radius(b, jt->start[s]);
+    for (uint32_t pass = 0;; pass++) {
+        for (uint32_t s = 0; s < jt->cuts; s++) {
+            float d = clear_distance(b, jt, c, s, MERP_JOINT_REACH * r_reach[s] + h, h);
+            if (d < 0.0f)
+                return false;
+            need[s] = d + 2.0f * h;
+        }
+        if (!place_cuts(b, cl, need, h, false, jt))
+            return false;
+        bool thicker = false;
+        for (uint32_t s = 0; s < jt->cuts; s++) {
+            float r = merp_cut_radius(b, jt, s);
+            if (r > r_reach[s])
+                r_reach[s] = r, thicker = true;
+        }
+        if (!thicker)
+            break;
+        if (pass + 1 == REPLANS)
+            return false; /* still thickening: the axis is no shaft for a patch */
+    }
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        if (merp_cut_radius(b, jt, s) < THIN_CUT * h)
+            return false;
     return true;
 }
 
@@ -311,8 +437,8 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
     }
     if (!usable(b, P, none) || !usable(b, C, true) || (nl == 0 && !relay))
         return false;
-    *jt = (merp_joint){.start = {P, C}, .cuts = 2, .relay = relay};
-    merp_junction *f = &jt->field;
+    *jt = (merp_joint){.start = {P, C}, .cuts = 2, .relay = relay, .forks = 1, .fork_node = {P}};
+    merp_junction *f = jt->field;
     segment_of(b, P, &f->in);
     segment_of(b, C, &f->out);
     f->in.rb = in_radius(b, jt); /* a relayed parent keeps its own */
@@ -324,60 +450,19 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
     }
     float h = merp_joint_cell(b, jt);
     /* Each shaft's direction away from J, and its primitives' supports. */
-    float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS], need[MERP_PATCH_CUTS];
-    uint32_t first[MERP_PATCH_CUTS];
+    clearance c = {.prim = NULL};
     for (int i = 0; i < 3; i++)
-        dir[MERP_CUT_IN][i] = -p->dir[i];
+        c.dir[MERP_CUT_IN][i] = -p->dir[i];
     for (uint32_t s = 1; s < jt->cuts; s++)
-        memcpy(dir[s], b->nodes[jt->start[s]].dir, sizeof dir[s]);
+        memcpy(c.dir[s], b->nodes[jt->start[s]].dir, sizeof c.dir[s]);
     for (uint32_t s = 0; s < jt->cuts; s++) {
         const merp_seg *g = s == 0 ? &f->in : s == 1 ? &f->out : &f->lateral[s - 2];
-        R[s] = SUPPORT_SEEN * merp_seg_support(g);
-        first[s] = jt->start[s];
+        c.R[s] = SUPPORT_SEEN * merp_seg_support(g);
     }
-    /* Each cut's reach is sized by the tube's radius at the cut (joints.c),
-     * which is known only once the cut is placed: first the radius at J, then,
-     * while a cut lands where its axis is thicker, again with that radius
-     * (the cut moves out, clear of the others by the wider reach). */
-    float r_reach[MERP_PATCH_CUTS];
-    for (uint32_t s = 0; s < jt->cuts; s++)
-        r_reach[s] = merp_node_radius(b, jt->start[s]);
-    for (uint32_t pass = 0;; pass++) {
-        for (uint32_t s = 0; s < jt->cuts; s++) {
-            float r = merp_node_radius(b, jt->start[s]), rho = MERP_JOINT_REACH * r_reach[s] + h, d = r;
-            for (uint32_t o = 0; o < jt->cuts; o++) {
-                if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
-                    continue;
-                float c = clear_of(dir[s], dir[o], R[o], rho);
-                if (c < 0.0f)
-                    return false;
-                d = fmaxf(d, c);
-            }
-            need[s] = d + 2.0f * h;
-        }
-        if (!place_cuts(b, cl, first, need, h, false, jt))
-            return false;
-        bool thicker = false;
-        for (uint32_t s = 0; s < jt->cuts; s++) {
-            float r = merp_cut_radius(b, jt, s);
-            if (r > r_reach[s])
-                r_reach[s] = r, thicker = true;
-        }
-        if (!thicker)
-            break;
-        if (pass + 1 == REPLANS)
-            return false; /* still thickening: the axis is no shaft for a patch */
-    }
-    /* A cut ring under THIN_CUT cells in radius: its loop on the grid is
-     * a cell or two, and no polygonizer's patch closed on it (fig6-sylleptic,
-     * whose continuations are far thinner than their laterals and taper
-     * fast beyond them: 119 of 171 open patches; the rest of its forks, and
-     * every other preset's, are unchanged by it). Such a fork is not
-     * planned, so its shafts are free for the forks beside it. */
-    for (uint32_t s = 0; s < jt->cuts; s++)
-        if (merp_cut_radius(b, jt, s) < THIN_CUT * h)
-            return false;
-    place_cuts(b, cl, first, need, h, true, jt);
+    float need[MERP_PATCH_CUTS];
+    if (!settle_cuts(b, cl, jt, &c, h, need))
+        return false;
+    place_cuts(b, cl, need, h, true, jt);
     float ridge_up[3];
     memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
     /* The bark ages with the oldest lateral (G04 Fig. 7). The parent's bud
@@ -385,11 +470,162 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
      * next's, and ages with C's shoot. */
     uint32_t born = b->nodes[C].born; /* a relay's own, where it has no lateral */
     for (uint32_t k = 0; k < f->laterals; k++)
-        born = k == 0 || b->nodes[first[2 + k]].born < born ? b->nodes[first[2 + k]].born : born;
+        born = k == 0 || b->nodes[jt->start[2 + k]].born < born ? b->nodes[jt->start[2 + k]].born : born;
     merp_junction_age(f, ridge_up, years_since(b, born));
     f->scar_weight = b->nodes[C].born == p->born
                          ? 0.0f
                          : merp_junction_scar_weight(years_since(b, b->nodes[C].born));
+    return true;
+}
+
+/* Whether the axis from C up to P (both included, along main children) may
+ * lie inside a run's patch: living internodes, no tip's cone, claimed by no
+ * patch, every boundary between them within STRAIGHT × r of the line from
+ * J0 to J1 (the run's segment there). */
+static bool run_middle(const merp_builder *b, claims *cl, uint32_t C, uint32_t P, const float J0[3],
+                       const float J1[3], float r)
+{
+    float u[3];
+    for (int a = 0; a < 3; a++)
+        u[a] = J1[a] - J0[a];
+    if (!v3_normalize(u))
+        return false;
+    for (uint32_t id = C, passed = 0;; id = b->nodes[id].main_child, passed++) {
+        if (!usable(b, id, false) || passed > MAX_SPAN)
+            return false;
+        if (cl->lo[id] > 0.0f || cl->hi[id] < b->nodes[id].length) {
+            cl->blocker = cl->lo[id] > 0.0f ? cl->own_lo[id] : cl->own_hi[id];
+            return false;
+        }
+        if (id == P)
+            return true;
+        float q[3], e[3];
+        merp_tip_of(&b->nodes[id], q);
+        for (int a = 0; a < 3; a++)
+            q[a] -= J0[a];
+        v3_cross(q, u, e);
+        if (v3_len(e) > STRAIGHT * r)
+            return false;
+    }
+}
+
+/* Internode id wholly claimed by `owner` (UINT32_MAX: freed). */
+static void claim_whole(const merp_builder *b, claims *cl, uint32_t id, uint32_t owner)
+{
+    bool set = owner != UINT32_MAX;
+    cl->lo[id] = set ? b->nodes[id].length : 0.0f, cl->hi[id] = set ? 0.0f : INFINITY;
+    cl->own_lo[id] = cl->own_hi[id] = owner;
+}
+
+/* Claims for joint `owner` (or, with UINT32_MAX, frees) what jt's patch
+ * covers: each shaft's internodes from J to its cut (as follow marks them),
+ * a run's axis between its forks. */
+static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt, uint32_t owner)
+{
+    bool set = owner != UINT32_MAX;
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        bool back = s == MERP_CUT_IN;
+        uint32_t id = jt->start[s];
+        for (; id != jt->node[s]; id = back ? b->nodes[id].parent : b->nodes[id].main_child)
+            claim_whole(b, cl, id, owner);
+        if (back)
+            cl->hi[id] = set ? jt->at[s] : INFINITY, cl->own_hi[id] = owner;
+        else
+            cl->lo[id] = set ? jt->at[s] : 0.0f, cl->own_lo[id] = owner;
+    }
+    for (uint32_t i = 0; i + 1 < jt->forks; i++)
+        for (uint32_t id = b->nodes[jt->fork_node[i]].main_child;; id = b->nodes[id].main_child) {
+            claim_whole(b, cl, id, owner);
+            if (id == jt->fork_node[i + 1])
+                break;
+        }
+}
+
+/* Plans a run of K forks (the internodes P[0..K) up one axis, each ending
+ * at its fork's J, each with a continuation) as one patch into jt: the
+ * parent's axis from the in cut below J_0 through every J_i to the out cut
+ * above the last, the segments between the forks straight (merp_jprep's
+ * run), the laterals of every fork. Forks of a thick axis a few radii
+ * apart (a whorl's neighbours, a season's short internodes) do not fit as
+ * single patches: each one's cut would fall inside the other's. Cuts are
+ * placed as plan_one's, clear of every primitive of the run. False when it
+ * does not fit (cl->blocker: the joint in the way, if one is). Claims
+ * nothing: the caller does (claim_joint). */
+static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, uint32_t K, merp_joint *jt)
+{
+    assert(K >= 2 && K <= MERP_RUN_FORKS);
+    *jt = (merp_joint){.start = {P[0], b->nodes[P[K - 1]].main_child}, .cuts = 2, .forks = K};
+    float J[MERP_RUN_FORKS][3];
+    for (uint32_t i = 0; i < K; i++) {
+        const mer_node *p = &b->nodes[P[i]];
+        uint32_t C = p->main_child;
+        if (C == MER_NO_NODE || !usable(b, P[i], false) || !usable(b, C, i + 1 == K))
+            return false;
+        merp_tip_of(p, J[i]);
+        jt->fork_node[i] = P[i];
+        merp_junction *f = &jt->field[i];
+        f->w = PCM_WIDTH;
+        for (int k = 0; k < 2; k++) {
+            uint32_t L = p->lateral_child[k];
+            if (patch_lateral(b, p, J[i], L)) {
+                segment_of(b, L, &f->lateral[f->laterals++]);
+                jt->start[jt->cuts++] = L;
+            }
+        }
+        if (f->laterals == 0)
+            return false;
+        if (i == 0) {
+            segment_of(b, P[0], &f->in);
+            f->in.rb = in_radius(b, jt);
+        } else { /* the straight axis from the fork below */
+            uint32_t C0 = b->nodes[P[i - 1]].main_child;
+            f->in = (merp_seg){.ra = merp_node_radius(b, C0), .rb = merp_node_end_radius(b, P[i])};
+            memcpy(f->in.a, J[i - 1], sizeof f->in.a);
+            memcpy(f->in.b, J[i], sizeof f->in.b);
+            if (!run_middle(b, cl, C0, P[i], J[i - 1], J[i], merp_node_radius(b, C0)))
+                return false;
+            jt->field[i - 1].out = f->in;
+        }
+    }
+    segment_of(b, jt->start[MERP_CUT_OUT], &jt->field[K - 1].out);
+    float h = merp_joint_cell(b, jt);
+    /* The primitives: each shaft from its J, then the axis between the forks. */
+    run_prim prim[MERP_PATCH_CUTS + MERP_RUN_FORKS];
+    uint32_t n = jt->cuts, k;
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        const merp_junction *f = &jt->field[merp_joint_fork_of(jt, s, &k)];
+        const merp_seg *g = s == MERP_CUT_IN ? &f->in : s == MERP_CUT_OUT ? &f->out : &f->lateral[k];
+        const float *dir = b->nodes[jt->start[s]].dir;
+        run_prim *q = &prim[s];
+        *q = (run_prim){.len = INFINITY, .R = SUPPORT_SEEN * merp_seg_support(g), .axis = s < MERP_CUT_LATERAL};
+        memcpy(q->o, f->in.b, sizeof q->o);
+        for (int a = 0; a < 3; a++)
+            q->m[a] = s == MERP_CUT_IN ? -dir[a] : dir[a];
+    }
+    for (uint32_t i = 1; i < K; i++, n++) {
+        const merp_seg *g = &jt->field[i].in;
+        run_prim *q = &prim[n];
+        *q = (run_prim){.R = SUPPORT_SEEN * merp_seg_support(g), .axis = true};
+        memcpy(q->o, g->a, sizeof q->o);
+        for (int a = 0; a < 3; a++)
+            q->m[a] = g->b[a] - g->a[a];
+        q->len = v3_len(q->m);
+        v3_normalize(q->m);
+    }
+    const clearance c = {.prim = prim, .prims = n};
+    float need[MERP_PATCH_CUTS];
+    if (!settle_cuts(b, cl, jt, &c, h, need))
+        return false;
+    /* Each fork's bark ages as a single fork's (plan_one). */
+    for (uint32_t i = 0, s = MERP_CUT_LATERAL; i < K; i++) {
+        merp_junction *f = &jt->field[i];
+        const mer_node *C = &b->nodes[b->nodes[P[i]].main_child];
+        uint32_t born = b->nodes[jt->start[s]].born;
+        for (uint32_t l = 0; l < f->laterals; l++, s++)
+            born = b->nodes[jt->start[s]].born < born ? b->nodes[jt->start[s]].born : born;
+        merp_junction_age(f, C->dir, years_since(b, born));
+        f->scar_weight = C->born == b->nodes[P[i]].born ? 0.0f : merp_junction_scar_weight(years_since(b, C->born));
+    }
     return true;
 }
 
@@ -434,6 +670,123 @@ static candidate *candidates(const merp_builder *b, float threshold, uint32_t *c
     return c;
 }
 
+/* Whether P's tip is a fork a patch may serve: P at least `threshold`
+ * thick, with a lateral that may be a shaft of its patch. */
+static bool is_fork(const merp_builder *b, uint32_t P, float threshold)
+{
+    const mer_node *p = &b->nodes[P];
+    if (!p->alive || p->diameter < threshold)
+        return false;
+    float J[3];
+    merp_tip_of(p, J);
+    return patch_lateral(b, p, J, p->lateral_child[0]) || patch_lateral(b, p, J, p->lateral_child[1]);
+}
+
+/* Whether internode a is c or below it on c's axis (within MAX_SPAN). */
+static bool on_axis_below(const merp_builder *b, uint32_t a, uint32_t c)
+{
+    for (uint32_t passed = 0; passed <= MAX_SPAN; passed++) {
+        if (c == a)
+            return true;
+        uint32_t p = b->nodes[c].parent;
+        if (p == MER_NO_NODE || b->nodes[p].main_child != c)
+            return false;
+        c = p;
+    }
+    return false;
+}
+
+/* The forks from lo up to hi (both forks) along their axis into R, *K
+ * their count; false when they are more than MERP_RUN_FORKS or hi is not
+ * up lo's axis. */
+static bool forks_between(const merp_builder *b, uint32_t lo, uint32_t hi, float threshold, uint32_t *R,
+                          uint32_t *K)
+{
+    *K = 0;
+    for (uint32_t id = lo, passed = 0; id != MER_NO_NODE && passed <= MAX_SPAN; passed++) {
+        if (id == lo || id == hi || is_fork(b, id, threshold)) {
+            if (*K == MERP_RUN_FORKS)
+                return false;
+            R[(*K)++] = id;
+        }
+        if (id == hi)
+            return true;
+        id = b->nodes[id].main_child;
+    }
+    return false;
+}
+
+/* Widens [*lo, *hi] along the axis to hold joint x's forks; false when one
+ * is on no axis through them. */
+static bool widen(const merp_builder *b, const merp_joint *x, uint32_t *lo, uint32_t *hi)
+{
+    for (uint32_t i = 0; i < x->forks; i++) {
+        uint32_t f = x->fork_node[i];
+        if (on_axis_below(b, f, *lo))
+            *lo = f;
+        else if (on_axis_below(b, *hi, f))
+            *hi = f;
+        else if (!(on_axis_below(b, *lo, f) && on_axis_below(b, f, *hi)))
+            return false;
+    }
+    return true;
+}
+
+/* A planned joint's maps forgotten (a run took its forks in). */
+static void forget(merp_builder *b, merp_joint *jt)
+{
+    jt->ok = false;
+    for (uint32_t i = 0; i < jt->forks; i++)
+        b->joint_at[jt->fork_node[i]] = UINT32_MAX;
+    b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    for (uint32_t s = 1; s < jt->cuts; s++) {
+        b->cut_end[jt->node[s]] = UINT32_MAX;
+        if (merp_joint_begins_axis(b->nodes, jt, s))
+            b->lateral_in[jt->start[s]] = UINT32_MAX;
+    }
+}
+
+/* Plans P's fork, which fits no patch of its own because joint X's is in
+ * the way, as a run (plan_run) with X's forks and every fork between them
+ * on their axis, taking in the joints planned for any of them (released,
+ * into taken[0 .. *nt)); while the run meets another joint on the axis, it
+ * grows to take that in too, up to MERP_RUN_FORKS forks. False when it does
+ * not fit (X off the axis or a relay, too many forks): the claims are then
+ * as they were. */
+static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, merp_joint *jt,
+                        uint32_t *taken, uint32_t *nt)
+{
+    uint32_t lo = P, hi = P, R[MERP_RUN_FORKS], K = 0;
+    bool ok = false, stuck = false;
+    *nt = 0;
+    while (!ok && !stuck && X != UINT32_MAX) {
+        stuck = b->joints[X].relay || !widen(b, &b->joints[X], &lo, &hi);
+        /* every joint planned for a fork of the run joins it */
+        for (bool grown = true; grown && !stuck;) {
+            grown = false;
+            stuck = !forks_between(b, lo, hi, threshold, R, &K);
+            for (uint32_t i = 0; i < K && !stuck; i++) {
+                uint32_t j = b->joint_at[R[i]], t = 0;
+                while (t < *nt && taken[t] != j)
+                    t++;
+                if (j == UINT32_MAX || t < *nt)
+                    continue;
+                stuck = b->joints[j].relay || !widen(b, &b->joints[j], &lo, &hi);
+                claim_joint(b, cl, &b->joints[j], UINT32_MAX);
+                taken[(*nt)++] = j;
+                grown = true;
+            }
+        }
+        cl->blocker = UINT32_MAX;
+        ok = !stuck && plan_run(b, cl, R, K, jt);
+        X = cl->blocker;
+    }
+    if (!ok)
+        for (uint32_t t = 0; t < *nt; t++)
+            claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
+    return ok;
+}
+
 mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
 {
     size_t n = b->node_count, m = n ? n : 1;
@@ -441,22 +794,31 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
     b->lateral_in = merp_malloc(m * sizeof *b->lateral_in);
     b->cut_end = merp_malloc(m * sizeof *b->cut_end);
     b->cut_begin = merp_malloc(m * sizeof *b->cut_begin);
-    claims cl = {merp_malloc(m * sizeof *cl.lo), merp_malloc(m * sizeof *cl.hi)};
+    claims cl = {merp_malloc(m * sizeof *cl.lo), merp_malloc(m * sizeof *cl.hi),
+                 merp_malloc(m * sizeof *cl.own_lo), merp_malloc(m * sizeof *cl.own_hi), UINT32_MAX};
     float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
                                                       : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
-    uint32_t cap = 0, count = 0;
+    uint32_t cap = 0, count = 0, patched = 0;
     candidate *c = candidates(b, threshold, &count);
     mer_result rc = MER_OK;
-    if (!b->joint_at || !b->lateral_in || !b->cut_end || !b->cut_begin || !cl.lo || !cl.hi || !c)
+    if (!b->joint_at || !b->lateral_in || !b->cut_end || !b->cut_begin || !cl.lo || !cl.hi || !cl.own_lo ||
+        !cl.own_hi || !c)
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
     for (size_t i = 0; i < n && rc == MER_OK; i++) {
         b->joint_at[i] = b->lateral_in[i] = b->cut_end[i] = b->cut_begin[i] = UINT32_MAX;
         cl.lo[i] = 0.0f, cl.hi[i] = INFINITY;
+        cl.own_lo[i] = cl.own_hi[i] = UINT32_MAX;
     }
     merp_joint jt;
     for (uint32_t i = 0; i < count && rc == MER_OK; i++) {
-        uint32_t id = c[i].id;
-        if (!plan_one(b, &cl, id, false, &jt) && !plan_one(b, &cl, id, true, &jt))
+        uint32_t id = c[i].id, taken[MERP_RUN_FORKS], nt = 0;
+        if (b->joint_at[id] != UINT32_MAX)
+            continue; /* a fork of a run planned before */
+        cl.blocker = UINT32_MAX;
+        bool fits = plan_one(b, &cl, id, false, &jt);
+        uint32_t X = cl.blocker; /* what kept it from a patch of its own as it grew */
+        fits = fits || plan_one(b, &cl, id, true, &jt) || plan_merged(b, &cl, id, threshold, X, &jt, taken, &nt);
+        if (!fits)
             continue;
         if (b->joint_count == cap) {
             cap = cap ? 2 * cap : 16;
@@ -467,18 +829,25 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
             }
             b->joints = grown;
         }
-        jt.ok = true;
-        b->joints[b->joint_count] = jt;
-        b->joint_at[id] = b->joint_count;
-        b->cut_begin[jt.node[MERP_CUT_IN]] = b->joint_count;
-        for (uint32_t s = 1; s < jt.cuts; s++) {
-            b->cut_end[jt.node[s]] = b->joint_count * MERP_PATCH_CUTS + s;
-            if (jt.start[s] != b->nodes[id].main_child) /* an axis that begins in the patch */
-                b->lateral_in[jt.start[s]] = b->joint_count * MERP_PATCH_CUTS + s;
+        for (uint32_t k = 0; k < nt; k++) { /* a run took these forks' patches in */
+            patched -= b->joints[taken[k]].forks;
+            forget(b, &b->joints[taken[k]]);
         }
-        b->joint_count++;
+        patched += jt.forks;
+        jt.ok = true;
+        uint32_t at = b->joint_count++;
+        b->joints[at] = jt;
+        claim_joint(b, &cl, &jt, at);
+        for (uint32_t k = 0; k < jt.forks; k++)
+            b->joint_at[jt.fork_node[k]] = at;
+        b->cut_begin[jt.node[MERP_CUT_IN]] = at;
+        for (uint32_t s = 1; s < jt.cuts; s++) {
+            b->cut_end[jt.node[s]] = at * MERP_PATCH_CUTS + s;
+            if (merp_joint_begins_axis(b->nodes, &jt, s)) /* an axis that begins in the patch */
+                b->lateral_in[jt.start[s]] = at * MERP_PATCH_CUTS + s;
+        }
     }
-    b->joints_unfit = count - b->joint_count;
-    merp_free(c), merp_free(cl.lo), merp_free(cl.hi);
+    b->joints_unfit = count - patched;
+    merp_free(c), merp_free(cl.lo), merp_free(cl.hi), merp_free(cl.own_lo), merp_free(cl.own_hi);
     return rc;
 }

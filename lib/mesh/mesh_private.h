@@ -42,7 +42,9 @@ typedef struct merp_axis {
 /* The cuts of an implicit junction (mesh.h, Junctions): the parent's shaft
  * below J, its continuation above (or, at a relayed fork, the lateral that
  * relays the axis), and each lateral in the patch (at a relayed fork, the
- * continuation, where it has one, among them). */
+ * continuation, where it has one, among them). A run's in cut lies below
+ * its first fork, its out cut above its last, and its laterals follow fork
+ * by fork; the axis between its forks has no cut. */
 enum { MERP_CUT_IN, MERP_CUT_OUT, MERP_CUT_LATERAL };
 
 /* One fork meshed as an implicit patch (joints.c). */
@@ -69,7 +71,10 @@ typedef struct merp_joint {
                                        from P (joints_plan.c) */
     bool ok;                        /* planned, and its patch built */
     bool smooth;                    /* ... by marching tetrahedra (no sharp crease) */
-    merp_junction field;
+    merp_junction field[MERP_RUN_FORKS]; /* its forks' fields: field[0] a
+                                       single fork's, a run's up its axis */
+    uint32_t forks;                 /* 1, or a run's forks (joints_plan.c) */
+    uint32_t fork_node[MERP_RUN_FORKS]; /* the internode each fork's J ends */
     merp_trimesh mesh;              /* the patch, ring copies last */
     float *uvs, *ridge;             /* 2 and 1 per patch vertex */
     uint8_t *shaft;                 /* the cut whose shaft is nearest each vertex */
@@ -182,6 +187,32 @@ static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id
     if (b->joint_at == NULL || b->joint_at[id] == UINT32_MAX)
         return NULL;
     return &b->joints[b->joint_at[id]];
+}
+
+/* The fork of jt that shaft s leaves (0 for the in shaft, the last for the
+ * out shaft) and, for a lateral, its place among that fork's laterals
+ * (*k; 0 otherwise): a run's laterals follow fork by fork. */
+static inline uint32_t merp_joint_fork_of(const merp_joint *jt, uint32_t s, uint32_t *k)
+{
+    assert(s < jt->cuts && jt->forks >= 1);
+    *k = 0;
+    if (s < MERP_CUT_LATERAL)
+        return s == MERP_CUT_IN ? 0 : jt->forks - 1;
+    uint32_t n = s - MERP_CUT_LATERAL, i = 0;
+    while (n >= jt->field[i].laterals)
+        n -= jt->field[i++].laterals;
+    *k = n;
+    return i;
+}
+
+/* Whether shaft s of jt begins an axis in the patch (tube.c then starts
+ * that axis at its cut ring): a lateral, or a relay; not the parent's own
+ * axis going on (its continuation, also where a relay swapped it among the
+ * laterals). */
+static inline bool merp_joint_begins_axis(const mer_node *nodes, const merp_joint *jt, uint32_t s)
+{
+    uint32_t id = jt->start[s];
+    return s != MERP_CUT_IN && nodes[nodes[id].parent].main_child != id;
 }
 
 #define MERP_JOINT_REACH 1.15f /* a cut acts within this × its shaft's radius (+ h) */

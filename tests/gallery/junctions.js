@@ -7,7 +7,9 @@
 //   junctions-years.png  one fork when its lateral is 1, 4, 7 and 10 years old (the
 //                        years of G04 Fig. 7), a 2×2 montage;
 //   junctions-relay.png  a sympodium's fork with no living continuation, as tubes and
-//                        relayed through a patch, side by side.
+//                        relayed through a patch, side by side;
+//   junctions-run.png    two forks a few radii apart up the trunk, as tubes and as one
+//                        patch (a run), side by side.
 // usage: node junctions.js OUT
 // The engine is deterministic, so "the same fork, older" is the same preset and seed
 // stepped further: one session per year, each drawn at ?fork=LATERAL.
@@ -26,6 +28,9 @@ const YEARS = [1, 4, 7, 10];
 /** A fork whose parent (node 92, a flowered tip) has no living continuation: its one
  * lateral, 126, relays the axis. */
 const RELAY = { preset: 'fig6-sympodial', seed: 1, steps: 14, lateral: 126 };
+/** Forks 9 and 10 of TREE's trunk, an internode apart (with fork 4 below them, one run
+ * of three): the close-up looks at fork 10's lateral, 24, with fork 9's, 20, below. */
+const RUN = { lateral: 24 };
 
 /** Grows a new session of `preset` to `steps` steps; resolves to its summary. */
 async function grow(url, preset, seed, steps) {
@@ -71,6 +76,24 @@ async function montage(page, images, size, file) {
   await page.screenshot({ path: file });
 }
 
+/** The close-up of lateral `lateral`'s fork in session `id` as tubes and with implicit
+ * junctions (`what`: how the patch serves it), side by side in `file`; throws unless the
+ * implicit one is a patch there. */
+async function tubesBesidePatch(page, base, id, lateral, what, size, file) {
+  await page.setViewportSize({ width: size, height: size });
+  const pair = [];
+  for (const j of ['tubes', 'implicit']) {
+    await show(page, base, id, `color=none&fork=${lateral}`, j);
+    const st = await closeUpState(page);
+    console.log(`${what}, ${j}: ${JSON.stringify(st)}`);
+    if (!st || st.lateral !== lateral || (j === 'implicit') !== (st.ridgePoints > 0)) {
+      throw new Error(`the fork of lateral ${lateral} is not ${j === 'tubes' ? 'tubes' : 'a patch'}: ${JSON.stringify(st)}`);
+    }
+    pair.push({ png: await page.screenshot(), label: j === 'tubes' ? 'tubes' : `implicit, ${what}` });
+  }
+  await montage(page, pair, size, file);
+}
+
 (async () => {
   const out = path.resolve(process.argv[2] || 'gallery');
   fs.mkdirSync(out, { recursive: true });
@@ -104,19 +127,9 @@ async function montage(page, images, size, file) {
     }
     await montage(page, images, size, path.join(out, 'junctions-years.png'));
 
-    await page.setViewportSize({ width: size, height: size });
     const relay = await grow(d.url, RELAY.preset, RELAY.seed, RELAY.steps);
-    const pair = [];
-    for (const j of ['tubes', 'implicit']) {
-      await show(page, d.url, relay.id, `color=none&fork=${RELAY.lateral}`, j);
-      const st = await closeUpState(page);
-      console.log(`relay, ${j}: ${JSON.stringify(st)}`);
-      if (!st || st.lateral !== RELAY.lateral || (j === 'implicit') !== (st.ridgePoints > 0)) {
-        throw new Error(`the relayed fork of lateral ${RELAY.lateral} is not ${j === 'tubes' ? 'tubes' : 'a patch'}: ${JSON.stringify(st)}`);
-      }
-      pair.push({ png: await page.screenshot(), label: j === 'tubes' ? 'tubes' : 'implicit, relayed' });
-    }
-    await montage(page, pair, size, path.join(out, 'junctions-relay.png'));
+    await tubesBesidePatch(page, d.url, relay.id, RELAY.lateral, 'relayed', size, path.join(out, 'junctions-relay.png'));
+    await tubesBesidePatch(page, d.url, tree.id, RUN.lateral, 'one run', size, path.join(out, 'junctions-run.png'));
   } finally {
     await browser.close();
     await d.stop();

@@ -260,6 +260,90 @@ static void gradient_matches_differences(void **state)
     }
 }
 
+/* Two forks up one axis, as a run: aged_fork's at J0 = 0 with its
+ * continuation ending at J1 = (0, 1.2, 0), and there a second lateral of
+ * radius 0.28 at 45° towards −x; both forks' bark a year old (scars and
+ * rings). */
+static void aged_run(merp_junction f[2])
+{
+    const float s2 = 0.70710678f, up[3] = {0, 1, 0};
+    f[0] = aged_fork(1.0f);
+    f[0].out = (merp_seg){{0, 0, 0}, {0, 1.2f, 0}, 0.45f, 0.42f};
+    f[1] = (merp_junction){
+        .in = f[0].out,
+        .out = {{0, 1.2f, 0}, {0, 3.5f, 0}, 0.42f, 0.4f},
+        .lateral = {{{0, 1.2f, 0}, {-3 * s2, 1.2f + 3 * s2, 0}, 0.28f, 0.28f}},
+        .laterals = 1,
+        .w = 0.15f,
+    };
+    merp_junction_age(&f[0], up, 1.0f);
+    merp_junction_age(&f[1], up, 1.0f);
+}
+
+/* A run's field (merp_jprep_init_run): a run of one fork is that fork's
+ * junction to the bit; near each fork of a run of two, beyond the other's
+ * primitives, it is that fork's junction field (up to rounding where the
+ * other's scar band still reaches, as PCM of the axis with a field of 0
+ * gives the axis back); the axis between the forks and both laterals are
+ * one solid; and its closed-form gradient matches central differences. */
+static void runs_fold_the_axis(void **state)
+{
+    (void)state;
+    merp_junction f[2];
+    aged_run(f);
+    merp_jprep one, run, second;
+    merp_jprep_init_run(&one, f, 1);
+    merp_jprep_init_run(&run, f, 2);
+    merp_jprep_init(&second, &f[1]);
+    assert_int_equal(run.rows, 2); /* the axis in 3 lanes and 2 laterals: two rows */
+    int near0 = 0, near1 = 0;
+    for (int a = 0; a < 9; a++)
+        for (int b = 0; b < 9; b++)
+            for (int c = 0; c < 9; c++) {
+                float u = (float)a / 8.0f - 0.5f, v = (float)b / 8.0f - 0.5f, w = (float)c / 8.0f - 0.5f;
+                const float p[3] = {2.0f * u, 0.6f + 3.0f * v, 2.0f * w};
+                float g1[3], g2[3];
+                assert_true(merp_jprep_field(&one, p) == merp_junction_field(p, &f[0]));
+                assert_true(merp_jprep_gradient(&one, p, g1) == merp_junction_gradient(&f[0], p, g2));
+                assert_memory_equal(g1, g2, sizeof g1);
+                /* within 0.15 of J0, below 0.15; within 0.1 of J1, above 1.15 */
+                const float q0[3] = {0.3f * u, 0.3f * v, 0.3f * w}, q1[3] = {0.2f * u, 1.2f + 0.2f * v, 0.2f * w};
+                if (q0[1] < 0.15f) {
+                    assert_float_equal(merp_jprep_field(&run, q0), merp_junction_field(q0, &f[0]), 1e-6f);
+                    near0++;
+                }
+                if (q1[1] > 1.15f) {
+                    assert_float_equal(merp_jprep_field(&run, q1), merp_jprep_field(&second, q1), 1e-6f);
+                    near1++;
+                }
+            }
+    assert_true(near0 > 100 && near1 > 100);
+    const float s2 = 0.70710678f;
+    const float inside[4][3] = {{0, 0.6f, 0}, {0, 1.0f, 0.3f}, {0.5f * s2, 0.5f * s2, 0}, {-0.5f * s2, 1.2f + 0.5f * s2, 0}};
+    for (int i = 0; i < 4; i++)
+        assert_true(merp_jprep_field(&run, inside[i]) > MERP_ISO);
+    const float e = 1e-3f;
+    int n = 0, off = 0;
+    for (int a = 0; a < 20; a++)
+        for (int b = 0; b < 30; b++)
+            for (int c = 0; c < 6; c++) {
+                const float p[3] = {-0.9f + 1.8f * (float)a / 19.0f, -0.8f + 2.8f * (float)b / 29.0f,
+                                    -0.6f + 1.2f * (float)c / 5.0f};
+                float g[3], fv = merp_jprep_gradient(&run, p, g), len = 0.0f, err = 0.0f;
+                assert_float_equal(fv, merp_jprep_field(&run, p), 1e-6f);
+                for (int k = 0; k < 3; k++) {
+                    float hi[3] = {p[0], p[1], p[2]}, lo[3] = {p[0], p[1], p[2]};
+                    hi[k] += e, lo[k] -= e;
+                    float d = (merp_jprep_field(&run, hi) - merp_jprep_field(&run, lo)) / (2.0f * e);
+                    len += d * d, err += (d - g[k]) * (d - g[k]);
+                }
+                n++;
+                off += sqrtf(err) > 0.02f * sqrtf(len) + 0.01f;
+            }
+    print_message("a run of two forks: %d of %d points off\n", off, n);
+    assert_true(off * 50 < n);
+}
+
 /* A row's lanes are the scalar fields to the bit (row.c keeps their
  * arithmetic's order): a tapered segment, a ball, a bound of each kind and
  * cleared lanes, at points inside, on and beyond their supports. */
@@ -343,8 +427,8 @@ static void reach_balls_hold_the_bounds(void **state)
             outside++;
             float F[MERP_ROW];
             merp_row_grad bg;
-            merp_row_bound_field(&jp.bound, p, F);
-            merp_row_bound_gradient(&jp.bound, p, &bg);
+            merp_row_bound_field(&jp.bound[0], p, F);
+            merp_row_bound_gradient(&jp.bound[0], p, &bg);
             for (int l = 0; l < MERP_ROW; l++) {
                 assert_true(F[l] == 0.0f && !signbit(F[l]) && bg.f[l] == 0.0f && !signbit(bg.f[l]));
                 assert_true(bg.g[0][l] == 0.0f && bg.g[1][l] == 0.0f && bg.g[2][l] == 0.0f);
@@ -404,6 +488,7 @@ int main(void)
         cmocka_unit_test(gbb_reduces),
         cmocka_unit_test(ageing),
         cmocka_unit_test(gradient_matches_differences),
+        cmocka_unit_test(runs_fold_the_axis),
         cmocka_unit_test(row_lanes_match_scalar),
         cmocka_unit_test(reach_balls_hold_the_bounds),
         cmocka_unit_test(gradient_gives_the_bounds),

@@ -54,21 +54,24 @@ static inline dual gbb(dual F, dual b1, dual b2)
     return r;
 }
 
-/* The parent's axis A = max(in, out), with the scar's bounded blend, from
- * the segments' and bounds' lanes. */
-static inline dual axis(const merp_junction *j, const merp_row_grad *seg, const merp_row_grad *bnd)
+/* The parent's axis A folded up the run (junction.c's axis_terms), with
+ * each fork's scar's bounded blend, from the segments' and bounds' lanes. */
+static inline dual axis(const merp_jprep *jp, const merp_row_grad *seg, const merp_row_grad *bnd)
 {
-    dual f_in = lane(seg, MERP_JSEG_IN), A = f_in, f_out = ZERO;
-    if (j->out.ra > 0.0f) {
-        f_out = lane(seg, MERP_JSEG_OUT);
-        A = d_max(A, f_out);
-    }
-    if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
-        dual F_s = d_lin(j->scar_weight, lane(bnd, MERP_JBOUND_SCAR), 0.0f, ZERO);
-        if (F_s.v > 0.0f) {
-            dual a = d_lin(1.0f, f_in, 1.0f, delta_of(f_out, MERP_ISO));
-            dual b = d_lin(1.0f, f_out, 1.0f, delta_of(f_in, MERP_ISO));
-            A = gbb(F_s, a.v > b.v ? a : b, A);
+    dual A = lane(seg, MERP_JSEG_IN);
+    for (uint32_t i = 0; i < jp->forks; i++) {
+        const merp_junction *j = &jp->j[i];
+        if (!(j->out.ra > 0.0f))
+            continue; /* the last fork's, with no continuation */
+        dual f_in = A, f_out = lane(seg + (i + 1) / MERP_ROW, (int)((i + 1) % MERP_ROW));
+        A = d_max(f_in, f_out);
+        if (j->scar_weight > 0.0f) {
+            dual F_s = d_lin(j->scar_weight, lane(bnd + i / MERP_ROW, (int)(i % MERP_ROW)), 0.0f, ZERO);
+            if (F_s.v > 0.0f) {
+                dual a = d_lin(1.0f, f_in, 1.0f, delta_of(f_out, MERP_ISO));
+                dual b = d_lin(1.0f, f_out, 1.0f, delta_of(f_in, MERP_ISO));
+                A = gbb(F_s, a.v > b.v ? a : b, A);
+            }
         }
     }
     return A;
@@ -76,25 +79,29 @@ static inline dual axis(const merp_junction *j, const merp_row_grad *seg, const 
 
 float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3])
 {
-    float F[MERP_ROW];
+    float F[MERP_JROWS * MERP_ROW];
     return merp_jprep_gradient_bounds(jp, p, g, F);
 }
 
-float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g[3], float bounds[MERP_ROW])
+float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g[3], float *bounds)
 {
-    const merp_junction *j = jp->j;
-    merp_row_grad seg, bnd;
-    merp_row_seg_gradient(&jp->seg, p, &seg);
-    merp_jprep_bound_gradient(jp, p, &bnd);
-    memcpy(bounds, bnd.f, sizeof bnd.f);
-    dual A = axis(j, &seg, &bnd), L[MERP_JUNCTION_LATERALS];
+    merp_row_grad seg[MERP_JROWS], bnd[MERP_JROWS];
+    for (uint32_t r = 0; r < jp->rows; r++)
+        merp_row_seg_gradient(&jp->seg[r], p, &seg[r]);
+    merp_jprep_bound_gradient(jp, p, bnd);
+    for (uint32_t r = 0; r < jp->rows; r++)
+        memcpy(bounds + MERP_ROW * r, bnd[r].f, sizeof bnd[r].f);
+    dual A = axis(jp, seg, bnd), L[MERP_JUNCTION_LATERALS * MERP_RUN_FORKS];
     dual A_d = A, b1 = ZERO, b2 = A, F_b = ZERO;
-    for (uint32_t k = 0; k < j->laterals; k++) {
-        L[k] = lane(&seg, MERP_JSEG_LATERAL + (int)k);
-        b2 = d_lin(1.0f, b2, 1.0f, L[k]);
-        if (j->bound[k].r_out > 1e-5f)
-            F_b = d_max(F_b, lane(&bnd, MERP_JBOUND_LATERAL + (int)k));
-    }
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) {
+            uint32_t sl = jp->lateral_lane + n, bl = jp->bound_lane + n;
+            L[n] = lane(seg + sl / MERP_ROW, (int)(sl % MERP_ROW));
+            b2 = d_lin(1.0f, b2, 1.0f, L[n]);
+            if (jp->j[i].bound[k].r_out > 1e-5f)
+                F_b = d_max(F_b, lane(bnd + bl / MERP_ROW, (int)(bl % MERP_ROW)));
+        }
     /* Beyond the ridge (most samples) F_b and ∇F_b are 0 and eq. (4) is B2:
      * exactly, as no component of B2's gradient is −0 (each lane's is +0
      * where it is zero), so 0·x + 1·B2 is B2 to the bit. */
@@ -103,10 +110,14 @@ float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g
             g[k] = b2.g[k];
         return b2.v;
     }
-    for (uint32_t k = 0; k < j->laterals; k++)
-        A_d = d_lin(1.0f, A_d, 1.0f, delta_of(L[k], j->w));
-    for (uint32_t k = 0; k < j->laterals; k++)
-        b1 = d_max(b1, d_lin(1.0f, L[k], 1.0f, delta_of(A, j->w)));
+    n = 0;
+    for (uint32_t i = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++)
+            A_d = d_lin(1.0f, A_d, 1.0f, delta_of(L[n], jp->j[i].w));
+    n = 0;
+    for (uint32_t i = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++)
+            b1 = d_max(b1, d_lin(1.0f, L[n], 1.0f, delta_of(A, jp->j[i].w)));
     b1 = d_max(b1, A_d);
     dual F = gbb(F_b, b1, b2);
     for (int k = 0; k < 3; k++)

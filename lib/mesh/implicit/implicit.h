@@ -351,30 +351,50 @@ void merp_junction_age(merp_junction *j, const float up[3], float years);
 /* σ(y) of merp_junction_age: 1 up to year 1, e^(−(y − 1)/3) after. */
 float merp_junction_scar_weight(float years);
 
-/* A junction made ready for many samples: its segments (in, out, the
- * laterals) and its bounds (the scar, the laterals') in rows, each lane
- * that does not take part (no continuation, no scar, one lateral, a bound
- * of no ridge) cleared to a field of 0. Its fields and gradients are the
+/* A run: up to MERP_RUN_FORKS forks along one parent axis, close enough
+ * that their patches would overlap, polygonized as one patch (joints_plan.c
+ * plans them where single patches do not fit). Fork i's continuation is fork
+ * i + 1's parent internode: fork[i].out and fork[i + 1].in are the one
+ * segment J_i → J_{i+1}. The run's field folds the axis up the chain:
+ * A_0 = f(in of fork 0), and at each fork i A_{i+1} = max(A_i, f_out), with
+ * fork i's bud scale scar blended in as a single fork's (F_s·PCM(A_i,
+ * f_out) + (1 − F_s)·max), so a run of one fork is that fork's field to the
+ * bit; every lateral of every fork joins A as a single fork's laterals do
+ * (B2 = A + Σ L, B1 = max(A', L'), F_b the largest of their bounds). */
+#define MERP_RUN_FORKS 4
+#define MERP_JROWS 4 /* rows of four lanes for a run's segments, and for its bounds */
+
+/* A junction, or a run of them, made ready for many samples: its segments
+ * (the axis's, then the laterals fork by fork) and its bounds (the scars,
+ * then the laterals' bounds fork by fork) in rows, each lane that does not
+ * take part (no continuation, no scar, a bound of no ridge, the rows' spare
+ * lanes) cleared to a field of 0. Its fields and gradients are the
  * junction's to the bit (merp_junction_field and merp_junction_gradient
  * prepare one on every call); a patch prepares its junction once for all
  * its samples. Where F_b = 0 (beyond the ridge, most samples) F_g is B2
  * exactly, and B1 is not evaluated. */
 typedef struct merp_jprep {
-    const merp_junction *j;
-    merp_row seg;   /* in, out, lateral 0, lateral 1 */
-    merp_row bound; /* scar, bound 0, bound 1, none */
+    const merp_junction *j; /* the run's forks, j[0 .. forks) */
+    uint32_t forks, rows;
+    uint32_t lateral_lane, bound_lane; /* the first lateral's lane, its bound's */
+    merp_row seg[MERP_JROWS];
+    merp_row bound[MERP_JROWS];
     /* A ball about each bound that takes part (centre, squared radius),
      * holding its support with a margin: see merp_jprep_near_bounds. */
-    float reach[MERP_ROW][4];
+    float reach[MERP_JROWS * MERP_ROW][4];
     uint32_t reaches;
 } merp_jprep;
 
-enum { MERP_JSEG_IN, MERP_JSEG_OUT, MERP_JSEG_LATERAL };  /* merp_jprep.seg's lanes */
-enum { MERP_JBOUND_SCAR, MERP_JBOUND_LATERAL };          /* merp_jprep.bound's */
+/* A single fork's lanes: merp_jprep.seg's (in, out, the laterals) and
+ * .bound's (the scar, the laterals' bounds). In a run of K forks the axis
+ * takes lanes 0..K of seg (lateral_lane = K + 1) and the scars lanes
+ * 0..K − 1 of bound (bound_lane = K). */
+enum { MERP_JSEG_IN, MERP_JSEG_OUT, MERP_JSEG_LATERAL };
+enum { MERP_JBOUND_SCAR, MERP_JBOUND_LATERAL };
 
 /* Whether p may lie in some bound's support. When not, every lane of
  * jp->bound is 0 at p, field and gradient (+0, as row.c gives them), so
- * callers skip the row (most samples of a patch lie beyond every bound). */
+ * callers skip the rows (most samples of a patch lie beyond every bound). */
 static inline bool merp_jprep_near_bounds(const merp_jprep *jp, const float p[3])
 {
     for (uint32_t i = 0; i < jp->reaches; i++) {
@@ -386,36 +406,43 @@ static inline bool merp_jprep_near_bounds(const merp_jprep *jp, const float p[3]
     return false;
 }
 
-/* jp's bound lanes at p: merp_row_bound_field (and merp_row_bound_gradient)
- * of jp->bound, or +0 in every lane, field and gradient, where p lies beyond
- * every bound (merp_jprep_near_bounds): the row is only evaluated near one. */
-static inline void merp_jprep_bound_field(const merp_jprep *jp, const float p[3], float F[MERP_ROW])
+/* jp's bound lanes at p, row by row (F: MERP_ROW × jp->rows):
+ * merp_row_bound_field (and merp_row_bound_gradient) of jp->bound, or +0 in
+ * every lane, field and gradient, where p lies beyond every bound
+ * (merp_jprep_near_bounds): the rows are only evaluated near one. */
+static inline void merp_jprep_bound_field(const merp_jprep *jp, const float p[3], float *F)
 {
     if (merp_jprep_near_bounds(jp, p)) {
-        merp_row_bound_field(&jp->bound, p, F);
+        for (uint32_t r = 0; r < jp->rows; r++)
+            merp_row_bound_field(&jp->bound[r], p, F + MERP_ROW * r);
         return;
     }
-    for (int l = 0; l < MERP_ROW; l++)
+    for (uint32_t l = 0; l < MERP_ROW * jp->rows; l++)
         F[l] = 0.0f;
 }
 static inline void merp_jprep_bound_gradient(const merp_jprep *jp, const float p[3], merp_row_grad *out)
 {
     if (merp_jprep_near_bounds(jp, p))
-        merp_row_bound_gradient(&jp->bound, p, out);
+        for (uint32_t r = 0; r < jp->rows; r++)
+            merp_row_bound_gradient(&jp->bound[r], p, out + r);
     else
-        memset(out, 0, sizeof *out); /* +0 */
+        memset(out, 0, jp->rows * sizeof *out); /* +0 */
 }
 
-/* Prepares jp for j, which must outlive it and not change meanwhile. */
+/* Prepares jp for the run of `forks` (1 .. MERP_RUN_FORKS) junctions at j,
+ * which must outlive it and not change meanwhile. */
+void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, uint32_t forks);
+
+/* Prepares jp for the single junction j (a run of one). */
 void merp_jprep_init(merp_jprep *jp, const merp_junction *j);
 
-/* merp_junction_field and merp_junction_gradient of jp's junction. */
+/* merp_junction_field and merp_junction_gradient of jp's junction (or run). */
 float merp_jprep_field(const merp_jprep *jp, const float p[3]);
 float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3]);
-/* merp_jprep_gradient, and the bound row's values at p into `bounds`, bit
- * for bit as merp_jprep_bound_field gives them (the gradient evaluates them
- * anyway). */
-float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g[3], float bounds[MERP_ROW]);
+/* merp_jprep_gradient, and the bound rows' values at p into `bounds`
+ * (MERP_ROW × jp->rows), bit for bit as merp_jprep_bound_field gives them
+ * (the gradient evaluates them anyway). */
+float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g[3], float *bounds);
 
 /* F_g(p) of the junction (see above); `data` is a const merp_junction *. */
 float merp_junction_field(const float p[3], const void *data);
@@ -448,7 +475,9 @@ typedef struct merp_cut {
     uint32_t sides;
 } merp_cut;
 
-#define MERP_PATCH_CUTS 4 /* the parent in, out, and two laterals */
+/* The parent in, out, and two laterals a fork (a run's middle segments
+ * have no cut). */
+#define MERP_PATCH_CUTS (2 + MERP_JUNCTION_LATERALS * MERP_RUN_FORKS)
 
 /* A junction's patch: its field, the cuts, the grid it is polygonized on
  * (which must hold the surface between the cuts; the segments must reach
@@ -457,7 +486,8 @@ typedef struct merp_cut {
  * or, with `sharp`, dual contouring (a vertex on the ridge's crease in every
  * cell it crosses). */
 typedef struct merp_patch {
-    const merp_junction *j;
+    const merp_junction *j; /* the run's forks, j[0 .. forks) */
+    uint32_t forks;         /* 0 is read as 1: a single junction */
     merp_cut cut[MERP_PATCH_CUTS];
     uint32_t cuts;
     merp_grid grid;

@@ -166,108 +166,156 @@ static void add_reach(merp_jprep *jp, const merp_bound *b)
     r[3] = rho * rho;
 }
 
-void merp_jprep_init(merp_jprep *jp, const merp_junction *j)
+/* Lane l of a run's rows (seg or bound) into *r, l's lane in it. */
+static merp_row *lane_row(merp_row *rows, uint32_t l, int *lane)
 {
-    assert(j->laterals <= MERP_JUNCTION_LATERALS);
+    assert(l < MERP_JROWS * MERP_ROW);
+    *lane = (int)(l % MERP_ROW);
+    return rows + l / MERP_ROW;
+}
+
+void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, uint32_t forks)
+{
+    assert(forks >= 1 && forks <= MERP_RUN_FORKS);
+    uint32_t laterals = 0;
+    for (uint32_t i = 0; i < forks; i++) {
+        assert(j[i].laterals <= MERP_JUNCTION_LATERALS);
+        assert(i + 1 == forks || j[i].out.ra > 0.0f); /* a run goes on to its next fork */
+        laterals += j[i].laterals;
+    }
     assert(j->in.ra > 0.0f && j->in.rb > 0.0f);
     jp->j = j;
+    jp->forks = forks;
+    jp->lateral_lane = forks + 1;
+    jp->bound_lane = forks;
+    jp->rows = (jp->lateral_lane + laterals + MERP_ROW - 1) / MERP_ROW;
+    uint32_t brows = (jp->bound_lane + laterals + MERP_ROW - 1) / MERP_ROW;
+    jp->rows = brows > jp->rows ? brows : jp->rows;
     jp->reaches = 0;
-    merp_row_clear(&jp->seg);
-    merp_row_clear(&jp->bound);
-    merp_row_set(&jp->seg, MERP_JSEG_IN, j->in.a, j->in.b, j->in.ra, j->in.rb);
-    if (j->out.ra > 0.0f)
-        merp_row_set(&jp->seg, MERP_JSEG_OUT, j->out.a, j->out.b, j->out.ra, j->out.rb);
-    if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
-        merp_row_set(&jp->bound, MERP_JBOUND_SCAR, j->scar.a, j->scar.b, j->scar.r_in, j->scar.r_out);
-        add_reach(jp, &j->scar);
+    for (uint32_t r = 0; r < jp->rows; r++) {
+        merp_row_clear(&jp->seg[r]);
+        merp_row_clear(&jp->bound[r]);
     }
-    for (uint32_t k = 0; k < j->laterals; k++) {
-        const merp_seg *l = &j->lateral[k];
-        const merp_bound *b = &j->bound[k];
-        merp_row_set(&jp->seg, MERP_JSEG_LATERAL + (int)k, l->a, l->b, l->ra, l->rb);
-        if (b->r_out > 1e-5f) { /* merp_junction_ridge's test: a bound of no ridge is 0 */
-            merp_row_set(&jp->bound, MERP_JBOUND_LATERAL + (int)k, b->a, b->b, b->r_in, b->r_out);
-            add_reach(jp, b);
+    int l;
+    merp_row *row = lane_row(jp->seg, MERP_JSEG_IN, &l);
+    merp_row_set(row, l, j->in.a, j->in.b, j->in.ra, j->in.rb);
+    uint32_t sl = jp->lateral_lane, bl = jp->bound_lane;
+    for (uint32_t i = 0; i < forks; i++) {
+        const merp_junction *f = &j[i];
+        if (f->out.ra > 0.0f) {
+            row = lane_row(jp->seg, i + 1, &l);
+            merp_row_set(row, l, f->out.a, f->out.b, f->out.ra, f->out.rb);
+        }
+        if (f->scar_weight > 0.0f && f->out.ra > 0.0f) {
+            row = lane_row(jp->bound, i, &l);
+            merp_row_set(row, l, f->scar.a, f->scar.b, f->scar.r_in, f->scar.r_out);
+            add_reach(jp, &f->scar);
+        }
+        for (uint32_t k = 0; k < f->laterals; k++, sl++, bl++) {
+            const merp_seg *s = &f->lateral[k];
+            const merp_bound *b = &f->bound[k];
+            row = lane_row(jp->seg, sl, &l);
+            merp_row_set(row, l, s->a, s->b, s->ra, s->rb);
+            if (b->r_out > 1e-5f) { /* merp_junction_ridge's test: a bound of no ridge is 0 */
+                row = lane_row(jp->bound, bl, &l);
+                merp_row_set(row, l, b->a, b->b, b->r_in, b->r_out);
+                add_reach(jp, b);
+            }
         }
     }
 }
 
-/* The parent's axis A (with its scar's bounded blend) from the segments'
- * lanes fs and the bounds' Fb, and the scar's terms into *t. */
-static float axis_terms(const merp_junction *j, const float fs[MERP_ROW], const float Fb[MERP_ROW], terms *t)
+void merp_jprep_init(merp_jprep *jp, const merp_junction *j)
 {
-    /* A lane left out is 0: f_out without a continuation, F_s without a scar. */
-    float f_in = fs[MERP_JSEG_IN], f_out = fs[MERP_JSEG_OUT], A = f_out > f_in ? f_out : f_in;
+    merp_jprep_init_run(jp, j, 1);
+}
+
+/* The parent's axis A folded up the run (merp_run's law), with each fork's
+ * scar's bounded blend, from the segments' lanes fs and the bounds' Fb, and
+ * the scars' terms into *t (F_s·|B1 − B2| of the strongest). */
+static float axis_terms(const merp_jprep *jp, const float *fs, const float *Fb, terms *t)
+{
+    float A = fs[MERP_JSEG_IN];
     t->F_s = t->scar_diff = 0.0f;
-    if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
-        t->F_s = j->scar_weight * Fb[MERP_JBOUND_SCAR];
-        if (t->F_s > 0.0f) {
-            float a1 = merp_pcm_union(f_in, f_out, SCAR_W);
-            t->scar_diff = fabsf(a1 - A);
-            A = merp_gbb(t->F_s, a1, A);
+    for (uint32_t i = 0; i < jp->forks; i++) {
+        const merp_junction *j = &jp->j[i];
+        /* A lane left out is 0: f_out without a continuation, F_s without a scar. */
+        float f_in = A, f_out = fs[i + 1], m = f_out > f_in ? f_out : f_in;
+        if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
+            float F_s = j->scar_weight * Fb[i];
+            if (F_s > 0.0f) {
+                float a1 = merp_pcm_union(f_in, f_out, SCAR_W), diff = fabsf(a1 - m);
+                if (F_s * diff >= t->F_s * t->scar_diff)
+                    t->F_s = F_s, t->scar_diff = diff;
+                m = merp_gbb(F_s, a1, m);
+            }
         }
+        A = m;
     }
     return A;
 }
 
 /* B2 = A + Σ L_k (eq. 3) and F_b = max_k F_b,k (merp_junction_ridge). */
-static void blend_terms(const merp_junction *j, float A, const float fs[MERP_ROW],
-                        const float Fb[MERP_ROW], terms *t)
+static void blend_terms(const merp_jprep *jp, float A, const float *fs, const float *Fb, terms *t)
 {
     /* merp_blend_sum of (A, L_0, ...) inline, in its order (from +0): a
      * call and a copy of the terms a sample cost about as much as the sum. */
     float b2 = 0.0f + A, F_b = 0.0f;
-    for (uint32_t k = 0; k < j->laterals; k++) {
-        b2 += fs[MERP_JSEG_LATERAL + k];
-        float v = Fb[MERP_JBOUND_LATERAL + k];
-        F_b = v > F_b ? v : F_b;
-    }
+    const float *L = fs + jp->lateral_lane, *B = Fb + jp->bound_lane;
+    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) {
+            b2 += L[n];
+            F_b = B[n] > F_b ? B[n] : F_b;
+        }
     t->b2 = b2;
     t->F_b = F_b;
 }
 
 /* B1 = max(A', L_k') of PCM (eq. 2). */
-static float pcm_term(const merp_junction *j, float A, const float fs[MERP_ROW])
+static float pcm_term(const merp_jprep *jp, float A, const float *fs)
 {
-    const float *L = fs + MERP_JSEG_LATERAL;
+    const float *L = fs + jp->lateral_lane;
     float A_d = A, b1 = 0.0f;
-    for (uint32_t k = 0; k < j->laterals; k++)
-        A_d += merp_pcm_delta(MERP_ISO - L[k], j->w);
-    for (uint32_t k = 0; k < j->laterals; k++) {
-        float L_d = L[k] + merp_pcm_delta(MERP_ISO - A, j->w);
-        b1 = L_d > b1 ? L_d : b1;
-    }
+    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++)
+            A_d += merp_pcm_delta(MERP_ISO - L[n], jp->j[i].w);
+    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) {
+            float L_d = L[n] + merp_pcm_delta(MERP_ISO - A, jp->j[i].w);
+            b1 = L_d > b1 ? L_d : b1;
+        }
     return A_d > b1 ? A_d : b1;
 }
 
 /* Every term at p but B1 into *t, the segments' lanes into fs; returns A. */
-static float row_terms(const merp_jprep *jp, const float p[3], float fs[MERP_ROW], terms *t)
+static float row_terms(const merp_jprep *jp, const float p[3], float *fs, terms *t)
 {
-    float Fb[MERP_ROW];
-    merp_row_seg_field(&jp->seg, p, fs);
+    float Fb[MERP_JROWS * MERP_ROW];
+    for (uint32_t r = 0; r < jp->rows; r++)
+        merp_row_seg_field(&jp->seg[r], p, fs + MERP_ROW * r);
     merp_jprep_bound_field(jp, p, Fb);
-    float A = axis_terms(jp->j, fs, Fb, t);
-    blend_terms(jp->j, A, fs, Fb, t);
+    float A = axis_terms(jp, fs, Fb, t);
+    blend_terms(jp, A, fs, Fb, t);
     return A;
 }
 
 static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
 {
-    float fs[MERP_ROW];
+    float fs[MERP_JROWS * MERP_ROW];
     float A = row_terms(jp, p, fs, t);
-    t->b1 = pcm_term(jp->j, A, fs);
+    t->b1 = pcm_term(jp, A, fs);
 }
 
 float merp_jprep_field(const merp_jprep *jp, const float p[3])
 {
-    float fs[MERP_ROW];
+    float fs[MERP_JROWS * MERP_ROW];
     terms t;
     float A = row_terms(jp, p, fs, &t);
     /* Beyond the ridge (most samples) F_b = 0 and eq. (4) is B2 exactly
      * (0·B1 + 1·B2, B2 ≥ +0), without B1. */
     if (t.F_b == 0.0f)
         return t.b2;
-    return merp_gbb(t.F_b, pcm_term(jp->j, A, fs), t.b2);
+    return merp_gbb(t.F_b, pcm_term(jp, A, fs), t.b2);
 }
 
 float merp_junction_field(const float p[3], const void *data)
