@@ -82,15 +82,16 @@
  * that does not fit as it grew and whose continuation is thinner than its
  * thickest lateral is relayed the same way, the continuation then one of
  * the patch's laterals (a sylleptic shoot's forks). Forks a few radii
- * apart up one axis (a thick axis's short internodes), whose cuts would
- * fall in each other's patches, are patched together as a run: one patch
- * for up to four forks, the parent's axis through all of them one solid
- * (with each fork's bud scale scar), every fork's laterals blending in
- * with their ridges. A fork
+ * apart, whose cuts would fall in each other's patches (a thick axis's
+ * short internodes; a fork near the base of another fork's lateral), are
+ * patched together as a run: one patch for up to four forks, each axis
+ * through them one solid (with each fork's bud scale scar), every fork's
+ * laterals blending in with their ridges, and a lateral that a fork of the
+ * run goes on up blending in with all of that fork's surface. A fork
  * whose axes bend too much there, whose cuts would fall in another fork's
- * patch that no run takes in (thickest laterals are served first; a
- * patch on another axis, such as a fork near the base of another patch's
- * lateral, or a run of more than four) or past a growing tip's apex,
+ * patch that no run takes in (thickest laterals are served first; a run
+ * of more than four forks, or whose grid would be too large) or past a
+ * growing tip's apex,
  * whose cut ring would be under 0.4 of its grid's cell in radius, or whose
  * laterals run nearly along their parent, stays tubes (`junctions_unfit`
  * counts those). A patch is

@@ -11,22 +11,6 @@
 #include "core/parallel.h"
 #include "mesh_private.h"
 
-#define SHELL 1.6f           /* the surface stays within this × a shaft's radius of its axis */
-#define MAX_CELLS 200000u    /* a patch's grid at most; a fork that needs more stays tubes */
-
-/* A fork whose patch failed: its shafts are tubes again. */
-static void unplan(merp_builder *b, merp_joint *jt)
-{
-    jt->ok = false;
-    for (uint32_t i = 0; i < jt->forks; i++)
-        b->joint_at[jt->fork_node[i]] = UINT32_MAX;
-    b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
-    for (uint32_t s = 1; s < jt->cuts; s++)
-        b->cut_end[jt->node[s]] = UINT32_MAX;
-    for (uint32_t s = 1; s < jt->cuts; s++)
-        if (merp_joint_begins_axis(b->nodes, jt, s))
-            b->lateral_in[jt->start[s]] = UINT32_MAX;
-}
 
 /* Each axis's ring counts and, for a lateral not in a patch, its base
  * disk; with `record`, the cut rings of the axes that have any. */
@@ -50,56 +34,6 @@ static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
     return MER_OK;
 }
 
-/* Where shaft s of jt leaves the parent's axis: its fork's J. */
-static const float *shaft_origin(const merp_joint *jt, uint32_t s)
-{
-    uint32_t k;
-    return jt->field[merp_joint_fork_of(jt, s, &k)].in.b;
-}
-
-/* The grid of jt's patch: the box of every shaft from its J to just past its
- * cut, grown by the shell its surface stays in, with cells of h. */
-static bool patch_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g)
-{
-    const float *J = jt->field[0].in.b;
-    float lo[3], hi[3];
-    for (int k = 0; k < 3; k++)
-        lo[k] = hi[k] = J[k];
-    for (uint32_t s = 0; s < jt->cuts; s++) {
-        J = shaft_origin(jt, s);
-        /* The shaft's segment runs from its radius at J to the tube's at the cut. */
-        float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
-        float e = SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
-        for (int k = 0; k < 3; k++) {
-            float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
-            lo[k] = fminf(lo[k], fminf(J[k], end) - e);
-            hi[k] = fmaxf(hi[k], fmaxf(J[k], end) + e);
-        }
-    }
-    uint64_t cells = 1;
-    g->h = h;
-    for (int k = 0; k < 3; k++) {
-        g->origin[k] = lo[k];
-        g->n[k] = (uint32_t)ceilf((hi[k] - lo[k]) / h);
-        g->n[k] = g->n[k] < 1 ? 1 : g->n[k];
-        cells *= g->n[k];
-    }
-    return cells <= MAX_CELLS;
-}
-
-/* Shaft s's segment in jt's field, and its lane in jp's segment rows
- * (merp_jprep: the axis, then the laterals fork by fork). */
-static const merp_seg *shaft_segment(const merp_joint *jt, const merp_jprep *jp, uint32_t s, uint32_t *lane)
-{
-    uint32_t k, i = merp_joint_fork_of(jt, s, &k);
-    if (s == MERP_CUT_IN)
-        return *lane = MERP_JSEG_IN, &jt->field[0].in;
-    if (s == MERP_CUT_OUT)
-        return *lane = jt->forks, &jt->field[i].out;
-    *lane = jp->lateral_lane + s - MERP_CUT_LATERAL;
-    return &jt->field[i].lateral[k];
-}
-
 /* The shaft nearest p: the smallest distance in units of the shaft's radius
  * (a run's axis between its forks counts as none: a point there goes to the
  * nearer of its in and out shafts). */
@@ -112,7 +46,7 @@ static uint32_t nearest_shaft(const merp_joint *jt, const merp_jprep *jp, const 
     float best_x = INFINITY;
     for (uint32_t s = 0; s < jt->cuts; s++) {
         uint32_t l;
-        const merp_seg *g = shaft_segment(jt, jp, s, &l);
+        const merp_seg *g = merp_joint_shaft(jt, s, jp, &l);
         const merp_row_point *q = &c[l / MERP_ROW];
         float t = q->t[l % MERP_ROW], d = sqrtf(q->d2[l % MERP_ROW]), x = d / ((1.0f - t) * g->ra + t * g->rb);
         if (x < best_x)
@@ -178,10 +112,9 @@ static void split_seam(merp_joint *jt, uint32_t *copy)
 static float bark_mark(const merp_jprep *jp, const float *F)
 {
     float b = 0.0f;
-    const float *B = F + jp->bound_lane;
-    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
-        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) /* merp_junction_ridge */
-            b = B[n] > b ? B[n] : b;
+    for (uint32_t i = 0; i < jp->forks; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++) /* merp_junction_ridge */
+            b = F[jp->lanes.bnd_lane[i][k]] > b ? F[jp->lanes.bnd_lane[i][k]] : b;
     for (uint32_t i = 0; i < jp->forks; i++) {
         const merp_junction *f = &jp->j[i];
         if (f->scar_weight > 0.0f && f->out.ra > 0.0f)
@@ -201,7 +134,7 @@ static float mark_fade(const merp_builder *b, const merp_joint *jt, const float 
         for (int k = 0; k < 3; k++)
             q[k] = jt->o[s][k] - p[k];
         float x = v3_dot(q, jt->n[s]) / r;
-        if (x < 1.0f && v3_dot(q, q) - x * x * r * r <= SHELL * SHELL * r * r) {
+        if (x < 1.0f && v3_dot(q, q) - x * x * r * r <= MERP_JOINT_SHELL * MERP_JOINT_SHELL * r * r) {
             x = fmaxf(x, 0.0f);
             w = fminf(w, x * x * (3.0f - 2.0f * x));
         }
@@ -219,7 +152,7 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
     for (uint32_t s = 0; s < jt->cuts; s++)
         ring_first -= jt->sides[s];
     merp_jprep jp;
-    merp_jprep_init_run(&jp, jt->field, jt->forks);
+    merp_jprep_init_run(&jp, jt->field, jt->link, jt->forks);
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *p = m->positions + 3 * (size_t)v, *nr = m->normals + 3 * (size_t)v;
         float F[MERP_JROWS * MERP_ROW]; /* the bound rows' values at p: bark_mark's */
@@ -268,8 +201,8 @@ static mer_result polygonize_patch(const merp_patch *pt, const merp_joint *jt, m
  * patch does not close on its cuts. */
 static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, uint32_t sharp, mer_error *err)
 {
-    merp_patch pt = {.j = jt->field, .forks = jt->forks, .cuts = jt->cuts, .sharp = sharp};
-    if (!patch_grid(b, jt, h, &pt.grid))
+    merp_patch pt = {.j = jt->field, .forks = jt->forks, .link = jt->link, .cuts = jt->cuts, .sharp = sharp};
+    if (!merp_joint_grid(b, jt, h, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
     for (uint32_t s = 0; s < jt->cuts; s++) {
         merp_cut *c = &pt.cut[s];
@@ -386,7 +319,7 @@ static mer_result build_patches(merp_builder *b, mer_error *err)
     mer_result rc = MER_OK;
     for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
         if (r.rc[i] == MER_ERR_INVALID) {
-            unplan(b, &b->joints[i]); /* this fork (or run) stays tubes */
+            merp_joint_forget(b, &b->joints[i]); /* this fork (or run) stays tubes */
             b->joints_open += b->joints[i].forks;
         } else if (r.rc[i] != MER_OK) {
             rc = mer_error_set(err, r.rc[i], NULL, "out of memory for a junction");

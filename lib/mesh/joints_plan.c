@@ -1,8 +1,9 @@
 /* meristem — implicit junctions in the bark (meristem/mesh.h, Junctions; G04
  * §3, issue 18): which forks get a patch (a fork of its own, or a run of
- * forks a few radii apart up one axis) and where their shafts are cut, each
- * shaft across as many short internodes as its cut needs; the field each
- * patch polygonizes (joints.c builds and writes the patches). */
+ * forks a few radii apart, up one axis or up a lateral) and where their
+ * shafts are cut, each shaft across as many short internodes as its cut
+ * needs; the field each patch polygonizes (joints.c builds and writes the
+ * patches). */
 #include "config.h"
 
 #include <math.h>
@@ -24,7 +25,6 @@
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
 #define THIN_CUT 0.4f        /* a cut ring at least this many cells in radius */
-#define RUN_GAP 10.0f        /* a run's next fork: within this × the fork's radius along the axis */
 #define RUN_CLEAR 40.0f      /* a run's cut: within this × its shaft's radius of its J */
 
 /* Whether internode id (living) is a living tip's last, which tube.c
@@ -230,17 +230,16 @@ static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t 
 static bool place_cuts(const merp_builder *b, claims *cl, const float *need, float h, bool mark, merp_joint *jt)
 {
     const uint32_t *first = jt->start;
-    uint32_t k;
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        bool back = s == MERP_CUT_IN;
+        bool back = s == MERP_CUT_IN, lateral = jt->cut_slot[s] < MERP_SLOT_IN;
         if (!follow(b, cl, first[s], back, need[s], mark, jt, s))
             return false;
         point_on(&b->nodes[jt->node[s]], jt->at[s], jt->o[s]);
         /* The cut plane is square to the shaft's segment, and so is the
          * tube's cut ring (tube.c), which is then a cross-section of the
          * segment's capsule however the axis bends beyond it. */
-        const float *J = jt->field[merp_joint_fork_of(jt, s, &k)].in.b;
-        const float *from = s < MERP_CUT_LATERAL ? J : b->nodes[first[s]].base;
+        const float *J = jt->field[jt->cut_fork[s]].in.b;
+        const float *from = lateral ? b->nodes[first[s]].base : J;
         for (int a = 0; a < 3; a++)
             jt->n[s][a] = jt->o[s][a] - from[a];
         jt->d[s] = v3_len(jt->n[s]);
@@ -251,9 +250,10 @@ static bool place_cuts(const merp_builder *b, claims *cl, const float *need, flo
     }
     if (!mark) {
         for (uint32_t s = 0; s < jt->cuts; s++) {
-            merp_junction *f = &jt->field[merp_joint_fork_of(jt, s, &k)];
-            merp_seg *g = s == MERP_CUT_IN ? &f->in : s == MERP_CUT_OUT ? &f->out : &f->lateral[k];
-            const float *from = s < MERP_CUT_LATERAL ? f->in.b : b->nodes[first[s]].base;
+            merp_junction *f = &jt->field[jt->cut_fork[s]];
+            uint32_t k = jt->cut_slot[s];
+            merp_seg *g = k == MERP_SLOT_IN ? &f->in : k == MERP_LINK_OUT ? &f->out : &f->lateral[k];
+            const float *from = k < MERP_SLOT_IN ? b->nodes[first[s]].base : f->in.b;
             float r0 = s == MERP_CUT_IN ? in_radius(b, jt) : merp_node_radius(b, first[s]);
             shaft_segment(b, jt, s, from, r0, h, g);
         }
@@ -263,11 +263,12 @@ static bool place_cuts(const merp_builder *b, claims *cl, const float *need, flo
 
 /* A primitive of a run's field as its cuts' clearance sees it: from o along
  * unit m for len (INFINITY: a shaft, whose far end the cut decides), its
- * support R; `axis` for the parent's axis (its in and out shafts and the
- * segments between the forks), which is one solid. */
+ * support R; `axis` the group whose axis it is part of (its in and out
+ * shafts and the segments between its forks, one solid), or -1 (a
+ * lateral). */
 typedef struct run_prim {
     float o[3], m[3], len, R;
-    bool axis;
+    int axis;
 } run_prim;
 
 static float prim_distance(const run_prim *q, const float p[3])
@@ -294,7 +295,7 @@ static float clear_of_run(const run_prim *prim, uint32_t n, uint32_t s, float r,
             p[a] = prim[s].o[a] + d * prim[s].m[a];
         bool clear = true;
         for (uint32_t o = 0; o < n && clear; o++)
-            if (o != s && !(prim[o].axis && prim[s].axis))
+            if (o != s && !(prim[o].axis >= 0 && prim[o].axis == prim[s].axis))
                 clear = prim_distance(&prim[o], p) >= prim[o].R + rho;
         if (clear)
             return d;
@@ -328,6 +329,48 @@ static float clear_distance(const merp_builder *b, const merp_joint *jt, const c
         d = fmaxf(d, x);
     }
     return d;
+}
+
+/* Where shaft s of jt leaves the parent's axis: its fork's J. */
+static const float *shaft_origin(const merp_joint *jt, uint32_t s)
+{
+    return jt->field[jt->cut_fork[s]].in.b;
+}
+
+bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g)
+{
+    const float *J = jt->field[0].in.b;
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++)
+        lo[k] = hi[k] = J[k];
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        J = shaft_origin(jt, s);
+        /* The shaft's segment runs from its radius at J to the tube's at the cut. */
+        float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
+        float e = MERP_JOINT_SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
+        for (int k = 0; k < 3; k++) {
+            float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
+            lo[k] = fminf(lo[k], fminf(J[k], end) - e);
+            hi[k] = fmaxf(hi[k], fmaxf(J[k], end) + e);
+        }
+    }
+    for (uint32_t i = 1; i < jt->forks; i++) { /* a run's J, which may have no shaft of its own */
+        const merp_seg *in = &jt->field[i].in;
+        float e = MERP_JOINT_SHELL * fmaxf(in->ra, in->rb) + 2.0f * h;
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fminf(lo[k], in->b[k] - e);
+            hi[k] = fmaxf(hi[k], in->b[k] + e);
+        }
+    }
+    uint64_t cells = 1;
+    g->h = h;
+    for (int k = 0; k < 3; k++) {
+        g->origin[k] = lo[k];
+        g->n[k] = (uint32_t)ceilf((hi[k] - lo[k]) / h);
+        g->n[k] = g->n[k] < 1 ? 1 : g->n[k];
+        cells *= g->n[k];
+    }
+    return cells <= MERP_JOINT_MAX_CELLS;
 }
 
 /* Places jt's cuts (place_cuts, not claimed), each clear of the other
@@ -437,7 +480,12 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
     }
     if (!usable(b, P, none) || !usable(b, C, true) || (nl == 0 && !relay))
         return false;
-    *jt = (merp_joint){.start = {P, C}, .cuts = 2, .relay = relay, .forks = 1, .fork_node = {P}};
+    *jt = (merp_joint){.start = {P, C},
+                       .cuts = 2,
+                       .relay = relay,
+                       .forks = 1,
+                       .fork_node = {P},
+                       .cut_slot = {MERP_SLOT_IN, MERP_LINK_OUT}};
     merp_junction *f = jt->field;
     segment_of(b, P, &f->in);
     segment_of(b, C, &f->out);
@@ -445,8 +493,8 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
     f->w = PCM_WIDTH;
     for (uint32_t k = 0; k < nl; k++) {
         segment_of(b, lat[k], &f->lateral[f->laterals]);
+        jt->cut_slot[jt->cuts] = (uint8_t)f->laterals++;
         jt->start[jt->cuts++] = lat[k];
-        f->laterals++;
     }
     float h = merp_joint_cell(b, jt);
     /* Each shaft's direction away from J, and its primitives' supports. */
@@ -519,7 +567,7 @@ static void claim_whole(const merp_builder *b, claims *cl, uint32_t id, uint32_t
 
 /* Claims for joint `owner` (or, with UINT32_MAX, frees) what jt's patch
  * covers: each shaft's internodes from J to its cut (as follow marks them),
- * a run's axis between its forks. */
+ * a run's axes between its forks. */
 static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt, uint32_t owner)
 {
     bool set = owner != UINT32_MAX;
@@ -533,79 +581,116 @@ static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt,
         else
             cl->lo[id] = set ? jt->at[s] : 0.0f, cl->own_lo[id] = owner;
     }
-    for (uint32_t i = 0; i + 1 < jt->forks; i++)
-        for (uint32_t id = b->nodes[jt->fork_node[i]].main_child;; id = b->nodes[id].main_child) {
+    for (uint32_t i = 1; i < jt->forks; i++)
+        for (uint32_t id = jt->link_start[i];; id = b->nodes[id].main_child) {
             claim_whole(b, cl, id, owner);
-            if (id == jt->fork_node[i + 1])
+            if (id == jt->fork_node[i])
                 break;
         }
 }
 
-/* Plans a run of K forks (the internodes P[0..K) up one axis, each ending
- * at its fork's J, each with a continuation) as one patch into jt: the
- * parent's axis from the in cut below J_0 through every J_i to the out cut
- * above the last, the segments between the forks straight (merp_jprep's
- * run), the laterals of every fork. Forks of a thick axis a few radii
- * apart (a whorl's neighbours, a season's short internodes) do not fit as
- * single patches: each one's cut would fall inside the other's. Cuts are
- * placed as plan_one's, clear of every primitive of the run. False when it
- * does not fit (cl->blocker: the joint in the way, if one is). Claims
+/* Fork i's lateral k's internode (in patch_lateral's order), or
+ * MER_NO_NODE. */
+static uint32_t patch_lateral_at(const merp_builder *b, uint32_t P, uint32_t k)
+{
+    const mer_node *p = &b->nodes[P];
+    float J[3];
+    merp_tip_of(p, J);
+    for (int c = 0; c < 2; c++)
+        if (patch_lateral(b, p, J, p->lateral_child[c]) && k-- == 0)
+            return p->lateral_child[c];
+    return MER_NO_NODE;
+}
+
+/* Plans a run of K forks (the internodes P[0..K), each ending at its fork's
+ * J and going on to a continuation; fork i > 0 going on from fork
+ * link[i].from up the axis that begins with internode start[i]: its
+ * continuation or lateral link[i].slot; listed as merp_jprep_init_run
+ * needs) as one patch into jt. Forks a few radii apart (a whorl's
+ * neighbours, a season's short internodes, a fork near the base of
+ * another's lateral) do not fit as single patches: each one's cut would fall
+ * inside the other's. The patch holds the first fork's in shaft, each
+ * axis's out shaft above its last fork, every lateral no fork goes on up,
+ * and the axes between the forks (straight, inside the patch); its cuts
+ * are placed as plan_one's, clear of every primitive of the run. False when
+ * it does not fit (cl->blocker: the joint in the way, if one is). Claims
  * nothing: the caller does (claim_joint). */
-static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, uint32_t K, merp_joint *jt)
+static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_link *link, const uint32_t *start,
+                     uint32_t K, merp_joint *jt)
 {
     assert(K >= 2 && K <= MERP_RUN_FORKS);
-    *jt = (merp_joint){.start = {P[0], b->nodes[P[K - 1]].main_child}, .cuts = 2, .forks = K};
+    *jt = (merp_joint){.forks = K, .start = {P[0]}, .cuts = 2, .cut_slot = {MERP_SLOT_IN, MERP_LINK_OUT}};
     float J[MERP_RUN_FORKS][3];
+    int group[MERP_RUN_FORKS], groups = 0;
+    bool goes_on[MERP_RUN_FORKS] = {false}; /* a fork goes on from it up its continuation */
+    for (uint32_t i = 1; i < K; i++)
+        goes_on[link[i].from] |= link[i].slot == MERP_LINK_OUT;
     for (uint32_t i = 0; i < K; i++) {
         const mer_node *p = &b->nodes[P[i]];
         uint32_t C = p->main_child;
-        if (C == MER_NO_NODE || !usable(b, P[i], false) || !usable(b, C, i + 1 == K))
+        if (C == MER_NO_NODE || !usable(b, P[i], false) || !usable(b, C, !goes_on[i]))
             return false;
         merp_tip_of(p, J[i]);
-        jt->fork_node[i] = P[i];
+        jt->fork_node[i] = P[i], jt->link[i] = link[i], jt->link_start[i] = start[i];
+        group[i] = i == 0 || link[i].slot != MERP_LINK_OUT ? groups++ : group[link[i].from];
         merp_junction *f = &jt->field[i];
         f->w = PCM_WIDTH;
-        for (int k = 0; k < 2; k++) {
-            uint32_t L = p->lateral_child[k];
-            if (patch_lateral(b, p, J[i], L)) {
-                segment_of(b, L, &f->lateral[f->laterals++]);
-                jt->start[jt->cuts++] = L;
-            }
-        }
+        for (uint32_t L; (L = patch_lateral_at(b, P[i], f->laterals)) != MER_NO_NODE;)
+            segment_of(b, L, &f->lateral[f->laterals++]);
         if (f->laterals == 0)
             return false;
-        if (i == 0) {
-            segment_of(b, P[0], &f->in);
-            f->in.rb = in_radius(b, jt);
-        } else { /* the straight axis from the fork below */
-            uint32_t C0 = b->nodes[P[i - 1]].main_child;
-            f->in = (merp_seg){.ra = merp_node_radius(b, C0), .rb = merp_node_end_radius(b, P[i])};
-            memcpy(f->in.a, J[i - 1], sizeof f->in.a);
-            memcpy(f->in.b, J[i], sizeof f->in.b);
-            if (!run_middle(b, cl, C0, P[i], J[i - 1], J[i], merp_node_radius(b, C0)))
-                return false;
-            jt->field[i - 1].out = f->in;
-        }
     }
-    segment_of(b, jt->start[MERP_CUT_OUT], &jt->field[K - 1].out);
+    segment_of(b, P[0], &jt->field[0].in);
+    jt->field[0].in.rb = in_radius(b, jt);
+    for (uint32_t i = 1; i < K; i++) { /* the straight axis from the fork it goes on from */
+        uint32_t from = link[i].from;
+        merp_seg *g = &jt->field[i].in;
+        *g = (merp_seg){.ra = merp_node_radius(b, start[i]), .rb = merp_node_end_radius(b, P[i])};
+        memcpy(g->a, J[from], sizeof g->a);
+        memcpy(g->b, J[i], sizeof g->b);
+        if (!run_middle(b, cl, start[i], P[i], J[from], J[i], g->ra))
+            return false;
+        if (link[i].slot == MERP_LINK_OUT)
+            jt->field[from].out = *g;
+        else
+            jt->field[from].lateral[link[i].slot] = *g;
+    }
+    /* The shafts: the first fork's in (cut 0), each axis's out above its last
+     * fork (the first axis's is cut 1), every lateral no fork goes on up. */
+    for (uint32_t i = 0; i < K; i++) {
+        bool up[MERP_JUNCTION_LATERALS] = {false};
+        for (uint32_t c = 1; c < K; c++)
+            if (link[c].from == i && link[c].slot != MERP_LINK_OUT)
+                up[link[c].slot] = true;
+        for (uint32_t k = 0; k < jt->field[i].laterals; k++)
+            if (!up[k]) {
+                jt->cut_fork[jt->cuts] = (uint8_t)i, jt->cut_slot[jt->cuts] = (uint8_t)k;
+                jt->start[jt->cuts++] = patch_lateral_at(b, P[i], k);
+            }
+        if (goes_on[i])
+            continue;
+        uint32_t C = b->nodes[P[i]].main_child, s = group[i] == 0 ? MERP_CUT_OUT : jt->cuts++;
+        jt->cut_fork[s] = (uint8_t)i, jt->cut_slot[s] = MERP_LINK_OUT, jt->start[s] = C;
+        segment_of(b, C, &jt->field[i].out);
+    }
     float h = merp_joint_cell(b, jt);
-    /* The primitives: each shaft from its J, then the axis between the forks. */
+    /* The primitives: each shaft from its J, then the axes between the forks. */
     run_prim prim[MERP_PATCH_CUTS + MERP_RUN_FORKS];
-    uint32_t n = jt->cuts, k;
+    uint32_t n = jt->cuts;
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        const merp_junction *f = &jt->field[merp_joint_fork_of(jt, s, &k)];
-        const merp_seg *g = s == MERP_CUT_IN ? &f->in : s == MERP_CUT_OUT ? &f->out : &f->lateral[k];
+        uint32_t i = jt->cut_fork[s], k = jt->cut_slot[s], l;
+        const merp_seg *g = merp_joint_shaft(jt, s, NULL, &l);
         const float *dir = b->nodes[jt->start[s]].dir;
         run_prim *q = &prim[s];
-        *q = (run_prim){.len = INFINITY, .R = SUPPORT_SEEN * merp_seg_support(g), .axis = s < MERP_CUT_LATERAL};
-        memcpy(q->o, f->in.b, sizeof q->o);
+        *q = (run_prim){.len = INFINITY, .R = SUPPORT_SEEN * merp_seg_support(g), .axis = k < MERP_SLOT_IN ? -1 : group[i]};
+        memcpy(q->o, J[i], sizeof q->o);
         for (int a = 0; a < 3; a++)
             q->m[a] = s == MERP_CUT_IN ? -dir[a] : dir[a];
     }
     for (uint32_t i = 1; i < K; i++, n++) {
         const merp_seg *g = &jt->field[i].in;
         run_prim *q = &prim[n];
-        *q = (run_prim){.R = SUPPORT_SEEN * merp_seg_support(g), .axis = true};
+        *q = (run_prim){.R = SUPPORT_SEEN * merp_seg_support(g), .axis = group[i]};
         memcpy(q->o, g->a, sizeof q->o);
         for (int a = 0; a < 3; a++)
             q->m[a] = g->b[a] - g->a[a];
@@ -614,15 +699,18 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, uint32_t K,
     }
     const clearance c = {.prim = prim, .prims = n};
     float need[MERP_PATCH_CUTS];
-    if (!settle_cuts(b, cl, jt, &c, h, need))
+    merp_grid grid; /* a run across two axes can span much: its grid must fit */
+    if (!settle_cuts(b, cl, jt, &c, h, need) || !merp_joint_grid(b, jt, h, &grid))
         return false;
     /* Each fork's bark ages as a single fork's (plan_one). */
-    for (uint32_t i = 0, s = MERP_CUT_LATERAL; i < K; i++) {
+    for (uint32_t i = 0; i < K; i++) {
         merp_junction *f = &jt->field[i];
         const mer_node *C = &b->nodes[b->nodes[P[i]].main_child];
-        uint32_t born = b->nodes[jt->start[s]].born;
-        for (uint32_t l = 0; l < f->laterals; l++, s++)
-            born = b->nodes[jt->start[s]].born < born ? b->nodes[jt->start[s]].born : born;
+        uint32_t born = b->nodes[patch_lateral_at(b, P[i], 0)].born;
+        for (uint32_t k = 1; k < f->laterals; k++) {
+            uint32_t L = patch_lateral_at(b, P[i], k);
+            born = b->nodes[L].born < born ? b->nodes[L].born : born;
+        }
         merp_junction_age(f, C->dir, years_since(b, born));
         f->scar_weight = C->born == b->nodes[P[i]].born ? 0.0f : merp_junction_scar_weight(years_since(b, C->born));
     }
@@ -677,67 +765,143 @@ static bool is_fork(const merp_builder *b, uint32_t P, float threshold)
     const mer_node *p = &b->nodes[P];
     if (!p->alive || p->diameter < threshold)
         return false;
-    float J[3];
-    merp_tip_of(p, J);
-    return patch_lateral(b, p, J, p->lateral_child[0]) || patch_lateral(b, p, J, p->lateral_child[1]);
+    return patch_lateral_at(b, P, 0) != MER_NO_NODE;
 }
 
-/* Whether internode a is c or below it on c's axis (within MAX_SPAN). */
-static bool on_axis_below(const merp_builder *b, uint32_t a, uint32_t c)
+/* The forks a run is being gathered from (plan_merged), in no order. */
+typedef struct gathered {
+    uint32_t fork[MERP_RUN_FORKS], n;
+    float threshold;
+} gathered;
+
+static int gathered_index(const gathered *g, uint32_t id)
 {
-    for (uint32_t passed = 0; passed <= MAX_SPAN; passed++) {
-        if (c == a)
-            return true;
-        uint32_t p = b->nodes[c].parent;
-        if (p == MER_NO_NODE || b->nodes[p].main_child != c)
-            return false;
-        c = p;
-    }
-    return false;
+    for (uint32_t i = 0; i < g->n; i++)
+        if (g->fork[i] == id)
+            return (int)i;
+    return -1;
 }
 
-/* The forks from lo up to hi (both forks) along their axis into R, *K
- * their count; false when they are more than MERP_RUN_FORKS or hi is not
- * up lo's axis. */
-static bool forks_between(const merp_builder *b, uint32_t lo, uint32_t hi, float threshold, uint32_t *R,
-                          uint32_t *K)
+/* From fork f down its axis (and down the axis it is a lateral of, and so
+ * on) to the first fork of `to` (or, with `to` NULL, to fork `target`):
+ * the index reached (0 with a target), how the walk arrived (*link: up
+ * that fork's continuation or its patch lateral, *start: the axis's first
+ * internode), and the forks passed on the way (between, at most `room`).
+ * -1 when the walk leaves the tree, crosses a lateral no patch holds, or
+ * passes more forks than there is room for. */
+static int walk_down(const merp_builder *b, uint32_t f, const gathered *to, uint32_t target, float threshold,
+                     uint32_t room, uint32_t *between, uint32_t *nb, merp_link *link, uint32_t *start)
 {
-    *K = 0;
-    for (uint32_t id = lo, passed = 0; id != MER_NO_NODE && passed <= MAX_SPAN; passed++) {
-        if (id == lo || id == hi || is_fork(b, id, threshold)) {
-            if (*K == MERP_RUN_FORKS)
-                return false;
-            R[(*K)++] = id;
+    *nb = 0;
+    for (uint32_t id = f, passed = 0; passed <= 2 * MAX_SPAN; passed++) {
+        uint32_t p = b->nodes[id].parent;
+        if (p == MER_NO_NODE)
+            return -1;
+        uint8_t slot = MERP_LINK_OUT;
+        if (b->nodes[p].main_child != id) { /* a lateral: the run crosses only a patch's */
+            for (uint32_t k = 0; slot == MERP_LINK_OUT; k++) {
+                uint32_t L = patch_lateral_at(b, p, k);
+                if (L == MER_NO_NODE)
+                    return -1;
+                if (L == id)
+                    slot = (uint8_t)k;
+            }
         }
-        if (id == hi)
-            return true;
-        id = b->nodes[id].main_child;
+        int at = to != NULL ? gathered_index(to, p) : p == target ? 0 : -1;
+        if (at >= 0) {
+            *link = (merp_link){0, slot}, *start = id;
+            return at;
+        }
+        if (slot != MERP_LINK_OUT || is_fork(b, p, threshold)) { /* the run passes its J */
+            if (!is_fork(b, p, threshold) || *nb == room)
+                return -1;
+            between[(*nb)++] = p;
+        }
+        id = p;
     }
-    return false;
+    return -1;
 }
 
-/* Widens [*lo, *hi] along the axis to hold joint x's forks; false when one
- * is on no axis through them. */
-static bool widen(const merp_builder *b, const merp_joint *x, uint32_t *lo, uint32_t *hi)
+/* Adds fork F to the gathering with the forks between it and the others:
+ * down from F to them, or down from one of them to F. False when F is on
+ * no such way, or the run would have more than MERP_RUN_FORKS forks. */
+static bool gather(const merp_builder *b, gathered *g, uint32_t F)
 {
-    for (uint32_t i = 0; i < x->forks; i++) {
-        uint32_t f = x->fork_node[i];
-        if (on_axis_below(b, f, *lo))
-            *lo = f;
-        else if (on_axis_below(b, *hi, f))
-            *hi = f;
-        else if (!(on_axis_below(b, *lo, f) && on_axis_below(b, f, *hi)))
-            return false;
+    if (gathered_index(g, F) >= 0)
+        return true;
+    uint32_t between[MERP_RUN_FORKS], nb, start, room = MERP_RUN_FORKS - 1 - g->n;
+    merp_link link;
+    if (g->n == MERP_RUN_FORKS)
+        return false;
+    bool found = walk_down(b, F, g, 0, g->threshold, room, between, &nb, &link, &start) >= 0;
+    for (uint32_t i = 0; i < g->n && !found; i++)
+        found = walk_down(b, g->fork[i], NULL, F, g->threshold, room, between, &nb, &link, &start) >= 0;
+    if (!found)
+        return false;
+    g->fork[g->n++] = F;
+    for (uint32_t i = 0; i < nb; i++)
+        g->fork[g->n++] = between[i];
+    return true;
+}
+
+/* Lists the gathered forks as plan_run takes them: the one the others go
+ * on from first, each axis's forks together up it, a fork up a lateral
+ * after the fork it goes on from; their links and the first internode of
+ * the axis each goes on up. False unless the forks make one tree whose
+ * ways between them pass no other fork. */
+static bool order_run(const merp_builder *b, const gathered *g, uint32_t *P, merp_link *link, uint32_t *start)
+{
+    int from[MERP_RUN_FORKS], root = -1;
+    merp_link via[MERP_RUN_FORKS];
+    uint32_t first[MERP_RUN_FORKS];
+    for (uint32_t i = 0; i < g->n; i++) {
+        uint32_t between[1], nb;
+        from[i] = walk_down(b, g->fork[i], g, 0, g->threshold, 0, between, &nb, &via[i], &first[i]);
+        if (from[i] < 0) {
+            if (root >= 0)
+                return false; /* two trees */
+            root = (int)i;
+        }
+    }
+    if (root < 0)
+        return false;
+    /* Axis by axis from the root: each one's forks up its continuations, then
+     * the axes up their laterals, in the order reached. */
+    int order[MERP_RUN_FORKS], at[MERP_RUN_FORKS];
+    uint32_t n = 0, queue[MERP_RUN_FORKS], qn = 0;
+    queue[qn++] = (uint32_t)root;
+    for (uint32_t q = 0; q < qn; q++) {
+        for (int f = (int)queue[q]; f >= 0;) {
+            at[f] = (int)n, order[n++] = f;
+            int next = -1;
+            for (uint32_t i = 0; i < g->n; i++)
+                if (from[i] == f && via[i].slot == MERP_LINK_OUT)
+                    next = (int)i;
+            for (uint32_t k = 0; k < MERP_JUNCTION_LATERALS; k++)
+                for (uint32_t i = 0; i < g->n; i++)
+                    if (from[i] == f && via[i].slot == k)
+                        queue[qn++] = i;
+            f = next;
+        }
+    }
+    if (n != g->n)
+        return false;
+    for (uint32_t i = 0; i < n; i++) {
+        int f = order[i];
+        P[i] = g->fork[f], start[i] = first[f];
+        link[i] = i == 0 ? (merp_link){0, MERP_LINK_OUT} : (merp_link){(uint8_t)at[from[f]], via[f].slot};
     }
     return true;
 }
 
-/* A planned joint's maps forgotten (a run took its forks in). */
-static void forget(merp_builder *b, merp_joint *jt)
+void merp_joint_forget(merp_builder *b, merp_joint *jt)
 {
     jt->ok = false;
-    for (uint32_t i = 0; i < jt->forks; i++)
+    for (uint32_t i = 0; i < jt->forks; i++) {
         b->joint_at[jt->fork_node[i]] = UINT32_MAX;
+        if (i > 0 && jt->link[i].slot != MERP_LINK_OUT)
+            b->lateral_in[jt->link_start[i]] = UINT32_MAX;
+    }
     b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
     for (uint32_t s = 1; s < jt->cuts; s++) {
         b->cut_end[jt->node[s]] = UINT32_MAX;
@@ -746,39 +910,62 @@ static void forget(merp_builder *b, merp_joint *jt)
     }
 }
 
+/* Joint `at` (jt) in the maps tube.c follows, and its claims. */
+static void remember(merp_builder *b, claims *cl, const merp_joint *jt, uint32_t at)
+{
+    claim_joint(b, cl, jt, at);
+    for (uint32_t i = 0; i < jt->forks; i++) {
+        b->joint_at[jt->fork_node[i]] = at;
+        if (i > 0 && jt->link[i].slot != MERP_LINK_OUT) /* an axis that begins in the patch, uncut */
+            b->lateral_in[jt->link_start[i]] = at * MERP_PATCH_CUTS;
+    }
+    b->cut_begin[jt->node[MERP_CUT_IN]] = at;
+    for (uint32_t s = 1; s < jt->cuts; s++) {
+        b->cut_end[jt->node[s]] = at * MERP_PATCH_CUTS + s;
+        if (merp_joint_begins_axis(b->nodes, jt, s)) /* an axis that begins in the patch */
+            b->lateral_in[jt->start[s]] = at * MERP_PATCH_CUTS + s;
+    }
+}
+
 /* Plans P's fork, which fits no patch of its own because joint X's is in
- * the way, as a run (plan_run) with X's forks and every fork between them
- * on their axis, taking in the joints planned for any of them (released,
- * into taken[0 .. *nt)); while the run meets another joint on the axis, it
- * grows to take that in too, up to MERP_RUN_FORKS forks. False when it does
- * not fit (X off the axis or a relay, too many forks): the claims are then
- * as they were. */
+ * the way, as a run (plan_run) with X's forks and every fork on the ways
+ * between them, taking in the joints planned for any of them (released,
+ * into taken[0 .. *nt)); while the run meets another joint, it grows to
+ * take that in too, up to MERP_RUN_FORKS forks. False when it does not
+ * fit (X a relay, its forks on no way from P, too many forks): the claims
+ * are then as they were. */
 static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, merp_joint *jt,
                         uint32_t *taken, uint32_t *nt)
 {
-    uint32_t lo = P, hi = P, R[MERP_RUN_FORKS], K = 0;
+    gathered g = {.fork = {P}, .n = 1, .threshold = threshold};
     bool ok = false, stuck = false;
     *nt = 0;
     while (!ok && !stuck && X != UINT32_MAX) {
-        stuck = b->joints[X].relay || !widen(b, &b->joints[X], &lo, &hi);
+        stuck = b->joints[X].relay;
+        for (uint32_t i = 0; i < b->joints[X].forks && !stuck; i++)
+            stuck = !gather(b, &g, b->joints[X].fork_node[i]);
         /* every joint planned for a fork of the run joins it */
         for (bool grown = true; grown && !stuck;) {
             grown = false;
-            stuck = !forks_between(b, lo, hi, threshold, R, &K);
-            for (uint32_t i = 0; i < K && !stuck; i++) {
-                uint32_t j = b->joint_at[R[i]], t = 0;
+            for (uint32_t i = 0; i < g.n && !stuck; i++) {
+                uint32_t j = b->joint_at[g.fork[i]], t = 0;
                 while (t < *nt && taken[t] != j)
                     t++;
                 if (j == UINT32_MAX || t < *nt)
                     continue;
-                stuck = b->joints[j].relay || !widen(b, &b->joints[j], &lo, &hi);
+                stuck = b->joints[j].relay;
+                for (uint32_t k = 0; k < b->joints[j].forks && !stuck; k++)
+                    stuck = !gather(b, &g, b->joints[j].fork_node[k]);
                 claim_joint(b, cl, &b->joints[j], UINT32_MAX);
                 taken[(*nt)++] = j;
                 grown = true;
             }
         }
+        uint32_t R[MERP_RUN_FORKS], start[MERP_RUN_FORKS];
+        merp_link link[MERP_RUN_FORKS];
+        stuck = stuck || !order_run(b, &g, R, link, start);
         cl->blocker = UINT32_MAX;
-        ok = !stuck && plan_run(b, cl, R, K, jt);
+        ok = !stuck && plan_run(b, cl, R, link, start, g.n, jt);
         X = cl->blocker;
     }
     if (!ok)
@@ -831,21 +1018,13 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         }
         for (uint32_t k = 0; k < nt; k++) { /* a run took these forks' patches in */
             patched -= b->joints[taken[k]].forks;
-            forget(b, &b->joints[taken[k]]);
+            merp_joint_forget(b, &b->joints[taken[k]]);
         }
         patched += jt.forks;
         jt.ok = true;
-        uint32_t at = b->joint_count++;
-        b->joints[at] = jt;
-        claim_joint(b, &cl, &jt, at);
-        for (uint32_t k = 0; k < jt.forks; k++)
-            b->joint_at[jt.fork_node[k]] = at;
-        b->cut_begin[jt.node[MERP_CUT_IN]] = at;
-        for (uint32_t s = 1; s < jt.cuts; s++) {
-            b->cut_end[jt.node[s]] = at * MERP_PATCH_CUTS + s;
-            if (merp_joint_begins_axis(b->nodes, &jt, s)) /* an axis that begins in the patch */
-                b->lateral_in[jt.start[s]] = at * MERP_PATCH_CUTS + s;
-        }
+        b->joints[b->joint_count] = jt;
+        remember(b, &cl, &b->joints[b->joint_count], b->joint_count);
+        b->joint_count++;
     }
     b->joints_unfit = count - patched;
     merp_free(c), merp_free(cl.lo), merp_free(cl.hi), merp_free(cl.own_lo), merp_free(cl.own_hi);

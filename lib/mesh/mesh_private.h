@@ -72,9 +72,17 @@ typedef struct merp_joint {
     bool ok;                        /* planned, and its patch built */
     bool smooth;                    /* ... by marching tetrahedra (no sharp crease) */
     merp_junction field[MERP_RUN_FORKS]; /* its forks' fields: field[0] a
-                                       single fork's, a run's up its axis */
+                                       single fork's, a run's first */
     uint32_t forks;                 /* 1, or a run's forks (joints_plan.c) */
     uint32_t fork_node[MERP_RUN_FORKS]; /* the internode each fork's J ends */
+    merp_link link[MERP_RUN_FORKS]; /* how a run's forks go on from each
+                                       other (merp_jprep_init_run) */
+    uint32_t link_start[MERP_RUN_FORKS]; /* the first internode of the axis
+                                       from fork link[i].from to fork i */
+    uint8_t cut_fork[MERP_PATCH_CUTS], cut_slot[MERP_PATCH_CUTS]; /* each
+                                       shaft's fork and which of its
+                                       segments it is: MERP_SLOT_IN,
+                                       MERP_LINK_OUT or a lateral */
     merp_trimesh mesh;              /* the patch, ring copies last */
     float *uvs, *ridge;             /* 2 and 1 per patch vertex */
     uint8_t *shaft;                 /* the cut whose shaft is nearest each vertex */
@@ -189,20 +197,19 @@ static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id
     return &b->joints[b->joint_at[id]];
 }
 
-/* The fork of jt that shaft s leaves (0 for the in shaft, the last for the
- * out shaft) and, for a lateral, its place among that fork's laterals
- * (*k; 0 otherwise): a run's laterals follow fork by fork. */
-static inline uint32_t merp_joint_fork_of(const merp_joint *jt, uint32_t s, uint32_t *k)
+#define MERP_SLOT_IN 0xfe /* merp_joint.cut_slot: the first fork's in */
+
+/* Shaft s of jt: its fork's field, and its segment there (*lane: the
+ * segment's lane in jp's rows, when jp is not NULL). */
+static inline const merp_seg *merp_joint_shaft(const merp_joint *jt, uint32_t s, const merp_jprep *jp,
+                                               uint32_t *lane)
 {
-    assert(s < jt->cuts && jt->forks >= 1);
-    *k = 0;
-    if (s < MERP_CUT_LATERAL)
-        return s == MERP_CUT_IN ? 0 : jt->forks - 1;
-    uint32_t n = s - MERP_CUT_LATERAL, i = 0;
-    while (n >= jt->field[i].laterals)
-        n -= jt->field[i++].laterals;
-    *k = n;
-    return i;
+    assert(s < jt->cuts);
+    uint32_t i = jt->cut_fork[s], k = jt->cut_slot[s];
+    const merp_junction *f = &jt->field[i];
+    if (jp != NULL)
+        *lane = k == MERP_SLOT_IN ? jp->lanes.in_lane[i] : k == MERP_LINK_OUT ? jp->lanes.out_lane[i] : jp->lanes.lat_lane[i][k];
+    return k == MERP_SLOT_IN ? &f->in : k == MERP_LINK_OUT ? &f->out : &f->lateral[k];
 }
 
 /* Whether shaft s of jt begins an axis in the patch (tube.c then starts
@@ -249,6 +256,16 @@ static inline float merp_cut_radius(const merp_builder *b, const merp_joint *jt,
 mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err);
 /* A patch's grid spacing (joints_plan.c). */
 float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
+#define MERP_JOINT_SHELL 1.6f /* the surface stays within this × a shaft's radius of its axis */
+#define MERP_JOINT_MAX_CELLS 200000u /* a patch's grid at most; a fork that needs more stays tubes */
+/* The grid of jt's patch into *g (joints_plan.c): the box of every shaft
+ * from its J to just past its cut, and of every fork's J, grown by the
+ * shell its surface stays in, with cells of h. False when it would have
+ * more than MERP_JOINT_MAX_CELLS cells. */
+bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g);
+/* jt's maps forgotten (joints_plan.c): its forks are tubes again, unless
+ * another patch serves them (a run that took them in). */
+void merp_joint_forget(merp_builder *b, merp_joint *jt);
 
 /* With implicit junctions: plans the forks to patch (cut distances that fit
  * their internodes), records their rings (a dry run of tube.c), builds each

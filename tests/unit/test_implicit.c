@@ -260,6 +260,36 @@ static void gradient_matches_differences(void **state)
     }
 }
 
+/* Of the points of a grid of m[0] × m[1] × m[2] over the box lo..hi (*n of
+ * them), how many have jp's closed-form gradient off its field's central
+ * differences (as gradient_matches_differences counts them); asserts that
+ * the gradient's value is the field's. */
+static int gradient_off(const merp_jprep *jp, const float lo[3], const float hi[3], const int m[3], int *n)
+{
+    const float e = 1e-3f;
+    int off = 0;
+    *n = 0;
+    for (int a = 0; a < m[0]; a++)
+        for (int b = 0; b < m[1]; b++)
+            for (int c = 0; c < m[2]; c++) {
+                const int i[3] = {a, b, c};
+                float p[3], g[3], len = 0.0f, err = 0.0f;
+                for (int k = 0; k < 3; k++)
+                    p[k] = lo[k] + (hi[k] - lo[k]) * (float)i[k] / (float)(m[k] - 1);
+                float fv = merp_jprep_gradient(jp, p, g);
+                assert_float_equal(fv, merp_jprep_field(jp, p), 1e-6f);
+                for (int k = 0; k < 3; k++) {
+                    float up[3] = {p[0], p[1], p[2]}, dn[3] = {p[0], p[1], p[2]};
+                    up[k] += e, dn[k] -= e;
+                    float d = (merp_jprep_field(jp, up) - merp_jprep_field(jp, dn)) / (2.0f * e);
+                    len += d * d, err += (d - g[k]) * (d - g[k]);
+                }
+                ++*n;
+                off += sqrtf(err) > 0.02f * sqrtf(len) + 0.01f;
+            }
+    return off;
+}
+
 /* Two forks up one axis, as a run: aged_fork's at J0 = 0 with its
  * continuation ending at J1 = (0, 1.2, 0), and there a second lateral of
  * radius 0.28 at 45° towards −x; both forks' bark a year old (scars and
@@ -292,8 +322,8 @@ static void runs_fold_the_axis(void **state)
     merp_junction f[2];
     aged_run(f);
     merp_jprep one, run, second;
-    merp_jprep_init_run(&one, f, 1);
-    merp_jprep_init_run(&run, f, 2);
+    merp_jprep_init_run(&one, f, NULL, 1);
+    merp_jprep_init_run(&run, f, NULL, 2);
     merp_jprep_init(&second, &f[1]);
     assert_int_equal(run.rows, 2); /* the axis in 3 lanes and 2 laterals: two rows */
     int near0 = 0, near1 = 0;
@@ -322,25 +352,71 @@ static void runs_fold_the_axis(void **state)
     const float inside[4][3] = {{0, 0.6f, 0}, {0, 1.0f, 0.3f}, {0.5f * s2, 0.5f * s2, 0}, {-0.5f * s2, 1.2f + 0.5f * s2, 0}};
     for (int i = 0; i < 4; i++)
         assert_true(merp_jprep_field(&run, inside[i]) > MERP_ISO);
-    const float e = 1e-3f;
-    int n = 0, off = 0;
-    for (int a = 0; a < 20; a++)
-        for (int b = 0; b < 30; b++)
-            for (int c = 0; c < 6; c++) {
-                const float p[3] = {-0.9f + 1.8f * (float)a / 19.0f, -0.8f + 2.8f * (float)b / 29.0f,
-                                    -0.6f + 1.2f * (float)c / 5.0f};
-                float g[3], fv = merp_jprep_gradient(&run, p, g), len = 0.0f, err = 0.0f;
-                assert_float_equal(fv, merp_jprep_field(&run, p), 1e-6f);
-                for (int k = 0; k < 3; k++) {
-                    float hi[3] = {p[0], p[1], p[2]}, lo[3] = {p[0], p[1], p[2]};
-                    hi[k] += e, lo[k] -= e;
-                    float d = (merp_jprep_field(&run, hi) - merp_jprep_field(&run, lo)) / (2.0f * e);
-                    len += d * d, err += (d - g[k]) * (d - g[k]);
-                }
-                n++;
-                off += sqrtf(err) > 0.02f * sqrtf(len) + 0.01f;
-            }
+    const float lo[3] = {-0.9f, -0.8f, -0.6f}, hi[3] = {0.9f, 2.0f, 0.6f};
+    int n, off = gradient_off(&run, lo, hi, (const int[3]){20, 30, 6}, &n);
     print_message("a run of two forks: %d of %d points off\n", off, n);
+    assert_true(off * 50 < n);
+}
+
+/* A run with a fork up a lateral: aged_fork's fork at J0 = 0, whose
+ * lateral (45° towards +x) ends at J1 = 2·(cos 45°, sin 45°, 0), where a
+ * second fork goes on up it (its continuation along the lateral, a lateral
+ * of radius 0.2 going up), both a year old. */
+static void lateral_run(merp_junction f[2], merp_link link[2])
+{
+    const float s2 = 0.70710678f, up[3] = {0, 1, 0}, along[3] = {s2, s2, 0};
+    const float J1[3] = {2 * s2, 2 * s2, 0};
+    f[0] = aged_fork(1.0f);
+    f[0].lateral[0] = (merp_seg){{0, 0, 0}, {J1[0], J1[1], 0}, 0.3f, 0.28f};
+    f[1] = (merp_junction){
+        .in = f[0].lateral[0],
+        .out = {{J1[0], J1[1], 0}, {J1[0] + 2 * s2, J1[1] + 2 * s2, 0}, 0.26f, 0.24f},
+        .lateral = {{{J1[0], J1[1], 0}, {J1[0], J1[1] + 2.0f, 0}, 0.2f, 0.2f}},
+        .laterals = 1,
+        .w = 0.15f,
+    };
+    merp_junction_age(&f[0], up, 1.0f);
+    merp_junction_age(&f[1], along, 1.0f);
+    link[0] = (merp_link){0, MERP_LINK_OUT};
+    link[1] = (merp_link){0, 0}; /* up fork 0's lateral 0 */
+}
+
+/* A run whose second fork goes on up the first's lateral: near the first
+ * fork, beyond the second's primitives, it is the first fork's field (up
+ * to rounding where the second's scar band reaches); near the second,
+ * beyond the first's, it is the second's junction field, whose parent is
+ * the lateral; the lateral, its fork's continuation and lateral are one
+ * solid with the parent; the gradient matches differences. */
+static void runs_go_up_laterals(void **state)
+{
+    (void)state;
+    merp_junction f[2];
+    merp_link link[2];
+    lateral_run(f, link);
+    merp_jprep run, second;
+    merp_jprep_init_run(&run, f, link, 2);
+    merp_jprep_init(&second, &f[1]);
+    assert_int_equal(run.lanes.groups, 2);
+    const float s2 = 0.70710678f, J1[3] = {2 * s2, 2 * s2, 0};
+    int near0 = 0, near1 = 0;
+    for (int a = 0; a < 9; a++)
+        for (int b = 0; b < 9; b++)
+            for (int c = 0; c < 9; c++) {
+                float u = (float)a / 8.0f - 0.5f, v = (float)b / 8.0f - 0.5f, w = (float)c / 8.0f - 0.5f;
+                const float q0[3] = {0.4f * u, 0.4f * v, 0.4f * w};
+                const float q1[3] = {J1[0] + 0.2f * u, J1[1] + 0.2f * v, 0.2f * w};
+                assert_float_equal(merp_jprep_field(&run, q0), merp_junction_field(q0, &f[0]), 1e-6f);
+                assert_float_equal(merp_jprep_field(&run, q1), merp_jprep_field(&second, q1), 1e-6f);
+                near0++, near1++;
+            }
+    assert_true(near0 > 500 && near1 > 500);
+    const float inside[4][3] = {{0, 0.6f, 0}, {s2, s2, 0}, {J1[0] + 0.5f * s2, J1[1] + 0.5f * s2, 0},
+                                {J1[0], J1[1] + 0.5f, 0}};
+    for (int i = 0; i < 4; i++)
+        assert_true(merp_jprep_field(&run, inside[i]) > MERP_ISO);
+    const float lo[3] = {-0.6f, -0.8f, -0.6f}, hi[3] = {2.2f, 2.8f, 0.6f};
+    int n, off = gradient_off(&run, lo, hi, (const int[3]){24, 24, 6}, &n);
+    print_message("a run up a lateral: %d of %d points off\n", off, n);
     assert_true(off * 50 < n);
 }
 
@@ -489,6 +565,7 @@ int main(void)
         cmocka_unit_test(ageing),
         cmocka_unit_test(gradient_matches_differences),
         cmocka_unit_test(runs_fold_the_axis),
+        cmocka_unit_test(runs_go_up_laterals),
         cmocka_unit_test(row_lanes_match_scalar),
         cmocka_unit_test(reach_balls_hold_the_bounds),
         cmocka_unit_test(gradient_gives_the_bounds),

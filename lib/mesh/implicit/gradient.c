@@ -10,6 +10,13 @@
 
 #include "mesh/implicit/implicit.h"
 
+/* Every term's function forced inline into field_with (see junction.c). */
+#if defined(__GNUC__)
+#define INLINE __attribute__((always_inline)) inline
+#else
+#define INLINE inline
+#endif
+
 typedef struct dual {
     float v, g[3];
 } dual;
@@ -54,19 +61,27 @@ static inline dual gbb(dual F, dual b1, dual b2)
     return r;
 }
 
-/* The parent's axis A folded up the run (junction.c's axis_terms), with
- * each fork's scar's bounded blend, from the segments' and bounds' lanes. */
-static inline dual axis(const merp_jprep *jp, const merp_row_grad *seg, const merp_row_grad *bnd)
+/* Lane l of rows r as a dual number. */
+static inline dual lane_of(const merp_row_grad *r, uint32_t l)
 {
-    dual A = lane(seg, MERP_JSEG_IN);
-    for (uint32_t i = 0; i < jp->forks; i++) {
+    return lane(r + l / MERP_ROW, (int)(l % MERP_ROW));
+}
+
+/* Group g's axis A folded up its forks (junction.c's axis_terms), with
+ * each fork's scar's bounded blend, from the segments' and bounds' lanes. */
+static INLINE dual axis(const merp_jprep *jp, const merp_jlanes *L, uint32_t g, const merp_row_grad *seg,
+                        const merp_row_grad *bnd)
+{
+    uint32_t first = L->group_first[g], end = L->group_first[g + 1];
+    dual A = lane_of(seg, L->in_lane[first]);
+    for (uint32_t i = first; i < end; i++) {
         const merp_junction *j = &jp->j[i];
         if (!(j->out.ra > 0.0f))
-            continue; /* the last fork's, with no continuation */
-        dual f_in = A, f_out = lane(seg + (i + 1) / MERP_ROW, (int)((i + 1) % MERP_ROW));
+            continue; /* a fork with no continuation: its lane is 0 */
+        dual f_in = A, f_out = lane_of(seg, L->out_lane[i]);
         A = d_max(f_in, f_out);
         if (j->scar_weight > 0.0f) {
-            dual F_s = d_lin(j->scar_weight, lane(bnd + i / MERP_ROW, (int)(i % MERP_ROW)), 0.0f, ZERO);
+            dual F_s = d_lin(j->scar_weight, lane_of(bnd, i), 0.0f, ZERO);
             if (F_s.v > 0.0f) {
                 dual a = d_lin(1.0f, f_in, 1.0f, delta_of(f_out, MERP_ISO));
                 dual b = d_lin(1.0f, f_out, 1.0f, delta_of(f_in, MERP_ISO));
@@ -75,6 +90,52 @@ static inline dual axis(const merp_jprep *jp, const merp_row_grad *seg, const me
         }
     }
     return A;
+}
+
+/* Lateral k of fork i: its segment's lane, or the group's up it (Fg). */
+static INLINE dual lateral_of(const merp_jlanes *L, uint32_t i, uint32_t k, const merp_row_grad *seg,
+                              const dual *Fg)
+{
+    uint32_t c = L->child[i][k];
+    return c != 0 ? Fg[c] : lane_of(seg, L->lat_lane[i][k]);
+}
+
+/* Group g's field and gradient (junction.c's group_field). */
+static INLINE dual group_field(const merp_jprep *jp, const merp_jlanes *L, uint32_t g, const merp_row_grad *seg,
+                               const merp_row_grad *bnd, const dual *Fg)
+{
+    uint32_t first = L->group_first[g], end = L->group_first[g + 1];
+    dual A = axis(jp, L, g, seg, bnd), A_d = A, b1 = ZERO, b2 = A, F_b = ZERO;
+    for (uint32_t i = first; i < end; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++) {
+            b2 = d_lin(1.0f, b2, 1.0f, lateral_of(L, i, k, seg, Fg));
+            if (jp->j[i].bound[k].r_out > 1e-5f)
+                F_b = d_max(F_b, lane_of(bnd, L->bnd_lane[i][k]));
+        }
+    /* Beyond the ridge (most samples) F_b and ∇F_b are 0 and eq. (4) is B2:
+     * exactly, as no component of B2's gradient is −0 (each lane's is +0
+     * where it is zero), so 0·x + 1·B2 is B2 to the bit. */
+    if (F_b.v == 0.0f)
+        return b2;
+    for (uint32_t i = first; i < end; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++)
+            A_d = d_lin(1.0f, A_d, 1.0f, delta_of(lateral_of(L, i, k, seg, Fg), jp->j[i].w));
+    for (uint32_t i = first; i < end; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++)
+            b1 = d_max(b1, d_lin(1.0f, lateral_of(L, i, k, seg, Fg), 1.0f, delta_of(A, jp->j[i].w)));
+    b1 = d_max(b1, A_d);
+    return gbb(F_b, b1, b2);
+}
+
+/* The run's field and gradient from its lanes where L says (jp's own, or
+ * a single fork's constants, whose lookups the compiler folds away). */
+static INLINE dual field_with(const merp_jprep *jp, const merp_jlanes *L, const merp_row_grad *seg,
+                              const merp_row_grad *bnd)
+{
+    dual Fg[MERP_RUN_FORKS] = {{0}}; /* each group's written before it is read */
+    for (uint32_t k = L->groups; k-- > 1;)
+        Fg[k] = group_field(jp, L, k, seg, bnd, Fg);
+    return group_field(jp, L, 0, seg, bnd, Fg);
 }
 
 float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3])
@@ -86,40 +147,16 @@ float merp_jprep_gradient(const merp_jprep *jp, const float p[3], float g[3])
 float merp_jprep_gradient_bounds(const merp_jprep *jp, const float p[3], float g[3], float *bounds)
 {
     merp_row_grad seg[MERP_JROWS], bnd[MERP_JROWS];
-    for (uint32_t r = 0; r < jp->rows; r++)
-        merp_row_seg_gradient(&jp->seg[r], p, &seg[r]);
+    for (uint32_t r = 0; r < jp->rows; r++) {
+        if (merp_jprep_beyond_row(jp, r, p))
+            memset(&seg[r], 0, sizeof seg[r]); /* +0, as the lanes give */
+        else
+            merp_row_seg_gradient(&jp->seg[r], p, &seg[r]);
+    }
     merp_jprep_bound_gradient(jp, p, bnd);
     for (uint32_t r = 0; r < jp->rows; r++)
         memcpy(bounds + MERP_ROW * r, bnd[r].f, sizeof bnd[r].f);
-    dual A = axis(jp, seg, bnd), L[MERP_JUNCTION_LATERALS * MERP_RUN_FORKS];
-    dual A_d = A, b1 = ZERO, b2 = A, F_b = ZERO;
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < jp->forks; i++)
-        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) {
-            uint32_t sl = jp->lateral_lane + n, bl = jp->bound_lane + n;
-            L[n] = lane(seg + sl / MERP_ROW, (int)(sl % MERP_ROW));
-            b2 = d_lin(1.0f, b2, 1.0f, L[n]);
-            if (jp->j[i].bound[k].r_out > 1e-5f)
-                F_b = d_max(F_b, lane(bnd + bl / MERP_ROW, (int)(bl % MERP_ROW)));
-        }
-    /* Beyond the ridge (most samples) F_b and ∇F_b are 0 and eq. (4) is B2:
-     * exactly, as no component of B2's gradient is −0 (each lane's is +0
-     * where it is zero), so 0·x + 1·B2 is B2 to the bit. */
-    if (F_b.v == 0.0f) {
-        for (int k = 0; k < 3; k++)
-            g[k] = b2.g[k];
-        return b2.v;
-    }
-    n = 0;
-    for (uint32_t i = 0; i < jp->forks; i++)
-        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++)
-            A_d = d_lin(1.0f, A_d, 1.0f, delta_of(L[n], jp->j[i].w));
-    n = 0;
-    for (uint32_t i = 0; i < jp->forks; i++)
-        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++)
-            b1 = d_max(b1, d_lin(1.0f, L[n], 1.0f, delta_of(A, jp->j[i].w)));
-    b1 = d_max(b1, A_d);
-    dual F = gbb(F_b, b1, b2);
+    dual F = jp->forks == 1 ? field_with(jp, &MERP_JLANES_SINGLE, seg, bnd) : field_with(jp, &jp->lanes, seg, bnd);
     for (int k = 0; k < 3; k++)
         g[k] = F.g[k];
     return F.v;

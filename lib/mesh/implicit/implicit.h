@@ -351,44 +351,78 @@ void merp_junction_age(merp_junction *j, const float up[3], float years);
 /* σ(y) of merp_junction_age: 1 up to year 1, e^(−(y − 1)/3) after. */
 float merp_junction_scar_weight(float years);
 
-/* A run: up to MERP_RUN_FORKS forks along one parent axis, close enough
- * that their patches would overlap, polygonized as one patch (joints_plan.c
- * plans them where single patches do not fit). Fork i's continuation is fork
- * i + 1's parent internode: fork[i].out and fork[i + 1].in are the one
- * segment J_i → J_{i+1}. The run's field folds the axis up the chain:
- * A_0 = f(in of fork 0), and at each fork i A_{i+1} = max(A_i, f_out), with
- * fork i's bud scale scar blended in as a single fork's (F_s·PCM(A_i,
- * f_out) + (1 − F_s)·max), so a run of one fork is that fork's field to the
- * bit; every lateral of every fork joins A as a single fork's laterals do
- * (B2 = A + Σ L, B1 = max(A', L'), F_b the largest of their bounds). */
+/* A run: up to MERP_RUN_FORKS forks close enough that their patches would
+ * overlap, polygonized as one patch (joints_plan.c plans them where single
+ * patches do not fit). Each fork but the first goes on from an earlier one
+ * (merp_link): up its continuation (fork[from].out and this fork's in are
+ * the one segment J_from → J) or up one of its laterals (fork[from]'s
+ * lateral[slot] and this fork's in are that segment: a fork near the base
+ * of another's lateral). Forks linked up continuations form a group, one
+ * axis; the first fork and each fork up a lateral begin one. A group's field
+ * folds its axis up its forks: A_0 = f(in of its first fork), and at each
+ * fork A_{i+1} = max(A_i, f_out) with the fork's bud scale scar blended in
+ * as a single fork's (F_s·PCM(A_i, f_out) + (1 − F_s)·max), so a run of one
+ * fork is that fork's field to the bit; every lateral of its forks joins A
+ * as a single fork's laterals do (B2 = A + Σ L, B1 = max(A', L'), F_b the
+ * largest of their bounds), where a lateral that another group goes on up
+ * counts as that group's whole field. The run's field is its first group's. */
 #define MERP_RUN_FORKS 4
 #define MERP_JROWS 4 /* rows of four lanes for a run's segments, and for its bounds */
+#define MERP_LINK_OUT 0xff /* merp_link.slot: up the continuation */
+
+typedef struct merp_link {
+    uint8_t from, slot; /* the fork it goes on from, and up which: MERP_LINK_OUT or a lateral */
+} merp_link;
 
 /* A junction, or a run of them, made ready for many samples: its segments
- * (the axis's, then the laterals fork by fork) and its bounds (the scars,
- * then the laterals' bounds fork by fork) in rows, each lane that does not
- * take part (no continuation, no scar, a bound of no ridge, the rows' spare
- * lanes) cleared to a field of 0. Its fields and gradients are the
- * junction's to the bit (merp_junction_field and merp_junction_gradient
- * prepare one on every call); a patch prepares its junction once for all
- * its samples. Where F_b = 0 (beyond the ridge, most samples) F_g is B2
- * exactly, and B1 is not evaluated. */
+ * (the first fork's in; then each fork's out and laterals, fork by fork)
+ * and its bounds (the scars, fork by fork; then the laterals' bounds, fork
+ * by fork) in rows, each lane that does not take part (no continuation, no
+ * scar, a bound of no ridge, the rows' spare lanes) cleared to a field of
+ * 0. Its fields and gradients are the junction's to the bit
+ * (merp_junction_field and merp_junction_gradient prepare one on every
+ * call); a patch prepares its junction once for all its samples. Where
+ * F_b = 0 (beyond the ridge, most samples) F_g is B2 exactly, and B1 is not
+ * evaluated. */
+/* Where a run's values lie: each fork's lanes, its in (the lane of the
+ * segment it goes on from), out and laterals in the segment rows, its
+ * laterals' bounds in the bound rows (its scar's is its own index); the
+ * group up each lateral; the groups' forks. */
+typedef struct merp_jlanes {
+    uint8_t in_lane[MERP_RUN_FORKS], out_lane[MERP_RUN_FORKS];
+    uint8_t lat_lane[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS], bnd_lane[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS];
+    uint8_t child[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS]; /* 0: none (the first group is no one's) */
+    uint8_t group_first[MERP_RUN_FORKS + 1]; /* group g: forks group_first[g] .. group_first[g + 1] − 1 */
+    uint8_t groups;
+} merp_jlanes;
+
+/* A single fork's lanes (see MERP_JSEG_IN below), as constants each file
+ * that evaluates a junction can fold. */
+static const merp_jlanes MERP_JLANES_SINGLE = {.in_lane = {0},
+                                               .out_lane = {1},
+                                               .lat_lane = {{2, 3}},
+                                               .bnd_lane = {{1, 2}},
+                                               .group_first = {0, 1},
+                                               .groups = 1};
+
 typedef struct merp_jprep {
     const merp_junction *j; /* the run's forks, j[0 .. forks) */
     uint32_t forks, rows;
-    uint32_t lateral_lane, bound_lane; /* the first lateral's lane, its bound's */
+    merp_jlanes lanes;
     merp_row seg[MERP_JROWS];
     merp_row bound[MERP_JROWS];
+    /* A run's segment rows each hold a few primitives near one fork: beyond
+     * the box holding a row's supports (lo, hi; with a margin) its lanes
+     * are +0, field and gradient, and the row is not evaluated. */
+    float seg_box[MERP_JROWS][2][3];
     /* A ball about each bound that takes part (centre, squared radius),
      * holding its support with a margin: see merp_jprep_near_bounds. */
     float reach[MERP_JROWS * MERP_ROW][4];
     uint32_t reaches;
 } merp_jprep;
 
-/* A single fork's lanes: merp_jprep.seg's (in, out, the laterals) and
- * .bound's (the scar, the laterals' bounds). In a run of K forks the axis
- * takes lanes 0..K of seg (lateral_lane = K + 1) and the scars lanes
- * 0..K − 1 of bound (bound_lane = K). */
+/* A single fork's lanes: seg's (in, out, the laterals) and bound's (the
+ * scar, the laterals' bounds). */
 enum { MERP_JSEG_IN, MERP_JSEG_OUT, MERP_JSEG_LATERAL };
 enum { MERP_JBOUND_SCAR, MERP_JBOUND_LATERAL };
 
@@ -429,9 +463,24 @@ static inline void merp_jprep_bound_gradient(const merp_jprep *jp, const float p
         memset(out, 0, jp->rows * sizeof *out); /* +0 */
 }
 
+/* Whether p lies beyond the box of jp's segment row r (then each of its
+ * lanes is +0 at p, field and gradient). A single fork's one row is always
+ * evaluated. */
+static inline bool merp_jprep_beyond_row(const merp_jprep *jp, uint32_t r, const float p[3])
+{
+    if (jp->rows == 1)
+        return false;
+    const float(*b)[3] = jp->seg_box[r];
+    return p[0] < b[0][0] || p[1] < b[0][1] || p[2] < b[0][2] || p[0] > b[1][0] || p[1] > b[1][1] ||
+           p[2] > b[1][2];
+}
+
 /* Prepares jp for the run of `forks` (1 .. MERP_RUN_FORKS) junctions at j,
- * which must outlive it and not change meanwhile. */
-void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, uint32_t forks);
+ * fork i > 0 going on from link[i] (link NULL: each from the one before,
+ * up its continuation), which must outlive it and not change meanwhile.
+ * Requires each group's forks listed together, in order up its axis, and a
+ * fork up a lateral after the fork it goes on from. */
+void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, const merp_link *link, uint32_t forks);
 
 /* Prepares jp for the single junction j (a run of one). */
 void merp_jprep_init(merp_jprep *jp, const merp_junction *j);
@@ -488,6 +537,7 @@ typedef struct merp_cut {
 typedef struct merp_patch {
     const merp_junction *j; /* the run's forks, j[0 .. forks) */
     uint32_t forks;         /* 0 is read as 1: a single junction */
+    const merp_link *link;  /* how they go on (merp_jprep_init_run); NULL: a chain */
     merp_cut cut[MERP_PATCH_CUTS];
     uint32_t cuts;
     merp_grid grid;

@@ -10,6 +10,14 @@
 #include "core/vec.h"
 #include "mesh/implicit/implicit.h"
 
+/* Every term's function forced inline into field_with, so that with a
+ * single fork's constant lanes the compiler folds the lookups away. */
+#if defined(__GNUC__)
+#define INLINE __attribute__((always_inline)) inline
+#else
+#define INLINE inline
+#endif
+
 /* Lateral k's crotch bound (see merp_junction_bound) into *b. */
 static void crotch_bound(const merp_junction *j, uint32_t k, const float up[3], float ridge, merp_bound *b)
 {
@@ -174,50 +182,105 @@ static merp_row *lane_row(merp_row *rows, uint32_t l, int *lane)
     return rows + l / MERP_ROW;
 }
 
-void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, uint32_t forks)
+/* jp's lane tables for the run of `forks` at j with `link` (see
+ * merp_jprep_init_run); returns the lanes of seg and of bound it uses. */
+static void lay_out(merp_jprep *jp, const merp_junction *j, const merp_link *link, uint32_t forks, uint32_t *lanes,
+                    uint32_t *blanes)
+{
+    merp_jlanes *L = &jp->lanes;
+    uint32_t lane = 1, blane = forks;
+    L->groups = 0;
+    L->in_lane[0] = 0;
+    for (uint32_t i = 0; i < forks; i++) {
+        merp_link l = link != NULL ? link[i] : (merp_link){(uint8_t)(i - 1), MERP_LINK_OUT};
+        if (i == 0 || l.slot != MERP_LINK_OUT)
+            L->group_first[L->groups++] = (uint8_t)i;
+        if (i > 0) {
+            assert(l.from < i && (l.slot != MERP_LINK_OUT || l.from == i - 1));
+            assert(l.slot == MERP_LINK_OUT || l.slot < j[l.from].laterals);
+            if (l.slot == MERP_LINK_OUT) {
+                L->in_lane[i] = L->out_lane[l.from];
+            } else {
+                L->in_lane[i] = L->lat_lane[l.from][l.slot];
+                L->child[l.from][l.slot] = (uint8_t)(L->groups - 1);
+            }
+        }
+        L->out_lane[i] = (uint8_t)lane++;
+        for (uint32_t k = 0; k < j[i].laterals; k++) {
+            L->lat_lane[i][k] = (uint8_t)lane++;
+            L->bnd_lane[i][k] = (uint8_t)blane++;
+            L->child[i][k] = 0;
+        }
+    }
+    L->group_first[L->groups] = (uint8_t)forks;
+    *lanes = lane, *blanes = blane;
+}
+
+/* Grows the box of the row of lane l to hold segment g's support: its
+ * ends' box grown by its largest R = r / x_c, with a margin (as add_reach's)
+ * far above the rounding of a lane's d², so that beyond the box the lane's
+ * x² ≥ 1 surely. */
+static void box_segment(merp_jprep *jp, uint32_t l, const merp_seg *g)
+{
+    float (*b)[3] = jp->seg_box[l / MERP_ROW], R = fmaxf(g->ra, g->rb) / MERP_SEG_XC, size = 0.0f;
+    for (int k = 0; k < 3; k++)
+        size += fabsf(g->a[k]) + fabsf(g->b[k]);
+    R += 1e-3f * R + 1e-4f * size;
+    for (int k = 0; k < 3; k++) {
+        b[0][k] = fminf(b[0][k], fminf(g->a[k], g->b[k]) - R);
+        b[1][k] = fmaxf(b[1][k], fmaxf(g->a[k], g->b[k]) + R);
+    }
+}
+
+void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, const merp_link *link, uint32_t forks)
 {
     assert(forks >= 1 && forks <= MERP_RUN_FORKS);
-    uint32_t laterals = 0;
-    for (uint32_t i = 0; i < forks; i++) {
+    for (uint32_t i = 0; i < forks; i++)
         assert(j[i].laterals <= MERP_JUNCTION_LATERALS);
-        assert(i + 1 == forks || j[i].out.ra > 0.0f); /* a run goes on to its next fork */
-        laterals += j[i].laterals;
-    }
     assert(j->in.ra > 0.0f && j->in.rb > 0.0f);
     jp->j = j;
     jp->forks = forks;
-    jp->lateral_lane = forks + 1;
-    jp->bound_lane = forks;
-    jp->rows = (jp->lateral_lane + laterals + MERP_ROW - 1) / MERP_ROW;
-    uint32_t brows = (jp->bound_lane + laterals + MERP_ROW - 1) / MERP_ROW;
-    jp->rows = brows > jp->rows ? brows : jp->rows;
+    uint32_t lanes, blanes;
+    lay_out(jp, j, link, forks, &lanes, &blanes);
+    jp->rows = ((lanes > blanes ? lanes : blanes) + MERP_ROW - 1) / MERP_ROW;
+    for (uint32_t k = 0; forks == 1 && k < j->laterals; k++) /* the lanes the fast path takes as constants */
+        assert(jp->lanes.lat_lane[0][k] == MERP_JLANES_SINGLE.lat_lane[0][k] &&
+               jp->lanes.bnd_lane[0][k] == MERP_JLANES_SINGLE.bnd_lane[0][k] && jp->lanes.child[0][k] == 0);
+    assert(forks > 1 || (jp->lanes.in_lane[0] == MERP_JSEG_IN && jp->lanes.out_lane[0] == MERP_JSEG_OUT &&
+                         jp->lanes.groups == 1));
     jp->reaches = 0;
     for (uint32_t r = 0; r < jp->rows; r++) {
         merp_row_clear(&jp->seg[r]);
         merp_row_clear(&jp->bound[r]);
     }
+    for (uint32_t r = 0; r < jp->rows; r++)
+        for (int k = 0; k < 3; k++)
+            jp->seg_box[r][0][k] = INFINITY, jp->seg_box[r][1][k] = -INFINITY;
+    const merp_jlanes *L = &jp->lanes;
     int l;
-    merp_row *row = lane_row(jp->seg, MERP_JSEG_IN, &l);
+    merp_row *row = lane_row(jp->seg, 0, &l);
     merp_row_set(row, l, j->in.a, j->in.b, j->in.ra, j->in.rb);
-    uint32_t sl = jp->lateral_lane, bl = jp->bound_lane;
+    box_segment(jp, 0, &j->in);
     for (uint32_t i = 0; i < forks; i++) {
         const merp_junction *f = &j[i];
         if (f->out.ra > 0.0f) {
-            row = lane_row(jp->seg, i + 1, &l);
+            row = lane_row(jp->seg, L->out_lane[i], &l);
             merp_row_set(row, l, f->out.a, f->out.b, f->out.ra, f->out.rb);
+            box_segment(jp, L->out_lane[i], &f->out);
         }
         if (f->scar_weight > 0.0f && f->out.ra > 0.0f) {
             row = lane_row(jp->bound, i, &l);
             merp_row_set(row, l, f->scar.a, f->scar.b, f->scar.r_in, f->scar.r_out);
             add_reach(jp, &f->scar);
         }
-        for (uint32_t k = 0; k < f->laterals; k++, sl++, bl++) {
+        for (uint32_t k = 0; k < f->laterals; k++) {
             const merp_seg *s = &f->lateral[k];
             const merp_bound *b = &f->bound[k];
-            row = lane_row(jp->seg, sl, &l);
+            row = lane_row(jp->seg, L->lat_lane[i][k], &l);
             merp_row_set(row, l, s->a, s->b, s->ra, s->rb);
+            box_segment(jp, L->lat_lane[i][k], s);
             if (b->r_out > 1e-5f) { /* merp_junction_ridge's test: a bound of no ridge is 0 */
-                row = lane_row(jp->bound, bl, &l);
+                row = lane_row(jp->bound, L->bnd_lane[i][k], &l);
                 merp_row_set(row, l, b->a, b->b, b->r_in, b->r_out);
                 add_reach(jp, b);
             }
@@ -227,20 +290,22 @@ void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, uint32_t forks)
 
 void merp_jprep_init(merp_jprep *jp, const merp_junction *j)
 {
-    merp_jprep_init_run(jp, j, 1);
+    merp_jprep_init_run(jp, j, NULL, 1);
 }
 
-/* The parent's axis A folded up the run (merp_run's law), with each fork's
- * scar's bounded blend, from the segments' lanes fs and the bounds' Fb, and
- * the scars' terms into *t (F_s·|B1 − B2| of the strongest). */
-static float axis_terms(const merp_jprep *jp, const float *fs, const float *Fb, terms *t)
+/* Group g's axis A folded up its forks (merp_link's law), with each fork's
+ * scar's bounded blend, from the segments' lanes fs and the bounds' Fb,
+ * and the scars' terms into *t (F_s·|B1 − B2| of the strongest). */
+static INLINE float axis_terms(const merp_jprep *jp, const merp_jlanes *L, uint32_t g, const float *fs,
+                               const float *Fb, terms *t)
 {
-    float A = fs[MERP_JSEG_IN];
+    uint32_t first = L->group_first[g], end = L->group_first[g + 1];
+    float A = fs[L->in_lane[first]];
     t->F_s = t->scar_diff = 0.0f;
-    for (uint32_t i = 0; i < jp->forks; i++) {
+    for (uint32_t i = first; i < end; i++) {
         const merp_junction *j = &jp->j[i];
         /* A lane left out is 0: f_out without a continuation, F_s without a scar. */
-        float f_in = A, f_out = fs[i + 1], m = f_out > f_in ? f_out : f_in;
+        float f_in = A, f_out = fs[L->out_lane[i]], m = f_out > f_in ? f_out : f_in;
         if (j->scar_weight > 0.0f && j->out.ra > 0.0f) {
             float F_s = j->scar_weight * Fb[i];
             if (F_s > 0.0f) {
@@ -255,67 +320,83 @@ static float axis_terms(const merp_jprep *jp, const float *fs, const float *Fb, 
     return A;
 }
 
-/* B2 = A + Σ L_k (eq. 3) and F_b = max_k F_b,k (merp_junction_ridge). */
-static void blend_terms(const merp_jprep *jp, float A, const float *fs, const float *Fb, terms *t)
+/* Lateral k of fork i at p: its segment's lane, or the field of the group
+ * that goes on up it (Fg). */
+static INLINE float lateral_of(const merp_jlanes *L, uint32_t i, uint32_t k, const float *fs, const float *Fg)
 {
+    uint32_t c = L->child[i][k];
+    return c != 0 ? Fg[c] : fs[L->lat_lane[i][k]];
+}
+
+/* Group g's field at p (its terms into *t) from the lanes and the fields
+ * of the groups after it: B2 = A + Σ L_k (eq. 3), F_b = max_k F_b,k
+ * (merp_junction_ridge), B1 = max(A', L_k') (PCM, eq. 2) where F_b > 0, and
+ * eq. (4). Beyond the ridge (most samples) F_b = 0 and eq. (4) is B2
+ * exactly (0·B1 + 1·B2, B2 ≥ +0), without B1 (t->b1 is then B2). */
+static INLINE float group_field(const merp_jprep *jp, const merp_jlanes *L, uint32_t g, const float *fs,
+                                const float *Fb, const float *Fg, terms *t)
+{
+    uint32_t first = L->group_first[g], end = L->group_first[g + 1];
+    float A = axis_terms(jp, L, g, fs, Fb, t);
     /* merp_blend_sum of (A, L_0, ...) inline, in its order (from +0): a
      * call and a copy of the terms a sample cost about as much as the sum. */
     float b2 = 0.0f + A, F_b = 0.0f;
-    const float *L = fs + jp->lateral_lane, *B = Fb + jp->bound_lane;
-    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
-        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) {
-            b2 += L[n];
-            F_b = B[n] > F_b ? B[n] : F_b;
+    for (uint32_t i = first; i < end; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++) {
+            b2 += lateral_of(L, i, k, fs, Fg);
+            float v = Fb[L->bnd_lane[i][k]];
+            F_b = v > F_b ? v : F_b;
         }
-    t->b2 = b2;
+    t->b2 = t->b1 = b2;
     t->F_b = F_b;
-}
-
-/* B1 = max(A', L_k') of PCM (eq. 2). */
-static float pcm_term(const merp_jprep *jp, float A, const float *fs)
-{
-    const float *L = fs + jp->lateral_lane;
+    if (F_b == 0.0f)
+        return b2;
     float A_d = A, b1 = 0.0f;
-    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
-        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++)
-            A_d += merp_pcm_delta(MERP_ISO - L[n], jp->j[i].w);
-    for (uint32_t i = 0, n = 0; i < jp->forks; i++)
-        for (uint32_t k = 0; k < jp->j[i].laterals; k++, n++) {
-            float L_d = L[n] + merp_pcm_delta(MERP_ISO - A, jp->j[i].w);
+    for (uint32_t i = first; i < end; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++)
+            A_d += merp_pcm_delta(MERP_ISO - lateral_of(L, i, k, fs, Fg), jp->j[i].w);
+    for (uint32_t i = first; i < end; i++)
+        for (uint32_t k = 0; k < jp->j[i].laterals; k++) {
+            float L_d = lateral_of(L, i, k, fs, Fg) + merp_pcm_delta(MERP_ISO - A, jp->j[i].w);
             b1 = L_d > b1 ? L_d : b1;
         }
-    return A_d > b1 ? A_d : b1;
+    t->b1 = A_d > b1 ? A_d : b1;
+    return merp_gbb(F_b, t->b1, b2);
 }
 
-/* Every term at p but B1 into *t, the segments' lanes into fs; returns A. */
-static float row_terms(const merp_jprep *jp, const float p[3], float *fs, terms *t)
+/* The run's field at p, the first group's terms into *t, with its lanes
+ * where L says (jp's own, or SINGLE's). */
+static INLINE float field_with(const merp_jprep *jp, const merp_jlanes *L, const float p[3], terms *t)
 {
-    float Fb[MERP_JROWS * MERP_ROW];
-    for (uint32_t r = 0; r < jp->rows; r++)
-        merp_row_seg_field(&jp->seg[r], p, fs + MERP_ROW * r);
+    /* Fg zeroed for the compiler: each group's is written before it is read. */
+    float fs[MERP_JROWS * MERP_ROW], Fb[MERP_JROWS * MERP_ROW], Fg[MERP_RUN_FORKS] = {0};
+    for (uint32_t r = 0; r < jp->rows; r++) {
+        if (merp_jprep_beyond_row(jp, r, p))
+            memset(fs + MERP_ROW * r, 0, MERP_ROW * sizeof *fs); /* +0, as the lanes give */
+        else
+            merp_row_seg_field(&jp->seg[r], p, fs + MERP_ROW * r);
+    }
     merp_jprep_bound_field(jp, p, Fb);
-    float A = axis_terms(jp, fs, Fb, t);
-    blend_terms(jp, A, fs, Fb, t);
-    return A;
+    for (uint32_t g = L->groups; g-- > 1;) {
+        terms u;
+        Fg[g] = group_field(jp, L, g, fs, Fb, Fg, &u);
+    }
+    return group_field(jp, L, 0, fs, Fb, Fg, t);
 }
 
-static void junction_terms(const merp_jprep *jp, const float p[3], terms *t)
+static float run_field(const merp_jprep *jp, const float p[3], terms *t)
 {
-    float fs[MERP_JROWS * MERP_ROW];
-    float A = row_terms(jp, p, fs, t);
-    t->b1 = pcm_term(jp, A, fs);
+    /* A single fork's lanes as constants: the compiler folds their lookups
+     * (and the groups' and forks' loops) away on the path most samples take. */
+    if (jp->forks == 1)
+        return field_with(jp, &MERP_JLANES_SINGLE, p, t);
+    return field_with(jp, &jp->lanes, p, t);
 }
 
 float merp_jprep_field(const merp_jprep *jp, const float p[3])
 {
-    float fs[MERP_JROWS * MERP_ROW];
     terms t;
-    float A = row_terms(jp, p, fs, &t);
-    /* Beyond the ridge (most samples) F_b = 0 and eq. (4) is B2 exactly
-     * (0·B1 + 1·B2, B2 ≥ +0), without B1. */
-    if (t.F_b == 0.0f)
-        return t.b2;
-    return merp_gbb(t.F_b, pcm_term(jp, A, fs), t.b2);
+    return run_field(jp, p, &t);
 }
 
 float merp_junction_field(const float p[3], const void *data)
@@ -330,7 +411,7 @@ void merp_junction_strength(const merp_junction *j, const float p[3], float *sca
     merp_jprep jp;
     merp_jprep_init(&jp, j);
     terms t;
-    junction_terms(&jp, p, &t);
+    run_field(&jp, p, &t);
     *scar = t.F_s * t.scar_diff;
     *ridge = t.F_b * fabsf(t.b1 - t.b2);
 }

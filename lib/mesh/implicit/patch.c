@@ -485,7 +485,7 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
 {
     assert(pt->cuts >= 1 && pt->cuts <= MERP_PATCH_CUTS);
     clipped cl = {.pt = pt, .kappa = 1.0f / pt->grid.h};
-    merp_jprep_init_run(&cl.jp, pt->j, pt->forks ? pt->forks : 1);
+    merp_jprep_init_run(&cl.jp, pt->j, pt->link, pt->forks ? pt->forks : 1);
     cut_slack(&cl);
     /* Seeds inside the solid: the junction point and each shaft halfway to
      * its cut; the clipped surface is one piece, so the walk finds it all. */
