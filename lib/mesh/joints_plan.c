@@ -208,9 +208,11 @@ static float in_radius(const merp_builder *b, const merp_joint *jt)
 /* Shaft s's segment of the field: the straight line from its start at J
  * through its cut's centre, reaching EXTEND cells past it (so the surface
  * at the cut is the plain tube), its radius r0 at J and the tube's at the cut. */
-static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t s, const float J[3], float r0,
+static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t s, const float J_at[3], float r0,
                           float h, merp_seg *g)
 {
+    float J[3]; /* J_at may be g's own end (the in shaft's J) */
+    memcpy(J, J_at, sizeof J);
     float r_cut = merp_cut_radius(b, jt, s);
     float D = jt->d[s], E = D + EXTEND * h;
     float r_far = fmaxf(r0 + (r_cut - r0) * E / D, 0.5f * r_cut), Q[3];
@@ -619,6 +621,9 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
                      uint32_t K, merp_joint *jt)
 {
     assert(K >= 2 && K <= MERP_RUN_FORKS);
+    for (uint32_t i = 0; i < K; i++)
+        for (uint32_t j = i + 1; j < K; j++)
+            assert(P[i] != P[j]);
     *jt = (merp_joint){.forks = K, .start = {P[0]}, .cuts = 2, .cut_slot = {MERP_SLOT_IN, MERP_LINK_OUT}};
     float J[MERP_RUN_FORKS][3];
     int group[MERP_RUN_FORKS], groups = 0;
@@ -664,11 +669,15 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
                 up[link[c].slot] = true;
         for (uint32_t k = 0; k < jt->field[i].laterals; k++)
             if (!up[k]) {
+                if (jt->cuts == MERP_PATCH_CUTS) /* K distinct forks fill at most all of them */
+                    return false;
                 jt->cut_fork[jt->cuts] = (uint8_t)i, jt->cut_slot[jt->cuts] = (uint8_t)k;
                 jt->start[jt->cuts++] = patch_lateral_at(b, P[i], k);
             }
         if (goes_on[i])
             continue;
+        if (group[i] != 0 && jt->cuts == MERP_PATCH_CUTS)
+            return false;
         uint32_t C = b->nodes[P[i]].main_child, s = group[i] == 0 ? MERP_CUT_OUT : jt->cuts++;
         jt->cut_fork[s] = (uint8_t)i, jt->cut_slot[s] = MERP_LINK_OUT, jt->start[s] = C;
         segment_of(b, C, &jt->field[i].out);
@@ -839,8 +848,9 @@ static bool gather(const merp_builder *b, gathered *g, uint32_t F)
     if (!found)
         return false;
     g->fork[g->n++] = F;
-    for (uint32_t i = 0; i < nb; i++)
-        g->fork[g->n++] = between[i];
+    for (uint32_t i = 0; i < nb; i++) /* a walk from a gathered fork may pass others */
+        if (gathered_index(g, between[i]) < 0)
+            g->fork[g->n++] = between[i];
     return true;
 }
 
@@ -855,6 +865,7 @@ static bool order_run(const merp_builder *b, const gathered *g, uint32_t *P, mer
     merp_link via[MERP_RUN_FORKS];
     uint32_t first[MERP_RUN_FORKS];
     for (uint32_t i = 0; i < g->n; i++) {
+        first[i] = MER_NO_NODE; /* the root's: it goes on from none */
         uint32_t between[1], nb;
         from[i] = walk_down(b, g->fork[i], g, 0, g->threshold, 0, between, &nb, &via[i], &first[i]);
         if (from[i] < 0) {

@@ -489,6 +489,36 @@ static void forks_up_a_lateral_get_one_patch(void **state)
     assert_true(8 * left_all < near_all);
 }
 
+/* Two buds a node and thick bark (leaf diameter 0.1 or 0.15): forks a few
+ * radii apart, each with two laterals, gather into runs from both ends.
+ * Once, a walk from one gathered fork down to a new one passed a third
+ * already gathered and listed it twice: the run's patch then had eleven
+ * cuts for ten places (plan_run asserts its forks distinct). Each of these
+ * trees held such a run. */
+static void whorled_runs_hold_each_fork_once(void **state)
+{
+    (void)state;
+    const struct {
+        const char *preset;
+        uint64_t seed;
+        float leaf_diameter;
+    } t[] = {{"default", 5, 0.1f}, {"fig12c", 3, 0.1f}, {"fig12c", 5, 0.15f}, {"fig14-tall-bole", 4, 0.15f}};
+    for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+        mer_params p;
+        mer_error err;
+        assert_int_equal(mer_preset_params(t[i].preset, &p, &err), MER_OK);
+        p.buds_per_node = 2, p.leaf_diameter = t[i].leaf_diameter;
+        mer_scene *s = NULL;
+        assert_int_equal(mer_scene_new(&p, t[i].seed, &s, &err), MER_OK);
+        assert_int_equal(mer_scene_step(s, 14, NULL, NULL, NULL, NULL, &err), MER_OK);
+        uint32_t forks = closed_with_junctions(s);
+        print_message("%s seed %u, two buds a node, leaf diameter %.2f: %u forks patched\n", t[i].preset,
+                      (unsigned)t[i].seed, (double)t[i].leaf_diameter, forks);
+        assert_true(forks >= 5);
+        mer_scene_free(s);
+    }
+}
+
 /* A living tip's cone, from its last ring (at the base of its internode,
  * or a patch's cut ring in it) to the apex: the bark's v runs on by the
  * cone's length over its mean circumference, π r. For each apex of the
@@ -911,6 +941,7 @@ int main(void)
         cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(close_forks_get_one_patch),
         cmocka_unit_test(forks_up_a_lateral_get_one_patch),
+        cmocka_unit_test(whorled_runs_hold_each_fork_once),
         cmocka_unit_test(pruned_forks_are_relayed),
         cmocka_unit_test(cone_v_follows_its_length),
         cmocka_unit_test(creases_stay_sharp),
