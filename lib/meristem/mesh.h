@@ -97,7 +97,8 @@
  * counts those). A patch is
  * polygonized by dual contouring, which keeps the ridge's crease sharp, on
  * the fork's grid, else on one 0.7 × as fine; where neither closes, by
- * marching tetrahedra on each (`junctions_smooth` counts those); a fork
+ * marching tetrahedra on each (`junctions_smooth` counts those); else by
+ * dual contouring on one half as fine (a thin continuation's); a fork
  * whose patch closes on none stays tubes (`junctions_open`). In this mode
  * every lateral that is not in a patch gets a base disk, so the whole bark is
  * closed (a 2-manifold once vertices of equal position are welded; the UV

@@ -260,12 +260,18 @@ static void free_patch(merp_joint *jt)
     jt->shaft = NULL;
 }
 
-/* A patch's finer grid: this × the first's cell. */
+/* A patch's finer grids: these × the first's cell. The first is set by
+ * the parent's and the laterals' radii, not the continuation's; where the
+ * continuation is far thinner (a sylleptic fork's), its cut ring may span
+ * too few cells for the patch to close on either of the first two grids,
+ * and closes on the finest. */
 #define FINER 0.7f
+#define FINEST 0.5f
 
 /* Builds jt's patch (build_patch_at), trying in turn: dual contouring, which
  * keeps the branch bark ridge's crease sharp (G04 §3.2), on the fork's grid
- * and on a finer one; then marching tetrahedra on both. Dual contouring's
+ * and on a finer one; then marching tetrahedra on both; then dual
+ * contouring on the finest (FINEST: a thin continuation's). Dual contouring's
  * patch may not close where two sheets of a cell cross one face twice, or
  * two vertices fall at one position; either's where the thinnest laterals (a
  * little over a cell per radius) leave a cut's cap so few cells near its rim
@@ -277,7 +283,7 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
     static const struct {
         float scale;
         uint32_t sharp;
-    } tries[] = {{1.0f, 1}, {FINER, 1}, {1.0f, 0}, {FINER, 0}};
+    } tries[] = {{1.0f, 1}, {FINER, 1}, {1.0f, 0}, {FINER, 0}, {FINEST, 1}};
     float h = merp_joint_cell(b, jt);
     mer_result rc = MER_ERR_INVALID;
     for (size_t t = 0; t < sizeof tries / sizeof *tries && rc == MER_ERR_INVALID; t++) {

@@ -232,7 +232,11 @@ static void chosen_forks_get_patches(void **state)
  * patched over these five trees before, 52 to 432 with it), but relayed:
  * its thickest lateral goes on from the parent and the continuation is one
  * of the patch's laterals, on a grid as fine as it needs (612 patched, 85
- * open; 434 and 52 before). */
+ * open; 434 and 52 before). A fork planned as it grew sizes its grid by
+ * its parent and laterals, not by its thin continuation, whose cut ring
+ * then spans too few cells to close on it or on the grid 0.7 × as fine:
+ * those close on one half as fine (664 patched, 42 open; without it 619
+ * and 87). */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
@@ -253,8 +257,8 @@ static void sylleptic_forks_mesh(void **state)
         mer_scene_free(s);
     }
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open\n", patched, open);
-    assert_true(patched > 550);
-    assert_true(5 * open < patched);
+    assert_true(patched > 650);
+    assert_true(10 * open < patched);
 }
 
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
