@@ -92,7 +92,8 @@
  * patch that no run takes in (thickest laterals are served first; a run
  * of more than four forks, or whose grid would be too large) or past a
  * growing tip's apex,
- * whose cut ring would be under 0.4 of its grid's cell in radius, or whose
+ * whose cut ring would be under 0.4 of its grid's cell in radius even on
+ * cells four times finer than the fork's own, or whose
  * laterals run nearly along their parent, stays tubes (`junctions_unfit`
  * counts those). A patch is
  * polygonized by dual contouring, which keeps the ridge's crease sharp, on
@@ -219,7 +220,8 @@ typedef struct mer_mesh {
                                  axes that bend or still thicken past the
                                  cuts, cuts in
                                  another fork's patch, past a tip or in a
-                                 ring under 0.4 cells, a lateral along its
+                                 ring under 0.4 cells even on a grid
+                                 4 × as fine, a lateral along its
                                  parent or drawn as a twig): meshed as tubes */
 } mer_mesh;
 

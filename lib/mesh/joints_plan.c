@@ -24,7 +24,9 @@
 #define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
-#define THIN_CUT 0.4f        /* a cut ring at least this many cells in radius */
+#define THIN_CUT 0.4f        /* a cut ring at least this many cells in radius ... */
+#define THIN_CELLS 0.5f      /* ... or the patch's cells made finer, to this many, */
+#define THIN_FINER 4.0f      /* ... at most this many times */
 #define RUN_CLEAR 40.0f      /* a run's cut: within this × its shaft's radius of its J */
 
 /* Whether internode id (living) is a living tip's last, which tube.c
@@ -64,7 +66,7 @@ float merp_joint_cell(const merp_builder *b, const merp_joint *jt)
     float h = merp_node_radius(b, jt->start[MERP_CUT_IN]) / CELLS_PER_RADIUS;
     for (uint32_t s = jt->relay ? MERP_CUT_OUT : MERP_CUT_LATERAL; s < jt->cuts; s++) /* a relay is a lateral */
         h = fminf(h, merp_node_radius(b, jt->start[s]) / CELLS_PER_LATERAL_RADIUS);
-    return h;
+    return jt->cell > 0.0f ? fminf(h, jt->cell) : h;
 }
 
 static int axis_cmp(const void *key, const void *elem)
@@ -380,15 +382,8 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, merp_
  * tube's radius at the cut (joints.c), which is known only once the cut is
  * placed: first the radius at J, then, while a cut lands where its axis is
  * thicker, again with that radius (the cut moves out, clear of the others
- * by the wider reach). A cut ring under THIN_CUT cells in radius is
- * refused: its loop on the grid is a cell or two, and no polygonizer's
- * patch closed on it (fig6-sylleptic, whose continuations are far thinner
- * than their laterals and taper fast beyond them: 119 of 171 open patches;
- * the rest of its forks, and every other preset's, are unchanged by it);
- * such a fork is not planned, so its shafts are free for the forks beside
- * it. False when the cuts do not fit. */
-static bool settle_cuts(const merp_builder *b, claims *cl, merp_joint *jt, const clearance *c, float h,
-                        float *need)
+ * by the wider reach). False when the cuts do not fit. */
+static bool place_clear(const merp_builder *b, claims *cl, merp_joint *jt, const clearance *c, float h, float *need)
 {
     float r_reach[MERP_PATCH_CUTS];
     for (uint32_t s = 0; s < jt->cuts; s++)
@@ -413,10 +408,43 @@ static bool settle_cuts(const merp_builder *b, claims *cl, merp_joint *jt, const
         if (pass + 1 == REPLANS)
             return false; /* still thickening: the axis is no shaft for a patch */
     }
-    for (uint32_t s = 0; s < jt->cuts; s++)
-        if (merp_cut_radius(b, jt, s) < THIN_CUT * h)
-            return false;
     return true;
+}
+
+static float thinnest_cut(const merp_builder *b, const merp_joint *jt)
+{
+    float thin = INFINITY;
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        thin = fminf(thin, merp_cut_radius(b, jt, s));
+    return thin;
+}
+
+/* Places jt's cuts as place_clear does, with cells of *h. A cut ring under
+ * THIN_CUT cells in radius has a loop of a cell or two on the grid, on
+ * which no polygonizer's patch closed (fig6-sylleptic, whose continuations
+ * are far thinner than their laterals and taper fast beyond them: 119 of
+ * 171 open patches). A continuation far thinner than its laterals must
+ * reach past them, to where its axis has thinned (fig6-sylleptic: rings of
+ * 0.13-0.4 cells, 4-11 of its radii from J), while the cells are sized by
+ * the parent and the laterals: the patch's cells are then made finer
+ * (jt->cell, *h), to THIN_CELLS across that ring, and the cuts placed again
+ * (nearer J, where the rings are thicker). A fork that would need cells
+ * more than THIN_FINER times finer is not planned, so its shafts are free
+ * for the forks beside it. False when the cuts do not fit. */
+static bool settle_cuts(const merp_builder *b, claims *cl, merp_joint *jt, const clearance *c, float *h,
+                        float *need)
+{
+    assert(jt->cell == 0.0f);
+    if (!place_clear(b, cl, jt, c, *h, need))
+        return false;
+    float thin = thinnest_cut(b, jt);
+    if (thin >= THIN_CUT * *h)
+        return true;
+    if (thin / THIN_CELLS < *h / THIN_FINER)
+        return false;
+    jt->cell = thin / THIN_CELLS;
+    *h = merp_joint_cell(b, jt);
+    return place_clear(b, cl, jt, c, *h, need) && thinnest_cut(b, jt) >= THIN_CUT * *h;
 }
 
 /* Whether lateral L of P may be a shaft of P's patch: a living axis of its
@@ -510,7 +538,7 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
         c.R[s] = SUPPORT_SEEN * merp_seg_support(g);
     }
     float need[MERP_PATCH_CUTS];
-    if (!settle_cuts(b, cl, jt, &c, h, need))
+    if (!settle_cuts(b, cl, jt, &c, &h, need))
         return false;
     place_cuts(b, cl, need, h, true, jt);
     float ridge_up[3];
@@ -709,7 +737,7 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     const clearance c = {.prim = prim, .prims = n};
     float need[MERP_PATCH_CUTS];
     merp_grid grid; /* a run across two axes can span much: its grid must fit */
-    if (!settle_cuts(b, cl, jt, &c, h, need) || !merp_joint_grid(b, jt, h, &grid))
+    if (!settle_cuts(b, cl, jt, &c, &h, need) || !merp_joint_grid(b, jt, h, &grid))
         return false;
     /* Each fork's bark ages as a single fork's (plan_one). */
     for (uint32_t i = 0; i < K; i++) {

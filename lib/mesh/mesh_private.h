@@ -65,6 +65,9 @@ typedef struct merp_joint {
     float ring_normal[MERP_PATCH_CUTS][3 * MERP_MAX_SIDES]; /* the one normal the
                                        tube and the patch give each ring vertex */
     uint32_t sides[MERP_PATCH_CUTS];
+    float cell;                     /* its grid spacing where a thin cut ring
+                                       needs one finer than merp_joint_cell's
+                                       rule (joints_plan.c); 0: none */
     bool relay;                     /* P has no living continuation, or a
                                        thinner one among the laterals: cut
                                        1's shaft is a lateral axis going on
