@@ -211,6 +211,16 @@ void add_tree(Writer &w, const mer_mesh &mesh, tinygltf::Scene &scene)
     if (tree.primitives.empty())
         return;
     int node = add_node(model, "tree", std::move(tree));
+    if (mesh.junction_forks != nullptr) {
+        // Which forks implicit junctions patched (mesh.h): a viewer's close-up of one
+        // cannot tell a patch's own fork from a neighbour's by the ridge alone.
+        tinygltf::Value::Array forks;
+        for (uint32_t i = 0; i < mesh.junctions; i++)
+            forks.emplace_back(static_cast<int>(mesh.junction_forks[i]));
+        tinygltf::Value::Object extras;
+        extras["junction_forks"] = tinygltf::Value(std::move(forks));
+        model.nodes[static_cast<size_t>(node)].extras = tinygltf::Value(std::move(extras));
+    }
     if (w.quantized) {
         tinygltf::Node &n = model.nodes[static_cast<size_t>(node)];
         n.translation = {w.grid.center[0], w.grid.center[1], w.grid.center[2]};

@@ -209,6 +209,10 @@ typedef struct mer_mesh {
     uint32_t internodes;    /* living internodes meshed */
     uint32_t junctions;     /* forks meshed as implicit patches (a run's
                                patch serves several) */
+    uint32_t *junction_forks; /* `junctions` node ids, ascending: the
+                                 internodes whose tip is such a fork's J
+                                 (a client's way to tell a patched fork
+                                 from its neighbours); NULL without */
     uint32_t junctions_open; /* forks chosen for a patch that got none (it closed
                                 on neither grid, or its grid would be too
                                 large; Junctions): meshed as tubes */

@@ -2,6 +2,7 @@
  * (mesh_bound), allocation, and the parts meshed in order (meristem/mesh.h). */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -168,6 +169,12 @@ static mer_result allocate_part(mer_mesh_part *part, uint64_t vertices, uint64_t
     return MER_OK;
 }
 
+static int id_cmp(const void *x, const void *y)
+{
+    uint32_t a = *(const uint32_t *)x, c = *(const uint32_t *)y;
+    return (a > c) - (a < c);
+}
+
 /* Sizes the mesh (mesh_bound) and allocates every array of it. */
 static mer_result allocate_mesh(merp_builder *b, mer_error *err)
 {
@@ -187,6 +194,17 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for ridge values");
     }
     m->junctions = (uint32_t)size.junctions;
+    if (m->junctions > 0) {
+        m->junction_forks = merp_malloc(m->junctions * sizeof *m->junction_forks);
+        if (m->junction_forks == NULL)
+            return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the junctions' forks");
+        uint32_t n = 0;
+        for (uint32_t k = 0; k < b->joint_count; k++)
+            for (uint32_t i = 0; b->joints[k].ok && i < b->joints[k].forks; i++)
+                m->junction_forks[n++] = b->joints[k].fork_node[i];
+        assert(n == m->junctions);
+        qsort(m->junction_forks, n, sizeof *m->junction_forks, id_cmp);
+    }
     m->junctions_open = b->joints_open;
     m->junctions_unfit = b->joints_unfit;
     m->junctions_smooth = (uint32_t)size.smooth;
@@ -270,5 +288,6 @@ void mer_mesh_free(mer_mesh *mesh)
     free_part(&mesh->bark);
     free_part(&mesh->leaves);
     merp_free(mesh->points);
+    merp_free(mesh->junction_forks);
     merp_free(mesh);
 }

@@ -84,8 +84,9 @@ test('the junctions toggle asks for implicit junctions, the close-up looks at a 
   await page.waitForFunction(() => window.meristem.panels.view.fork, null, { timeout: 15000 });
   const fork = await page.evaluate(() => {
     const f = window.meristem.panels.view.fork;
-    return { at: f.at, diameter: f.diameter, lateral: f.lateral.id };
+    return { at: f.at, diameter: f.diameter, lateral: f.lateral.id, patched: window.meristem.viewer.junctionForks?.has(f.parent.id) };
   });
+  assert.ok(fork.patched, 'the GLB lists the fork among those patched (the tree node\'s extras.junction_forks)');
   const cam = await camera();
   const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
   assert.ok(dist(cam.target, fork.at) < fork.diameter, `the view centres on the fork (${dist(cam.target, fork.at)})`);
@@ -129,5 +130,28 @@ test('the junctions toggle asks for implicit junctions, the close-up looks at a 
   assert.equal(back.all, tubes.all, 'the tubes of before');
   assert.ok(near.near > back.near, `${near.near} triangles at the fork with junctions, ${back.near} without`);
   assert.ok(!snapshots.at(-1).searchParams.has('junctions'), 'the last snapshot asked for tubes');
+  assert.deepEqual(errors, []);
+});
+
+// A sylleptic shrub forks at its base, where the trunk's first fork gets no patch of
+// its own but the fork at the tip of its lateral's short first internode does: that
+// patch's ridge lies near the base fork. The close-up takes the forks the GLB lists as
+// patched (extras.junction_forks), so it looks at a patch, not at tubes beside one
+// (by the ridge alone, the gallery's ?fork=thickest chose the base fork: lateral 2 of
+// node 0, which is tubes).
+test('the close-up looks at a fork the mesher patched, not at tubes beside a patch', async () => {
+  const post = (p, body) => fetch(`${d.url}${p}`, { method: 'POST', headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify(body) }).then((r) => r.json());
+  const s = await post('/v1/sessions', { preset: 'fig6-sylleptic', seed: 1 });
+  await post(`/v1/sessions/${s.id}/edits`, { op: 'step', count: 10 });
+  await page.goto(`${d.url}/?session=${s.id}&view=gallery&leaves=0&detail=4&junctions=implicit&color=none&fork=thickest`);
+  await page.waitForFunction(() => window.meristem?.ready && window.meristem.lastLoadMs !== null &&
+    window.meristem.panels.view.fork, null, { timeout: 120000 });
+  const chosen = await page.evaluate(() => {
+    const f = window.meristem.panels.view.fork, listed = window.meristem.viewer.junctionForks;
+    return { parent: f.parent.id, lateral: f.lateral.id, listed: listed ? listed.size : 0, patched: Boolean(listed?.has(f.parent.id)) };
+  });
+  assert.ok(chosen.listed > 50, `the GLB lists the patched forks (${chosen.listed})`);
+  assert.ok(chosen.patched, `the close-up's fork (lateral ${chosen.lateral} of ${chosen.parent}) is patched`);
   assert.deepEqual(errors, []);
 });

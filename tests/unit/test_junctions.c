@@ -122,6 +122,10 @@ static uint32_t closed_with_junctions(const mer_scene *s)
         most = m->bark.ridge[v] > most ? m->bark.ridge[v] : most;
     }
     assert_true(m->junctions == 0 || most > 0.9f);
+    /* The patched forks' internodes, listed once each, ascending. */
+    assert_true((m->junction_forks != NULL) == (m->junctions > 0));
+    for (uint32_t i = 1; i < m->junctions; i++)
+        assert_true(m->junction_forks[i - 1] < m->junction_forks[i]);
     uint32_t forks = m->junctions;
     free(tri);
     mer_mesh_free(m);

@@ -58,7 +58,9 @@ export class ViewPanel {
       fork = forks(nodes).find((f) => f.lateral.id === lateral) || null;
     } else {
       const hit = atPointer && this.pointer ? this.viewer.pick(this.pointer.x, this.pointer.y) : null;
-      fork = chooseFork(nodes, { ridge: this.viewer.ridgePoints(), near: hit ? hit.point.toArray() : null });
+      fork = chooseFork(nodes, {
+        patched: this.viewer.junctionForks, ridge: this.viewer.ridgePoints(), near: hit ? hit.point.toArray() : null,
+      });
     }
     if (!fork) return null;
     const v = forkView(fork);

@@ -47,12 +47,15 @@ function anyNear(points, at, r) {
 }
 
 /**
- * The fork to look at. `ridge`: the drawn bark's points with a ridge value (implicit
- * junctions), so that only forks the mesher made a patch of count; `near`: a world
- * point (under the pointer): the fork closest to it. Otherwise the thickest of the
- * forks the mesher would consider (null when the tree has none).
+ * The fork to look at. `patched`: the ids of the internodes whose tip is a fork the
+ * mesher made a patch of (a Set; the GLB's tree node extras.junction_forks), so that
+ * only those count; without it, `ridge`: the drawn bark's points with a ridge value
+ * (implicit junctions), which tell patched forks only roughly (a fork whose lateral's
+ * first internode is short counts by the patch at that internode's tip); `near`: a
+ * world point (under the pointer): the fork closest to it. Otherwise the thickest of
+ * the forks the mesher would consider (null when the tree has none).
  */
-export function chooseFork(nodes, { ridge = null, near = null } = {}) {
+export function chooseFork(nodes, { patched = null, ridge = null, near = null } = {}) {
   let all = forks(nodes);
   if (!all.length) return null;
   if (near) {
@@ -61,8 +64,8 @@ export function chooseFork(nodes, { ridge = null, near = null } = {}) {
   }
   // A patch's ridge values lie about its crotch: within the parent's radius and a
   // lateral's diameter or so of the fork point (the next fork may be an internode away).
-  const meshed = ridge?.length
-    ? all.filter((f) => anyNear(ridge, f.at, 0.5 * f.diameter + f.lateral.diameter)) : [];
+  const meshed = patched?.size ? all.filter((f) => patched.has(f.parent.id))
+    : ridge?.length ? all.filter((f) => anyNear(ridge, f.at, 0.5 * f.diameter + f.lateral.diameter)) : [];
   if (meshed.length) all = meshed;
   else {
     const thickest = nodes.reduce((m, n) => (n.alive && n.diameter > m ? n.diameter : m), 0);

@@ -215,9 +215,12 @@ function install(viewer, gltf) {
   viewer.twigDiameter = 0;
   viewer.nodeInfo = null;
   viewer.ridgeInfo = null;
+  viewer.junctionForks = null;
   viewer.extras = gltf.asset?.extras || gltf.parser?.json?.asset?.extras || null;
   const root = gltf.scene;
   root.traverse((o) => {
+    // The tree node's extras: the forks implicit junctions patched (mesh.h).
+    if (Array.isArray(o.userData?.junction_forks)) viewer.junctionForks = new Set(o.userData.junction_forks);
     if (o.isPoints) {
       o.material = materials.markers;
       viewer.markers = o;

@@ -117,6 +117,7 @@ export class Viewer {
     this.markers = null;    // THREE.Points
     this.nodeInfo = null;   // lazily computed per-node centroids and axes
     this.ridgeInfo = null;  // lazily gathered points on junctions' ridges
+    this.junctionForks = null;  // the node ids whose tip is a patched fork (a Set), or null
     this.extras = null;
     this.lastLoad = null;   // {ms, fetchMs, parseMs, renderMs, bytes, triangles, lines, prefetched, drawnAt, paintWaitMs}
     this.prefetched = null; // {url, reply, at}: a snapshot asked for before anyone loads it
