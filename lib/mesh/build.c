@@ -169,12 +169,6 @@ static mer_result allocate_part(mer_mesh_part *part, uint64_t vertices, uint64_t
     return MER_OK;
 }
 
-static int id_cmp(const void *x, const void *y)
-{
-    uint32_t a = *(const uint32_t *)x, c = *(const uint32_t *)y;
-    return (a > c) - (a < c);
-}
-
 /* Sizes the mesh (mesh_bound) and allocates every array of it. */
 static mer_result allocate_mesh(merp_builder *b, mer_error *err)
 {
@@ -199,11 +193,10 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
         if (m->junction_forks == NULL)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the junctions' forks");
         uint32_t n = 0;
-        for (uint32_t k = 0; k < b->joint_count; k++)
-            for (uint32_t i = 0; b->joints[k].ok && i < b->joints[k].forks; i++)
-                m->junction_forks[n++] = b->joints[k].fork_node[i];
+        for (uint32_t id = 0; id < b->node_count; id++) /* ascending */
+            if (merp_joint_at(b, id) != NULL)
+                m->junction_forks[n++] = id;
         assert(n == m->junctions);
-        qsort(m->junction_forks, n, sizeof *m->junction_forks, id_cmp);
     }
     m->junctions_open = b->joints_open;
     m->junctions_unfit = b->joints_unfit;

@@ -697,15 +697,16 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
                 up[link[c].slot] = true;
         for (uint32_t k = 0; k < jt->field[i].laterals; k++)
             if (!up[k]) {
-                if (jt->cuts == MERP_PATCH_CUTS) /* K distinct forks fill at most all of them */
-                    return false;
+                /* in and out, each fork's laterals (at most MERP_JUNCTION_LATERALS)
+                 * less one per lateral a group goes on up, and that group's out:
+                 * at most MERP_PATCH_CUTS, the forks being distinct */
+                assert(jt->cuts < MERP_PATCH_CUTS);
                 jt->cut_fork[jt->cuts] = (uint8_t)i, jt->cut_slot[jt->cuts] = (uint8_t)k;
                 jt->start[jt->cuts++] = patch_lateral_at(b, P[i], k);
             }
         if (goes_on[i])
             continue;
-        if (group[i] != 0 && jt->cuts == MERP_PATCH_CUTS)
-            return false;
+        assert(group[i] == 0 || jt->cuts < MERP_PATCH_CUTS);
         uint32_t C = b->nodes[P[i]].main_child, s = group[i] == 0 ? MERP_CUT_OUT : jt->cuts++;
         jt->cut_fork[s] = (uint8_t)i, jt->cut_slot[s] = MERP_LINK_OUT, jt->start[s] = C;
         segment_of(b, C, &jt->field[i].out);

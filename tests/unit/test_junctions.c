@@ -98,6 +98,22 @@ static uint32_t *welded_triangles(const mer_mesh_part *m)
 /* The bark of s with implicit junctions is closed and consistently wound
  * once welded, its ridge in [0, 1] and near 1 somewhere; returns the forks
  * patched. */
+/* Forks patched, open and unfit, summed over trees (add_counts). */
+typedef struct junction_counts {
+    uint32_t patched, open, unfit;
+} junction_counts;
+
+/* s meshed with implicit junctions: its counts added to *c. */
+static void add_counts(const mer_scene *s, junction_counts *c)
+{
+    mer_mesh *m = NULL;
+    mer_error err;
+    const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+    c->patched += m->junctions, c->open += m->junctions_open, c->unfit += m->junctions_unfit;
+    mer_mesh_free(m);
+}
+
 static uint32_t closed_with_junctions(const mer_scene *s)
 {
     mer_error err;
@@ -248,26 +264,17 @@ static void chosen_forks_get_patches(void **state)
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
-    uint32_t patched = 0, open = 0, unfit = 0;
+    junction_counts c = {0};
     for (uint64_t seed = 1; seed <= 5; seed++) {
-        mer_params p;
-        mer_error err;
-        assert_int_equal(mer_preset_params("fig6-sylleptic", &p, &err), MER_OK);
-        mer_scene *s = NULL;
-        assert_int_equal(mer_scene_new(&p, seed, &s, &err), MER_OK);
-        assert_int_equal(mer_scene_step(s, 14, NULL, NULL, NULL, NULL, &err), MER_OK);
-        mer_mesh *m = NULL;
-        const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
-        assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
-        patched += m->junctions, open += m->junctions_open, unfit += m->junctions_unfit;
-        mer_mesh_free(m);
+        mer_scene *s = grown14("fig6-sylleptic", seed);
+        add_counts(s, &c);
         assert_true(closed_with_junctions(s) > 20);
         mer_scene_free(s);
     }
-    print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open, %u unfit\n", patched, open, unfit);
-    assert_true(patched > 740);
-    assert_true(open <= 10);
-    assert_true(unfit <= 130);
+    print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open, %u unfit\n", c.patched, c.open, c.unfit);
+    assert_true(c.patched > 740);
+    assert_true(c.open <= 10);
+    assert_true(c.unfit <= 130);
 }
 
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
@@ -461,21 +468,16 @@ static void close_forks_get_one_patch(void **state)
 static void thick_trunk_runs_get_big_grids(void **state)
 {
     (void)state;
-    uint32_t patched = 0, open = 0, unfit = 0;
+    junction_counts c = {0};
     for (uint64_t seed = 1; seed <= 5; seed++) {
         mer_scene *s = grown14("fig7-bh-0.54", seed);
-        mer_mesh *m = NULL;
-        mer_error err;
-        const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
-        assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
-        patched += m->junctions, open += m->junctions_open, unfit += m->junctions_unfit;
-        mer_mesh_free(m);
+        add_counts(s, &c);
         mer_scene_free(s);
     }
-    print_message("fig7-bh-0.54, seeds 1-5: %u patched, %u open, %u unfit\n", patched, open, unfit);
-    assert_true(patched >= 700);
-    assert_true(open == 0);
-    assert_true(unfit <= 50);
+    print_message("fig7-bh-0.54, seeds 1-5: %u patched, %u open, %u unfit\n", c.patched, c.open, c.unfit);
+    assert_true(c.patched >= 700);
+    assert_true(c.open == 0);
+    assert_true(c.unfit <= 50);
 }
 
 /* A chosen fork a few radii up a lateral from the chosen fork that lateral
