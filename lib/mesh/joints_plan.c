@@ -27,6 +27,7 @@
 #define THIN_CUT 0.4f        /* a cut ring at least this many cells in radius ... */
 #define THIN_CELLS 0.5f      /* ... or the patch's cells made finer, to this many, */
 #define THIN_FINER 4.0f      /* ... at most this many times */
+#define TILT 0.44f           /* sin 26°: a cut plane leans at most this far off its shaft (STRAIGHT_COS) */
 #define RUN_CLEAR 40.0f      /* a run's cut: within this × its shaft's radius of its J */
 
 /* Whether internode id (living) is a living tip's last, which tube.c
@@ -286,11 +287,28 @@ static float prim_distance(const run_prim *q, const float p[3])
     return v3_len(d);
 }
 
+/* How far the plane through p square to shaft s's direction lies ahead
+ * of primitive q (every point of q is at least this far behind it;
+ * -INFINITY when q reaches past it). */
+static float plane_gap(const run_prim *q, const run_prim *s, const float p[3])
+{
+    float ahead = 0.0f, c = v3_dot(q->m, s->m);
+    for (int a = 0; a < 3; a++)
+        ahead += (p[a] - q->o[a]) * s->m[a];
+    if (c <= 0.0f)
+        return ahead;
+    return isinf(q->len) ? -INFINITY : ahead - q->len * c;
+}
+
 /* How far from its J along its direction shaft s's cut must lie (see
  * clear_of, which a single fork's shafts, all from one J, solve in closed
- * form): the first d from r in steps of h/2 where the cut's centre is at
- * least R + ρ from every other primitive (but the axis's, for an axis
- * shaft); -1 when none within RUN_CLEAR × r. */
+ * form): the first d from r in steps of h/2 where the cut's disk (radius ρ)
+ * is at least R from every other primitive (but the axis's, for an axis
+ * shaft); -1 when none within RUN_CLEAR × r. The disk is that far when
+ * its centre is R + ρ from the primitive, or when the primitive lies
+ * wholly R behind the disk's plane (a lateral leaving a J below an in
+ * cut's, say: the disk is then clear of it however wide), the plane
+ * leaning up to TILT off the shaft's direction. */
 static float clear_of_run(const run_prim *prim, uint32_t n, uint32_t s, float r, float rho, float h)
 {
     for (float d = r; d <= RUN_CLEAR * r; d += 0.5f * h) {
@@ -300,7 +318,7 @@ static float clear_of_run(const run_prim *prim, uint32_t n, uint32_t s, float r,
         bool clear = true;
         for (uint32_t o = 0; o < n && clear; o++)
             if (o != s && !(prim[o].axis >= 0 && prim[o].axis == prim[s].axis))
-                clear = prim_distance(&prim[o], p) >= prim[o].R + rho;
+                clear = fmaxf(prim_distance(&prim[o], p) - rho, plane_gap(&prim[o], &prim[s], p) - TILT * rho) >= prim[o].R;
         if (clear)
             return d;
     }

@@ -260,7 +260,9 @@ static void chosen_forks_get_patches(void **state)
  * (721 and 2; with 200,000 the finest grid was too large for most). A
  * fork whose cut ring would be under THIN_CUT cells now gets cells fine
  * enough for it, up to four times finer: 758 patched, 5 open, 114 unfit,
- * against 721, 2 and 154 before. */
+ * against 721, 2 and 154 before. A run's cut clear of a lateral wholly
+ * behind its plane (however near the lateral's axis its centre) lets
+ * more runs fit: 776, 5 and 96. */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
@@ -272,9 +274,9 @@ static void sylleptic_forks_mesh(void **state)
         mer_scene_free(s);
     }
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open, %u unfit\n", c.patched, c.open, c.unfit);
-    assert_true(c.patched > 740);
+    assert_true(c.patched > 770);
     assert_true(c.open <= 10);
-    assert_true(c.unfit <= 130);
+    assert_true(c.unfit <= 100);
 }
 
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
@@ -462,9 +464,10 @@ static void close_forks_get_one_patch(void **state)
  * sit within their parent's patch's lateral cut: runs of three or four
  * forks there need grids of 200,000 to 1.4 M cells (the polygonizer walks
  * only the cells the surface crosses). With grids capped at 200,000 cells
- * 65 forks of seeds 1-5 stayed tubes; with 2 M, 45: five trunk bases (the
- * root internode is shorter than the in cut needs) and runs that would
- * need more than four forks. */
+ * 65 forks of seeds 1-5 stayed tubes; with 2 M, 45; with a run's cuts clear
+ * of the laterals behind their planes (not only of their centres), 40:
+ * five trunk bases (the root internode is shorter than the in cut needs)
+ * and runs that would need more than four forks. */
 static void thick_trunk_runs_get_big_grids(void **state)
 {
     (void)state;
@@ -475,9 +478,9 @@ static void thick_trunk_runs_get_big_grids(void **state)
         mer_scene_free(s);
     }
     print_message("fig7-bh-0.54, seeds 1-5: %u patched, %u open, %u unfit\n", c.patched, c.open, c.unfit);
-    assert_true(c.patched >= 700);
+    assert_true(c.patched >= 710);
     assert_true(c.open == 0);
-    assert_true(c.unfit <= 50);
+    assert_true(c.unfit <= 42);
 }
 
 /* A chosen fork a few radii up a lateral from the chosen fork that lateral
