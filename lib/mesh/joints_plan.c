@@ -112,6 +112,7 @@ typedef struct claims {
     float *lo, *hi;
     uint32_t *own_lo, *own_hi;
     uint32_t blocker;
+    uint8_t *tried; /* by node id: 1 once the planner has come to that fork */
 } claims;
 
 /* The centre of the cut at `at` along internode id. */
@@ -307,18 +308,21 @@ static float plane_gap(const run_prim *q, const run_prim *s, const float p[3])
  * shaft); -1 when none within RUN_CLEAR × r. The disk is that far when
  * its centre is R + ρ from the primitive, or when the primitive lies
  * wholly R behind the disk's plane (a lateral leaving a J below an in
- * cut's, say: the disk is then clear of it however wide), the plane
- * leaning up to TILT off the shaft's direction. */
-static float clear_of_run(const run_prim *prim, uint32_t n, uint32_t s, float r, float rho, float h)
+ * cut's, say: the disk is then clear of it however wide). The plane is
+ * square to the line from the shaft's start to the cut's centre: along
+ * the shaft's direction where the cut falls within its `first` internode,
+ * up to TILT off it past that. */
+static float clear_of_run(const run_prim *prim, uint32_t n, uint32_t s, float r, float rho, float h, float first)
 {
     for (float d = r; d <= RUN_CLEAR * r; d += 0.5f * h) {
+        float tilt = d + 2.0f * h < first ? 0.0f : TILT * rho; /* the cut lies 2h past d (place_clear) */
         float p[3];
         for (int a = 0; a < 3; a++)
             p[a] = prim[s].o[a] + d * prim[s].m[a];
         bool clear = true;
         for (uint32_t o = 0; o < n && clear; o++)
             if (o != s && !(prim[o].axis >= 0 && prim[o].axis == prim[s].axis))
-                clear = fmaxf(prim_distance(&prim[o], p) - rho, plane_gap(&prim[o], &prim[s], p) - TILT * rho) >= prim[o].R;
+                clear = fmaxf(prim_distance(&prim[o], p) - rho, plane_gap(&prim[o], &prim[s], p) - tilt) >= prim[o].R;
         if (clear)
             return d;
     }
@@ -341,7 +345,7 @@ static float clear_distance(const merp_builder *b, const merp_joint *jt, const c
 {
     float d = merp_node_radius(b, jt->start[s]);
     if (c->prim != NULL)
-        return clear_of_run(c->prim, c->prims, s, d, rho, h);
+        return clear_of_run(c->prim, c->prims, s, d, rho, h, b->nodes[jt->start[s]].length);
     for (uint32_t o = 0; o < jt->cuts; o++) {
         if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
             continue;
@@ -478,8 +482,9 @@ static bool patch_lateral(const merp_builder *b, const mer_node *p, const float 
     return a != NULL && !merp_mesh_is_twig(b, a) && v3_len(gap) <= 1e-4f * (1.0f + v3_len(J));
 }
 
-/* Plans the fork at P's tip into jt (cuts, field); false when it does not
- * fit between the patches planned so far.
+/* Plans the fork at P's tip into jt (cuts, field) and, with `claim`,
+ * claims what its patch covers; false when it does not fit between the
+ * patches planned so far.
  *
  * A fork with no living continuation (P ends in its terminal bud, dormant
  * or flowered, or in a cut: the forks of a sympodium, and of trees whose
@@ -500,7 +505,7 @@ static bool patch_lateral(const merp_builder *b, const mer_node *p, const float 
  * only where the fork does not fit as it grew (fig6-sylleptic's, whose
  * laterals grow in their parent's season and outgrow its continuation),
  * so a fork that fits keeps its continuation. */
-static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_joint *jt)
+static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool claim, merp_joint *jt)
 {
     const mer_node *p = &b->nodes[P];
     uint32_t C = p->main_child;
@@ -558,7 +563,8 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, merp_jo
     float need[MERP_PATCH_CUTS];
     if (!settle_cuts(b, cl, jt, &c, &h, need))
         return false;
-    place_cuts(b, cl, need, h, true, jt);
+    if (claim)
+        place_cuts(b, cl, need, h, true, jt);
     float ridge_up[3];
     memcpy(ridge_up, b->nodes[C].dir, sizeof ridge_up);
     /* The bark ages with the oldest lateral (G04 Fig. 7). The parent's bud
@@ -985,6 +991,46 @@ static void remember(merp_builder *b, claims *cl, const merp_joint *jt, uint32_t
     }
 }
 
+/* The J a shaft of a patch passes in internode id, wholly inside it: the
+ * tip of an out or lateral shaft's internode, the base of an in shaft's
+ * (its parent's fork; MER_NO_NODE at the root). */
+static uint32_t passed_fork(const merp_builder *b, uint32_t s, uint32_t id)
+{
+    return s == MERP_CUT_IN ? b->nodes[id].parent : id;
+}
+
+static uint32_t shaft_next(const merp_builder *b, uint32_t s, uint32_t id)
+{
+    return s == MERP_CUT_IN ? b->nodes[id].parent : b->nodes[id].main_child;
+}
+
+/* How many forks jt's patch would leave tubes that could have a patch of
+ * their own: forks its shafts pass (not its own), not yet tried, for
+ * which plan_one finds room with the claims as they are. Each counted
+ * once (cl->tried marks them 2 meanwhile). */
+static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, float threshold)
+{
+    uint32_t count = 0;
+    merp_joint alone;
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        for (uint32_t id = jt->start[s]; id != jt->node[s]; id = shaft_next(b, s, id)) {
+            uint32_t F = passed_fork(b, s, id);
+            bool own = false;
+            for (uint32_t i = 0; i < jt->forks; i++)
+                own |= jt->fork_node[i] == F;
+            if (!own && F != MER_NO_NODE && !cl->tried[F] && is_fork(b, F, threshold) &&
+                plan_one(b, cl, F, false, false, &alone))
+                cl->tried[F] = 2, count++;
+        }
+    for (uint32_t s = 0; s < jt->cuts; s++)
+        for (uint32_t id = jt->start[s]; id != jt->node[s]; id = shaft_next(b, s, id)) {
+            uint32_t F = passed_fork(b, s, id);
+            if (F != MER_NO_NODE && cl->tried[F] == 2)
+                cl->tried[F] = 0;
+        }
+    return count;
+}
+
 /* Plans P's fork, which fits no patch of its own because joint X's is in
  * the way, as a run (plan_run) with X's forks and every fork on the ways
  * between them, taking in the joints planned for any of them (released,
@@ -1026,9 +1072,21 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
         ok = !stuck && plan_run(b, cl, R, link, start, g.n, jt);
         X = cl->blocker;
     }
-    if (!ok)
+    /* Greedy as the planner is, a run may take in a fork or two at the
+     * price of more that come later: its shafts reach far, clear of every
+     * primitive of the run, and pass thinner forks' J (default's root run
+     * took in forks 0-3 and left 4-8 tubes). It is planned only where it
+     * patches more forks than it passes that would fit alone, with the
+     * claims as they are without it. */
+    for (uint32_t t = 0; t < *nt; t++)
+        claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
+    uint32_t gained = jt->forks;
+    for (uint32_t t = 0; t < *nt; t++)
+        gained -= b->joints[taken[t]].forks;
+    ok = ok && swallows(b, cl, jt, threshold) < gained;
+    if (ok)
         for (uint32_t t = 0; t < *nt; t++)
-            claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
+            claim_joint(b, cl, &b->joints[taken[t]], UINT32_MAX);
     return ok;
 }
 
@@ -1040,14 +1098,15 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
     b->cut_end = merp_malloc(m * sizeof *b->cut_end);
     b->cut_begin = merp_malloc(m * sizeof *b->cut_begin);
     claims cl = {merp_malloc(m * sizeof *cl.lo), merp_malloc(m * sizeof *cl.hi),
-                 merp_malloc(m * sizeof *cl.own_lo), merp_malloc(m * sizeof *cl.own_hi), UINT32_MAX};
+                 merp_malloc(m * sizeof *cl.own_lo), merp_malloc(m * sizeof *cl.own_hi), UINT32_MAX,
+                 merp_calloc(m, 1)};
     float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
                                                       : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
     uint32_t cap = 0, count = 0, patched = 0;
     candidate *c = candidates(b, threshold, &count);
     mer_result rc = MER_OK;
     if (!b->joint_at || !b->lateral_in || !b->cut_end || !b->cut_begin || !cl.lo || !cl.hi || !cl.own_lo ||
-        !cl.own_hi || !c)
+        !cl.own_hi || !cl.tried || !c)
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
     for (size_t i = 0; i < n && rc == MER_OK; i++) {
         b->joint_at[i] = b->lateral_in[i] = b->cut_end[i] = b->cut_begin[i] = UINT32_MAX;
@@ -1060,9 +1119,10 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         if (b->joint_at[id] != UINT32_MAX)
             continue; /* a fork of a run planned before */
         cl.blocker = UINT32_MAX;
-        bool fits = plan_one(b, &cl, id, false, &jt);
+        cl.tried[id] = 1;
+        bool fits = plan_one(b, &cl, id, false, true, &jt);
         uint32_t X = cl.blocker; /* what kept it from a patch of its own as it grew */
-        fits = fits || plan_one(b, &cl, id, true, &jt) || plan_merged(b, &cl, id, threshold, X, &jt, taken, &nt);
+        fits = fits || plan_one(b, &cl, id, true, true, &jt) || plan_merged(b, &cl, id, threshold, X, &jt, taken, &nt);
         if (!fits)
             continue;
         if (b->joint_count == cap) {
@@ -1085,6 +1145,6 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         b->joint_count++;
     }
     b->joints_unfit = count - patched;
-    merp_free(c), merp_free(cl.lo), merp_free(cl.hi), merp_free(cl.own_lo), merp_free(cl.own_hi);
+    merp_free(c), merp_free(cl.lo), merp_free(cl.hi), merp_free(cl.own_lo), merp_free(cl.own_hi), merp_free(cl.tried);
     return rc;
 }

@@ -267,7 +267,11 @@ static void chosen_forks_get_patches(void **state)
  * more runs fit: 776, 5 and 96. A patch that closes by dual contouring on
  * none of the fork's grid and the one 0.7 x as fine is tried on the finest
  * before marching tetrahedra, which round its crease off: 4 patches by
- * marching tetrahedra, against 26 when they came first. */
+ * marching tetrahedra, against 26 when they came first. Where a run's in cut
+ * falls in its first internode its plane is square to that internode (no
+ * lean to allow for), and runs that would leave more forks tubes than they
+ * patch are not planned (see runs_leave_room_for_the_forks_they_pass):
+ * 788, 5 and 84. */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
@@ -281,9 +285,9 @@ static void sylleptic_forks_mesh(void **state)
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open, %u unfit, %u patches by marching tetrahedra\n",
                   c.patched, c.open, c.unfit, c.smooth);
     assert_true(c.smooth <= 6);
-    assert_true(c.patched > 770);
+    assert_true(c.patched > 780);
     assert_true(c.open <= 10);
-    assert_true(c.unfit <= 100);
+    assert_true(c.unfit <= 88);
 }
 
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
@@ -474,7 +478,11 @@ static void close_forks_get_one_patch(void **state)
  * 65 forks of seeds 1-5 stayed tubes; with 2 M, 45; with a run's cuts clear
  * of the laterals behind their planes (not only of their centres), 40:
  * five trunk bases (the root internode is shorter than the in cut needs)
- * and runs that would need more than four forks. */
+ * and runs that would need more than four forks. A run that would leave
+ * more forks tubes than it patches is no longer planned, which in these
+ * clusters sometimes trades a run for a fork that then meets another
+ * patch: 44 (while default and fig12a gain; see
+ * runs_leave_room_for_the_forks_they_pass). */
 static void thick_trunk_runs_get_big_grids(void **state)
 {
     (void)state;
@@ -485,9 +493,38 @@ static void thick_trunk_runs_get_big_grids(void **state)
         mer_scene_free(s);
     }
     print_message("fig7-bh-0.54, seeds 1-5: %u patched, %u open, %u unfit\n", c.patched, c.open, c.unfit);
-    assert_true(c.patched >= 710);
+    assert_true(c.patched >= 705);
     assert_true(c.open == 0);
-    assert_true(c.unfit <= 42);
+    assert_true(c.unfit <= 46);
+}
+
+/* The planner is greedy, thickest fork first. A run up the trunk's base
+ * (default: the root fork, the next up and the forks at the ends of their
+ * first internodes) reaches far, clear of every primitive of the run, and
+ * its shafts pass the J of thinner forks planned later, which then stay
+ * tubes: with in cuts that fit the root internode, default's seeds 1-5
+ * left 25 forks unfit, against 11 with the cuts that did not. A run is now
+ * planned only where it patches more forks than its shafts pass that would
+ * fit a patch of their own: 9 (default) and 7 (fig12a, 11 before). */
+static void runs_leave_room_for_the_forks_they_pass(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *preset;
+        uint32_t unfit;
+    } trees[] = {{"default", 9}, {"fig12a", 7}};
+    for (size_t t = 0; t < sizeof trees / sizeof *trees; t++) {
+        junction_counts c = {0};
+        for (uint64_t seed = 1; seed <= 5; seed++) {
+            mer_scene *s = grown14(trees[t].preset, seed);
+            add_counts(s, &c);
+            mer_scene_free(s);
+        }
+        print_message("%s, seeds 1-5: %u patched, %u open, %u unfit\n", trees[t].preset, c.patched, c.open,
+                      c.unfit);
+        assert_int_equal(c.open, 0);
+        assert_true(c.unfit <= trees[t].unfit);
+    }
 }
 
 /* A chosen fork a few radii up a lateral from the chosen fork that lateral
@@ -994,6 +1031,7 @@ int main(void)
         cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(close_forks_get_one_patch),
         cmocka_unit_test(thick_trunk_runs_get_big_grids),
+        cmocka_unit_test(runs_leave_room_for_the_forks_they_pass),
         cmocka_unit_test(forks_up_a_lateral_get_one_patch),
         cmocka_unit_test(whorled_runs_hold_each_fork_once),
         cmocka_unit_test(pruned_forks_are_relayed),
