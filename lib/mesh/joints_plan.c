@@ -28,6 +28,7 @@
 #define THIN_CELLS 0.5f      /* ... or the patch's cells made finer, to this many, */
 #define THIN_FINER 4.0f      /* ... at most this many times */
 #define TILT 0.44f           /* sin 26°: a cut plane leans at most this far off its shaft (STRAIGHT_COS) */
+#define RUN_FINEST 12.0f     /* a run's cells: at most this many per its in shaft's radius */
 #define RUN_CLEAR 40.0f      /* a run's cut: within this × its shaft's radius of its J */
 
 /* Whether internode id (living) is a living tip's last, which tube.c
@@ -667,7 +668,8 @@ static uint32_t patch_lateral_at(const merp_builder *b, uint32_t P, uint32_t k)
  * axis's out shaft above its last fork, every lateral no fork goes on up,
  * and the axes between the forks (straight, inside the patch); its cuts
  * are placed as plan_one's, clear of every primitive of the run. False when
- * it does not fit (cl->blocker: the joint in the way, if one is). Claims
+ * it does not fit (cl->blocker: the joint in the way, if one is) or would
+ * need cells finer than RUN_FINEST per its in shaft's radius. Claims
  * nothing: the caller does (claim_joint). */
 static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_link *link, const uint32_t *start,
                      uint32_t K, merp_joint *jt)
@@ -761,8 +763,13 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     }
     const clearance c = {.prim = prim, .prims = n};
     float need[MERP_PATCH_CUTS];
-    merp_grid grid; /* a run across two axes can span much: its grid must fit */
-    if (!settle_cuts(b, cl, jt, &c, &h, need) || !merp_joint_grid(b, jt, h, &grid))
+    /* A run across two axes can span much: its grid must fit. Its cells are
+     * its thinnest shaft's over the whole run: a thick trunk fork's run up a
+     * lateral to a fork with thin laterals may need 17 a trunk radius and
+     * cost as much as forty single forks; such a run is not planned. */
+    merp_grid grid;
+    if (!settle_cuts(b, cl, jt, &c, &h, need) || !merp_joint_grid(b, jt, h, &grid) ||
+        merp_node_radius(b, P[0]) > RUN_FINEST * h)
         return false;
     /* Each fork's bark ages as a single fork's (plan_one). */
     for (uint32_t i = 0; i < K; i++) {

@@ -104,13 +104,20 @@ typedef struct junction_counts {
     uint32_t patched, open, unfit, smooth;
 } junction_counts;
 
-/* s meshed with implicit junctions: its counts added to *c. */
-static void add_counts(const mer_scene *s, junction_counts *c)
+/* s meshed with implicit junctions (the other options their defaults). */
+static mer_mesh *implicit_mesh(const mer_scene *s)
 {
     mer_mesh *m = NULL;
     mer_error err;
     const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
     assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+    return m;
+}
+
+/* s meshed with implicit junctions: its counts added to *c. */
+static void add_counts(const mer_scene *s, junction_counts *c)
+{
+    mer_mesh *m = implicit_mesh(s);
     c->patched += m->junctions, c->open += m->junctions_open, c->unfit += m->junctions_unfit;
     c->smooth += m->junctions_smooth;
     mer_mesh_free(m);
@@ -271,7 +278,8 @@ static void chosen_forks_get_patches(void **state)
  * falls in its first internode its plane is square to that internode (no
  * lean to allow for), and runs that would leave more forks tubes than they
  * patch are not planned (see runs_leave_room_for_the_forks_they_pass):
- * 788, 5 and 84. */
+ * 788, 5 and 84; nor those whose cells would be too fine
+ * (runs_keep_their_cells_coarse): 783, 5 and 89. */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
@@ -285,9 +293,9 @@ static void sylleptic_forks_mesh(void **state)
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open, %u unfit, %u patches by marching tetrahedra\n",
                   c.patched, c.open, c.unfit, c.smooth);
     assert_true(c.smooth <= 6);
-    assert_true(c.patched > 780);
+    assert_true(c.patched > 775);
     assert_true(c.open <= 10);
-    assert_true(c.unfit <= 88);
+    assert_true(c.unfit <= 92);
 }
 
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
@@ -482,7 +490,8 @@ static void close_forks_get_one_patch(void **state)
  * more forks tubes than it patches is no longer planned, which in these
  * clusters sometimes trades a run for a fork that then meets another
  * patch: 44 (while default and fig12a gain; see
- * runs_leave_room_for_the_forks_they_pass). */
+ * runs_leave_room_for_the_forks_they_pass); 46 once a run's cells may
+ * not be finer than RUN_FINEST per its in shaft's radius. */
 static void thick_trunk_runs_get_big_grids(void **state)
 {
     (void)state;
@@ -496,6 +505,35 @@ static void thick_trunk_runs_get_big_grids(void **state)
     assert_true(c.patched >= 705);
     assert_true(c.open == 0);
     assert_true(c.unfit <= 46);
+}
+
+/* A run's grid takes the finest cell any of its shafts needs over the
+ * whole run: a run from a thick trunk fork up a lateral to a fork with
+ * thin laterals was meshed at 17 cells per trunk radius (39,000
+ * triangles, 26 ms, as much as 40 single forks). A run is not planned
+ * where its cells would be finer than RUN_FINEST per its in shaft's
+ * radius. The tree is `make bench`'s 10,000-internode one (fig7-bh-0.54,
+ * seed 1, in the paper's 200-unit grid, 16 steps): 275,992 bark
+ * triangles and 153 forks patched (312,408 and 154 without the limit;
+ * its two-thread time 54 against 74 ms). */
+static void runs_keep_their_cells_coarse(void **state)
+{
+    (void)state;
+    mer_params p;
+    mer_error err;
+    assert_int_equal(mer_preset_params("fig7-bh-0.54", &p, &err), MER_OK);
+    p.bounds_min[0] = p.bounds_min[2] = -100.0f;
+    p.bounds_max[0] = p.bounds_max[2] = 100.0f;
+    p.bounds_max[1] = 200.0f;
+    mer_scene *s = NULL;
+    assert_int_equal(mer_scene_new(&p, 1, &s, &err), MER_OK);
+    assert_int_equal(mer_scene_step(s, 16, NULL, NULL, NULL, NULL, &err), MER_OK);
+    mer_mesh *m = implicit_mesh(s);
+    print_message("%u forks patched, %u bark triangles\n", m->junctions, m->bark.index_count / 3);
+    assert_true(m->junctions >= 145);
+    assert_true(m->bark.index_count / 3 < 295000);
+    mer_mesh_free(m);
+    mer_scene_free(s);
 }
 
 /* The planner is greedy, thickest fork first. A run up the trunk's base
@@ -683,10 +721,7 @@ static void creases_stay_sharp(void **state)
 {
     (void)state;
     mer_scene *s = grown(16);
-    mer_error err;
-    mer_mesh *m = NULL;
-    const mer_mesh_options o = {.junctions = MER_JUNCTIONS_IMPLICIT};
-    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+    mer_mesh *m = implicit_mesh(s);
     print_message("%u forks patched, %u by marching tetrahedra\n", m->junctions, m->junctions_smooth);
     assert_true(m->junctions > 100);
     assert_int_equal(m->junctions_smooth, 0);
@@ -1032,6 +1067,7 @@ int main(void)
         cmocka_unit_test(close_forks_get_one_patch),
         cmocka_unit_test(thick_trunk_runs_get_big_grids),
         cmocka_unit_test(runs_leave_room_for_the_forks_they_pass),
+        cmocka_unit_test(runs_keep_their_cells_coarse),
         cmocka_unit_test(forks_up_a_lateral_get_one_patch),
         cmocka_unit_test(whorled_runs_hold_each_fork_once),
         cmocka_unit_test(pruned_forks_are_relayed),
