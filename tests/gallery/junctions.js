@@ -28,9 +28,9 @@ const YEARS = [1, 4, 7, 10];
 /** A fork whose parent (node 92, a flowered tip) has no living continuation: its one
  * lateral, 126, relays the axis. */
 const RELAY = { preset: 'fig6-sympodial', seed: 1, steps: 14, lateral: 126 };
-/** Forks 9 and 10 of TREE's trunk, an internode apart (with fork 4 below them, one run
- * of three): the close-up looks at fork 10's lateral, 24, with fork 9's, 20, below. */
-const RUN = { lateral: 24 };
+/** Forks 3 and 4 of TREE's trunk, an internode apart (one run of two): the close-up
+ * looks at fork 4's lateral, 11, with fork 3's, 8, below. */
+const RUN = { lateral: 11 };
 
 /** Grows a new session of `preset` to `steps` steps; resolves to its summary. */
 async function grow(url, preset, seed, steps) {
