@@ -66,8 +66,9 @@ static void segment_of(const merp_builder *b, uint32_t id, merp_seg *s)
 float merp_joint_cell(const merp_builder *b, const merp_joint *jt)
 {
     float h = merp_node_radius(b, jt->start[MERP_CUT_IN]) / CELLS_PER_RADIUS;
-    for (uint32_t s = jt->relay ? MERP_CUT_OUT : MERP_CUT_LATERAL; s < jt->cuts; s++) /* a relay is a lateral */
-        h = fminf(h, merp_node_radius(b, jt->start[s]) / CELLS_PER_LATERAL_RADIUS);
+    for (uint32_t s = MERP_CUT_OUT; s < jt->cuts; s++) /* a relay is a lateral */
+        if (s >= MERP_CUT_LATERAL || merp_joint_begins_axis(b->nodes, jt, s))
+            h = fminf(h, merp_node_radius(b, jt->start[s]) / CELLS_PER_LATERAL_RADIUS);
     return jt->cell > 0.0f ? fminf(h, jt->cell) : h;
 }
 
@@ -582,10 +583,11 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool cl
 }
 
 /* Whether the axis from C up to P (both included, along main children) may
- * lie inside a run's patch: living internodes, no tip's cone, claimed by no
+ * lie inside a run's patch: living internodes, no tip's cone (but P's, with
+ * `cone`: a relayed fork's, whose tip the patch covers), claimed by no
  * patch, every boundary between them within STRAIGHT × r of the line from
  * J0 to J1 (the run's segment there). */
-static bool run_middle(const merp_builder *b, claims *cl, uint32_t C, uint32_t P, const float J0[3],
+static bool run_middle(const merp_builder *b, claims *cl, uint32_t C, uint32_t P, bool cone, const float J0[3],
                        const float J1[3], float r)
 {
     float u[3];
@@ -594,7 +596,7 @@ static bool run_middle(const merp_builder *b, claims *cl, uint32_t C, uint32_t P
     if (!v3_normalize(u))
         return false;
     for (uint32_t id = C, passed = 0;; id = b->nodes[id].main_child, passed++) {
-        if (!usable(b, id, false) || passed > MAX_SPAN)
+        if (!usable(b, id, cone && id == P) || passed > MAX_SPAN)
             return false;
         if (cl->lo[id] > 0.0f || cl->hi[id] < b->nodes[id].length) {
             cl->blocker = cl->lo[id] > 0.0f ? cl->own_lo[id] : cl->own_hi[id];
@@ -666,7 +668,11 @@ static uint32_t patch_lateral_at(const merp_builder *b, uint32_t P, uint32_t k)
  * another's lateral) do not fit as single patches: each one's cut would fall
  * inside the other's. The patch holds the first fork's in shaft, each
  * axis's out shaft above its last fork, every lateral no fork goes on up,
- * and the axes between the forks (straight, inside the patch); its cuts
+ * and the axes between the forks (straight, inside the patch). A fork with
+ * no living continuation that no fork of the run goes on from (a
+ * sympodium's flowered tip an internode above the fork it goes on from) is
+ * relayed as plan_one relays it: its thickest lateral is its axis's out
+ * shaft, its tip inside the patch. Its cuts
  * are placed as plan_one's, clear of every primitive of the run. False when
  * it does not fit (cl->blocker: the joint in the way, if one is) or would
  * need cells finer than RUN_FINEST per its in shaft's radius. Claims
@@ -682,22 +688,43 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     float J[MERP_RUN_FORKS][3];
     int group[MERP_RUN_FORKS], groups = 0;
     bool goes_on[MERP_RUN_FORKS] = {false}; /* a fork goes on from it up its continuation */
-    for (uint32_t i = 1; i < K; i++)
+    bool leaf[MERP_RUN_FORKS], relayed[MERP_RUN_FORKS];
+    for (uint32_t i = 0; i < K; i++)
+        leaf[i] = true;
+    for (uint32_t i = 1; i < K; i++) {
         goes_on[link[i].from] |= link[i].slot == MERP_LINK_OUT;
+        leaf[link[i].from] = false;
+    }
+    /* Each fork's continuation (out[i]) and laterals (lat[i]): a fork with no
+     * living continuation that no fork of the run goes on from is relayed, as
+     * plan_one relays it: its thickest lateral goes on, its tip in the patch. */
+    uint32_t out[MERP_RUN_FORKS], lat[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS];
     for (uint32_t i = 0; i < K; i++) {
         const mer_node *p = &b->nodes[P[i]];
-        uint32_t C = p->main_child;
-        if (C == MER_NO_NODE || !usable(b, P[i], false) || !usable(b, C, !goes_on[i]))
+        uint32_t C = p->main_child, nl = 0;
+        for (uint32_t L; nl < MERP_JUNCTION_LATERALS && (L = patch_lateral_at(b, P[i], nl)) != MER_NO_NODE;)
+            lat[i][nl++] = L;
+        relayed[i] = C == MER_NO_NODE || !b->nodes[C].alive;
+        if (relayed[i]) {
+            if (!leaf[i] || nl == 0)
+                return false;
+            uint32_t t = nl == 2 && b->nodes[lat[i][1]].diameter > b->nodes[lat[i][0]].diameter;
+            C = lat[i][t];
+            if (nl == 2 && t == 0)
+                lat[i][0] = lat[i][1];
+            nl--;
+        }
+        /* (an axis a fork goes on up is run_middle's to check) */
+        if (!usable(b, P[i], relayed[i]) || !usable(b, C, true) || (nl == 0 && !relayed[i]))
             return false;
+        out[i] = C;
         merp_tip_of(p, J[i]);
         jt->fork_node[i] = P[i], jt->link[i] = link[i], jt->link_start[i] = start[i];
         group[i] = i == 0 || link[i].slot != MERP_LINK_OUT ? groups++ : group[link[i].from];
         merp_junction *f = &jt->field[i];
         f->w = PCM_WIDTH;
-        for (uint32_t L; (L = patch_lateral_at(b, P[i], f->laterals)) != MER_NO_NODE;)
-            segment_of(b, L, &f->lateral[f->laterals++]);
-        if (f->laterals == 0)
-            return false;
+        for (uint32_t k = 0; k < nl; k++)
+            segment_of(b, lat[i][k], &f->lateral[f->laterals++]);
     }
     segment_of(b, P[0], &jt->field[0].in);
     jt->field[0].in.rb = in_radius(b, jt);
@@ -707,7 +734,7 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
         *g = (merp_seg){.ra = merp_node_radius(b, start[i]), .rb = merp_node_end_radius(b, P[i])};
         memcpy(g->a, J[from], sizeof g->a);
         memcpy(g->b, J[i], sizeof g->b);
-        if (!run_middle(b, cl, start[i], P[i], J[from], J[i], g->ra))
+        if (!run_middle(b, cl, start[i], P[i], relayed[i], J[from], J[i], g->ra))
             return false;
         if (link[i].slot == MERP_LINK_OUT)
             jt->field[from].out = *g;
@@ -728,14 +755,14 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
                  * at most MERP_PATCH_CUTS, the forks being distinct */
                 assert(jt->cuts < MERP_PATCH_CUTS);
                 jt->cut_fork[jt->cuts] = (uint8_t)i, jt->cut_slot[jt->cuts] = (uint8_t)k;
-                jt->start[jt->cuts++] = patch_lateral_at(b, P[i], k);
+                jt->start[jt->cuts++] = lat[i][k];
             }
         if (goes_on[i])
             continue;
         assert(group[i] == 0 || jt->cuts < MERP_PATCH_CUTS);
-        uint32_t C = b->nodes[P[i]].main_child, s = group[i] == 0 ? MERP_CUT_OUT : jt->cuts++;
-        jt->cut_fork[s] = (uint8_t)i, jt->cut_slot[s] = MERP_LINK_OUT, jt->start[s] = C;
-        segment_of(b, C, &jt->field[i].out);
+        uint32_t s = group[i] == 0 ? MERP_CUT_OUT : jt->cuts++;
+        jt->cut_fork[s] = (uint8_t)i, jt->cut_slot[s] = MERP_LINK_OUT, jt->start[s] = out[i];
+        segment_of(b, out[i], &jt->field[i].out);
     }
     float h = merp_joint_cell(b, jt);
     /* The primitives: each shaft from its J, then the axes between the forks. */
@@ -774,12 +801,10 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     /* Each fork's bark ages as a single fork's (plan_one). */
     for (uint32_t i = 0; i < K; i++) {
         merp_junction *f = &jt->field[i];
-        const mer_node *C = &b->nodes[b->nodes[P[i]].main_child];
-        uint32_t born = b->nodes[patch_lateral_at(b, P[i], 0)].born;
-        for (uint32_t k = 1; k < f->laterals; k++) {
-            uint32_t L = patch_lateral_at(b, P[i], k);
-            born = b->nodes[L].born < born ? b->nodes[L].born : born;
-        }
+        const mer_node *C = &b->nodes[out[i]];
+        uint32_t born = C->born; /* a relay's own, where it has no lateral */
+        for (uint32_t k = 0; k < f->laterals; k++)
+            born = k == 0 || b->nodes[lat[i][k]].born < born ? b->nodes[lat[i][k]].born : born;
         merp_junction_age(f, C->dir, years_since(b, born));
         f->scar_weight = C->born == b->nodes[P[i]].born ? 0.0f : merp_junction_scar_weight(years_since(b, C->born));
     }
@@ -1038,6 +1063,16 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
     return count;
 }
 
+/* Whether jt is a fork relayed with its continuation among the laterals
+ * (plan_one's swap), which a run does not take in: it would plan that fork
+ * as it grew, which did not fit. A fork with no living continuation a run
+ * relays as plan_one does (plan_run). */
+static bool swapped(const merp_builder *b, const merp_joint *jt)
+{
+    uint32_t C = b->nodes[jt->fork_node[0]].main_child;
+    return jt->relay && C != MER_NO_NODE && b->nodes[C].alive;
+}
+
 /* Plans P's fork, which fits no patch of its own because joint X's is in
  * the way, as a run (plan_run) with X's forks and every fork on the ways
  * between them, taking in the joints planned for any of them (released,
@@ -1052,7 +1087,7 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
     bool ok = false, stuck = false;
     *nt = 0;
     while (!ok && !stuck && X != UINT32_MAX) {
-        stuck = b->joints[X].relay;
+        stuck = swapped(b, &b->joints[X]);
         for (uint32_t i = 0; i < b->joints[X].forks && !stuck; i++)
             stuck = !gather(b, &g, b->joints[X].fork_node[i]);
         /* every joint planned for a fork of the run joins it */
@@ -1064,7 +1099,7 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
                     t++;
                 if (j == UINT32_MAX || t < *nt)
                     continue;
-                stuck = b->joints[j].relay;
+                stuck = swapped(b, &b->joints[j]);
                 for (uint32_t k = 0; k < b->joints[j].forks && !stuck; k++)
                     stuck = !gather(b, &g, b->joints[j].fork_node[k]);
                 claim_joint(b, cl, &b->joints[j], UINT32_MAX);

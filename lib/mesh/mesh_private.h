@@ -68,10 +68,12 @@ typedef struct merp_joint {
     float cell;                     /* its grid spacing where a thin cut ring
                                        needs one finer than merp_joint_cell's
                                        rule (joints_plan.c); 0: none */
-    bool relay;                     /* P has no living continuation, or a
-                                       thinner one among the laterals: cut
-                                       1's shaft is a lateral axis going on
-                                       from P (joints_plan.c) */
+    bool relay;                     /* a single fork whose P has no living
+                                       continuation, or a thinner one among
+                                       the laterals: cut 1's shaft is a
+                                       lateral axis going on from P
+                                       (joints_plan.c; a run's relayed forks
+                                       have no living continuation) */
     bool ok;                        /* planned, and its patch built */
     bool smooth;                    /* ... by marching tetrahedra (no sharp crease) */
     merp_junction field[MERP_RUN_FORKS]; /* its forks' fields: field[0] a

@@ -507,6 +507,28 @@ static void thick_trunk_runs_get_big_grids(void **state)
     assert_true(c.unfit <= 46);
 }
 
+/* A sympodium's forks an internode apart: fork P goes on up its
+ * continuation to the next fork, which ended its axis in a flower and is
+ * relayed by its lateral. The relayed fork's patch claims the internode
+ * between them, so P's out cut has no room: 17 of fig6-sympodial's forks
+ * over seeds 1-5 stayed tubes while runs refused relayed forks. A run now
+ * ends in a relayed fork (one no fork of the run goes on from), which it
+ * relays as plan_one does: 6; and the bark stays closed. */
+static void runs_end_in_relayed_forks(void **state)
+{
+    (void)state;
+    junction_counts c = {0};
+    for (uint64_t seed = 1; seed <= 5; seed++) {
+        mer_scene *s = grown14("fig6-sympodial", seed);
+        add_counts(s, &c);
+        assert_true(closed_with_junctions(s) > 20);
+        mer_scene_free(s);
+    }
+    print_message("fig6-sympodial, seeds 1-5: %u patched, %u open, %u unfit\n", c.patched, c.open, c.unfit);
+    assert_int_equal(c.open, 0);
+    assert_true(c.unfit <= 8);
+}
+
 /* A run's grid takes the finest cell any of its shafts needs over the
  * whole run: a run from a thick trunk fork up a lateral to a fork with
  * thin laterals was meshed at 17 cells per trunk radius (39,000
@@ -1068,6 +1090,7 @@ int main(void)
         cmocka_unit_test(thick_trunk_runs_get_big_grids),
         cmocka_unit_test(runs_leave_room_for_the_forks_they_pass),
         cmocka_unit_test(runs_keep_their_cells_coarse),
+        cmocka_unit_test(runs_end_in_relayed_forks),
         cmocka_unit_test(forks_up_a_lateral_get_one_patch),
         cmocka_unit_test(whorled_runs_hold_each_fork_once),
         cmocka_unit_test(pruned_forks_are_relayed),
