@@ -1063,23 +1063,16 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
     return count;
 }
 
-/* Whether jt is a fork relayed with its continuation among the laterals
- * (plan_one's swap), which a run does not take in: it would plan that fork
- * as it grew, which did not fit. A fork with no living continuation a run
- * relays as plan_one does (plan_run). */
-static bool swapped(const merp_builder *b, const merp_joint *jt)
-{
-    uint32_t C = b->nodes[jt->fork_node[0]].main_child;
-    return jt->relay && C != MER_NO_NODE && b->nodes[C].alive;
-}
-
 /* Plans P's fork, which fits no patch of its own because joint X's is in
  * the way, as a run (plan_run) with X's forks and every fork on the ways
  * between them, taking in the joints planned for any of them (released,
  * into taken[0 .. *nt)); while the run meets another joint, it grows to
- * take that in too, up to MERP_RUN_FORKS forks. False when it does not
- * fit (X a relay, its forks on no way from P, too many forks): the claims
- * are then as they were. */
+ * take that in too, up to MERP_RUN_FORKS forks. A relayed fork it takes in
+ * is planned as plan_run has it: relayed where it has no living
+ * continuation, else as it grew (a swap's continuation, which did not fit a
+ * patch of its own, may fit the run's). False when it does not fit (X's
+ * forks on no way from P, too many forks): the claims are then as they
+ * were. */
 static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, merp_joint *jt,
                         uint32_t *taken, uint32_t *nt)
 {
@@ -1087,7 +1080,6 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
     bool ok = false, stuck = false;
     *nt = 0;
     while (!ok && !stuck && X != UINT32_MAX) {
-        stuck = swapped(b, &b->joints[X]);
         for (uint32_t i = 0; i < b->joints[X].forks && !stuck; i++)
             stuck = !gather(b, &g, b->joints[X].fork_node[i]);
         /* every joint planned for a fork of the run joins it */
@@ -1099,7 +1091,6 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
                     t++;
                 if (j == UINT32_MAX || t < *nt)
                     continue;
-                stuck = swapped(b, &b->joints[j]);
                 for (uint32_t k = 0; k < b->joints[j].forks && !stuck; k++)
                     stuck = !gather(b, &g, b->joints[j].fork_node[k]);
                 claim_joint(b, cl, &b->joints[j], UINT32_MAX);

@@ -279,7 +279,10 @@ static void chosen_forks_get_patches(void **state)
  * lean to allow for), and runs that would leave more forks tubes than they
  * patch are not planned (see runs_leave_room_for_the_forks_they_pass):
  * 788, 5 and 84; nor those whose cells would be too fine
- * (runs_keep_their_cells_coarse): 783, 5 and 89. */
+ * (runs_keep_their_cells_coarse): 783, 5 and 89. A run takes in a fork
+ * relayed with its thinner continuation among the laterals (it had
+ * refused such relays) and plans it as it grew, its continuation going
+ * on: 787, 5 and 85. */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
@@ -293,9 +296,9 @@ static void sylleptic_forks_mesh(void **state)
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open, %u unfit, %u patches by marching tetrahedra\n",
                   c.patched, c.open, c.unfit, c.smooth);
     assert_true(c.smooth <= 6);
-    assert_true(c.patched > 775);
+    assert_true(c.patched > 785);
     assert_true(c.open <= 10);
-    assert_true(c.unfit <= 92);
+    assert_true(c.unfit <= 87);
 }
 
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
