@@ -17,6 +17,7 @@
 #define SUPPORT_SEEN 0.8f    /* another primitive's field counts within this × its support */
 #define MAX_SPAN 64u         /* a patch's shaft crosses at most this many internodes */
 #define CUT_GAP 0.1f         /* two patches' cuts in one internode: this × its radius apart */
+#define BASE_GAP 0.01f       /* a cut and a trunk's base disk: this × its radius apart */
 #define STRAIGHT 0.5f        /* a shaft's axis stays within this × its radius of one line ... */
 #define STRAIGHT_COS 0.9f    /* ... and its cut's internode within 25° of it */
 #define EXTEND 3.0f          /* a shaft's segment reaches this many cells past its cut */
@@ -144,7 +145,9 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
         float len = n->length, gap = CUT_GAP * merp_node_radius(b, id);
         if (arc + len > need) {
             float at = back ? len - (need - arc) : need - arc;
-            bool by_lo = back ? at <= cl->lo[id] + gap : cl->lo[id] > 0.0f;
+            /* below a tree's root internode is its base disk, no patch's cut */
+            float below = back && n->parent == MER_NO_NODE && cl->lo[id] == 0.0f ? BASE_GAP * merp_node_radius(b, id) : gap;
+            bool by_lo = back ? at <= cl->lo[id] + below : cl->lo[id] > 0.0f;
             bool by_hi = back ? cl->hi[id] < len : at >= cl->hi[id] - gap;
             if (by_lo || by_hi) {
                 cl->blocker = by_lo ? cl->own_lo[id] : cl->own_hi[id];
