@@ -1074,8 +1074,9 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
  * is planned as plan_run has it: relayed where it has no living
  * continuation, else as it grew (a swap's continuation, which did not fit a
  * patch of its own, may fit the run's). False when it does not fit (X's
- * forks on no way from P, too many forks): the claims are then as they
- * were. */
+ * forks on no way from P, too many forks, plan_run's refusals) or would
+ * leave as many forks tubes as it patches (swallows): the claims are then
+ * as they were. */
 static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, merp_joint *jt,
                         uint32_t *taken, uint32_t *nt)
 {
@@ -1116,10 +1117,12 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
      * claims as they are without it. */
     for (uint32_t t = 0; t < *nt; t++)
         claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
-    uint32_t gained = jt->forks;
-    for (uint32_t t = 0; t < *nt; t++)
-        gained -= b->joints[taken[t]].forks;
-    ok = ok && swallows(b, cl, jt, threshold) < gained;
+    if (ok) { /* jt holds the run only when plan_run planned it */
+        uint32_t gained = jt->forks;
+        for (uint32_t t = 0; t < *nt; t++)
+            gained -= b->joints[taken[t]].forks;
+        ok = swallows(b, cl, jt, threshold) < gained;
+    }
     if (ok)
         for (uint32_t t = 0; t < *nt; t++)
             claim_joint(b, cl, &b->joints[taken[t]], UINT32_MAX);
