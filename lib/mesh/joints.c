@@ -273,8 +273,7 @@ static void free_patch(merp_joint *jt)
  * on a finer one and on the finest (FINEST: a thin continuation's); then
  * marching tetrahedra on the first two, whose crease is rounded off within a
  * cell (before the finest grid, it made 29 of 3,246 patches on 25 trees;
- * now 6). Dual contouring's
- * patch may not close where two sheets of a cell cross one face twice, or
+ * now 2 of 3,264). Dual contouring's patch may not close where two sheets of a cell cross one face twice, or
  * two vertices fall at one position; either's where the thinnest laterals (a
  * little over a cell per radius) leave a cut's cap so few cells near its rim
  * that the side cuts a piece of it off, a second loop on that cut. The first

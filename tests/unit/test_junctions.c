@@ -282,7 +282,7 @@ static void chosen_forks_get_patches(void **state)
  * (runs_keep_their_cells_coarse): 783, 5 and 89. A run takes in a fork
  * relayed with its thinner continuation among the laterals (it had
  * refused such relays) and plans it as it grew, its continuation going
- * on: 787, 5 and 85. */
+ * on: 787, 5 and 85, and none by marching tetrahedra. */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
