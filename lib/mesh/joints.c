@@ -69,27 +69,49 @@ static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, co
     uv[1] = jt->v[s] + (s == MERP_CUT_IN ? -1.0f : 1.0f) * v3_dot(q, jt->n[s]) / (MERP_TWO_PI * 0.5f * r);
 }
 
+/* Whether triangle c's u spans the seam (jumps over 1 → 0: more than ½). */
+static bool spans_seam(const merp_joint *jt, const uint32_t *c)
+{
+    float lo = 2.0f, hi = -1.0f;
+    for (int k = 0; k < 3; k++) { /* no fminf, fmaxf: u is never NaN, and they are calls in libm */
+        float u = jt->uvs[2 * c[k]];
+        lo = u < lo ? u : lo, hi = u > hi ? u : hi;
+    }
+    return hi - lo > 0.5f;
+}
+
 /* Gives a vertex of u < ½ in every triangle that spans the seam (u jumps
- * over 1 → 0) a copy at u + 1, as the tube's seam vertex. */
-static void split_seam(merp_joint *jt, uint32_t *copy)
+ * over 1 → 0) a copy at u + 1, as the tube's seam vertex; a vertex whose
+ * every triangle spans it is moved to u + 1 itself instead, so no vertex is
+ * left that no triangle uses (an importer drops those: assimp counted
+ * fewer vertices than the GLB holds). `scratch` has room for twice the
+ * patch's vertices. */
+static void split_seam(merp_joint *jt, uint32_t *scratch)
 {
     merp_trimesh *m = &jt->mesh;
-    uint32_t n = m->vertex_count;
+    uint32_t n = m->vertex_count, *copy = scratch, *kept = scratch + n;
     for (uint32_t v = 0; v < n; v++)
-        copy[v] = UINT32_MAX;
+        copy[v] = UINT32_MAX, kept[v] = 0;
+    /* kept[v]: v's corners that stay v (a triangle that does not span the seam) */
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *c = m->triangles + 3 * (size_t)t;
+        if (!spans_seam(jt, c))
+            for (int k = 0; k < 3; k++)
+                kept[c[k]]++;
+    }
     for (uint32_t t = 0; t < m->triangle_count; t++) {
         uint32_t *c = m->triangles + 3 * (size_t)t;
-        float lo = 2.0f, hi = -1.0f;
-        for (int k = 0; k < 3; k++) { /* no fminf, fmaxf: u is never NaN, and they are calls in libm */
-            float u = jt->uvs[2 * c[k]];
-            lo = u < lo ? u : lo, hi = u > hi ? u : hi;
-        }
-        if (hi - lo <= 0.5f)
+        if (!spans_seam(jt, c))
             continue;
         for (int k = 0; k < 3; k++) {
             uint32_t v = c[k];
-            if (jt->uvs[2 * v] >= 0.5f)
+            if (jt->uvs[2 * v] >= 0.5f || v == copy[v])
+                continue; /* its high side, or v itself moved across */
+            if (copy[v] == UINT32_MAX && kept[v] == 0 && v < n) {
+                jt->uvs[2 * v] += 1.0f; /* every triangle of v spans the seam */
+                copy[v] = v;
                 continue;
+            }
             if (copy[v] == UINT32_MAX) {
                 uint32_t w = copy[v] = m->vertex_count++;
                 memcpy(m->positions + 3 * (size_t)w, m->positions + 3 * (size_t)v, 3 * sizeof(float));

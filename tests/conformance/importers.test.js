@@ -3,7 +3,9 @@
 // artists and pipelines use: assimp (Debian's assimp-utils, 5.2: no KHR_mesh_quantization,
 // no meshopt) must import every triangle and vertex the GLB holds, at unit scale with the
 // tree's base at the origin; headless Blender, when it is installed (./quickstart does not
-// install it, see README), must import it with scale 1 and the base at the origin.
+// install it, see README), must import it with scale 1 and the base at the origin. The
+// snapshot with implicit junctions too: assimp reads all of it, and no GLB holds a vertex
+// no triangle uses (assimp's default import drops those).
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
@@ -45,7 +47,7 @@ before(async () => {
   dir = fs.mkdtempSync(path.join(os.tmpdir(), 'meristem-importers-'));
   const s = (await api(d.url, 'POST', '/v1/sessions', { preset: 'default', seed: 5 })).body;
   await api(d.url, 'POST', `/v1/sessions/${s.id}/edits`, { op: 'step', count: 9 });
-  for (const [name, query] of Object.entries({ plain: '', leaves: '?leaves=1&detail=4' })) {
+  for (const [name, query] of Object.entries({ plain: '', leaves: '?leaves=1&detail=4', implicit: '?junctions=implicit' })) {
     const r = await fetch(`${d.url}/v1/sessions/${s.id}/snapshot.glb${query}`);
     assert.equal(r.status, 200);
     const bytes = Buffer.from(await r.arrayBuffer());
@@ -87,7 +89,8 @@ function assimpInfo(file) {
 }
 
 test('assimp imports every vertex and triangle of the default GLB', { skip: ASSIMP_SKIP }, () => {
-  for (const [name, { file, json }] of Object.entries(glbs)) {
+  for (const name of ['plain', 'leaves']) {
+    const { file, json } = glbs[name];
     const want = counts(json);
     const got = assimpInfo(file);
     assert.ok(got.meshes >= 1, `${name}: assimp found meshes:\n${got.out}`);
@@ -97,6 +100,58 @@ test('assimp imports every vertex and triangle of the default GLB', { skip: ASSI
     assert.ok(Math.abs(got.min[1]) < 1e-4, `${name}: the base stands on y = 0 (${got.min})`);
     assert.ok(got.max[1] > 5 && got.max[1] < 100, `${name}: a tree metres tall (${got.max})`);
   }
+});
+
+/** `assimp info FILE --raw`: its totals, with no post-processing (assimp's default joins
+ * vertices alike in every attribute it computes, and drops those no triangle uses). */
+function assimpRaw(file) {
+  const out = execFileSync('assimp', ['info', file, '--raw'], { encoding: 'utf8' });
+  const num = (label) => Number(out.match(new RegExp(`^${label}:\\s+(\\d+)`, 'm'))?.[1]);
+  return { out, vertices: num('Vertices'), faces: num('Faces') };
+}
+
+// With implicit junctions the bark has patches whose ring vertices repeat the tubes'
+// (position, normal and UV), and a _RIDGE attribute assimp does not know: it must still
+// read every vertex and triangle, and its default import must keep every triangle and
+// every vertex a triangle uses (a vertex of no triangle, which it drops, once slipped in).
+test('assimp imports the GLB with implicit junctions', { skip: ASSIMP_SKIP }, () => {
+  const { file, json } = glbs.implicit;
+  const want = counts(json);
+  assert.ok(json.meshes[0].primitives.some((p) => p.attributes._RIDGE !== undefined), 'the ridge attribute is there');
+  const raw = assimpRaw(file);
+  assert.equal(raw.vertices, want.vertices, `raw import: vertices\n${raw.out}`);
+  assert.equal(raw.faces, want.faces, 'raw import: triangles');
+  const got = assimpInfo(file);
+  assert.equal(got.faces, want.faces, 'default import: triangles');
+  assert.ok(got.vertices > 0.9 * want.vertices && got.vertices <= want.vertices, `default import: vertices ${got.vertices} of ${want.vertices}`);
+  assert.ok(Math.abs(got.min[1]) < 1e-4, `the base stands on y = 0 (${got.min})`);
+});
+
+/** The vertices of the GLB's TRIANGLES primitives that no triangle of theirs uses. */
+function unusedVertices(file) {
+  const bytes = fs.readFileSync(file);
+  const json = jsonOf(bytes);
+  const bin = bytes.subarray(20 + bytes.readUInt32LE(12) + 8);
+  const at = (i) => {
+    const a = json.accessors[i];
+    return { a, off: (json.bufferViews[a.bufferView].byteOffset ?? 0) + (a.byteOffset ?? 0) };
+  };
+  let unused = 0;
+  for (const m of json.meshes) {
+    for (const p of m.primitives) {
+      if ((p.mode ?? 4) !== 4) continue;
+      const used = new Uint8Array(json.accessors[p.attributes.POSITION].count);
+      const { a, off } = at(p.indices);
+      const size = a.componentType === 5125 ? 4 : a.componentType === 5123 ? 2 : 1;
+      for (let k = 0; k < a.count; k++) used[bin.readUIntLE(off + k * size, size)] = 1;
+      unused += used.length - used.reduce((s, u) => s + u, 0);
+    }
+  }
+  return unused;
+}
+
+test('every vertex of each GLB is a triangle\'s (importers drop the others)', () => {
+  for (const [name, { file }] of Object.entries(glbs)) assert.equal(unusedVertices(file), 0, name);
 });
 
 // Blender converts glTF's +Y up to its +Z up. The script prints one JSON line. Debian
