@@ -105,9 +105,10 @@ static void split_seam(merp_joint *jt, uint32_t *scratch)
             continue;
         for (int k = 0; k < 3; k++) {
             uint32_t v = c[k];
+            assert(v < n); /* each corner is looked at once, before it is replaced */
             if (jt->uvs[2 * v] >= 0.5f || v == copy[v])
                 continue; /* its high side, or v itself moved across */
-            if (copy[v] == UINT32_MAX && kept[v] == 0 && v < n) {
+            if (copy[v] == UINT32_MAX && kept[v] == 0) {
                 jt->uvs[2 * v] += 1.0f; /* every triangle of v spans the seam */
                 copy[v] = v;
                 continue;
@@ -295,11 +296,11 @@ static void free_patch(merp_joint *jt)
  * on a finer one and on the finest (FINEST: a thin continuation's); then
  * marching tetrahedra on the first two, whose crease is rounded off within a
  * cell (before the finest grid, it made 29 of 3,246 patches on 25 trees;
- * now 2 of 3,264). Dual contouring's patch may not close where two sheets of a cell cross one face twice, or
- * two vertices fall at one position; either's where the thinnest laterals (a
- * little over a cell per radius) leave a cut's cap so few cells near its rim
- * that the side cuts a piece of it off, a second loop on that cut. The first
- * patch that closes is kept. MER_ERR_INVALID (and the caller unplans the
+ * now 2 of 3,264). Dual contouring's patch may not close where two sheets
+ * of a cell cross one face twice, or two vertices fall at one position;
+ * either's where the thinnest laterals (a little over a cell per radius)
+ * leave a cut's cap so few cells near its rim that the side cuts a piece of
+ * it off, a second loop on that cut. The first patch that closes is kept. MER_ERR_INVALID (and the caller unplans the
  * fork) when none does. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
 {
