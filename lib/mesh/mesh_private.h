@@ -126,8 +126,8 @@ typedef struct merp_builder {
     uint32_t joints_unfit;  /* candidates no patch was planned for: tubes */
     uint32_t *joint_at;     /* by node id: the joint at its tip, or UINT32_MAX */
     uint32_t *lateral_in;   /* by node id: joint · MERP_PATCH_CUTS + cut of a lateral
-                               (or a relay: cut 1, or a run's relayed fork's) whose shaft starts in a
-                               patch, or UINT32_MAX */
+                               (or a relay: cut 1, or a run's relayed fork's)
+                               whose shaft starts in a patch, or UINT32_MAX */
     uint32_t *cut_end;      /* by node id: joint · MERP_PATCH_CUTS + cut of the out
                                or lateral cut in it (a patch ends), or UINT32_MAX */
     uint32_t *cut_begin;    /* by node id: the joint whose in cut lies in it (a

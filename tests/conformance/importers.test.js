@@ -21,7 +21,7 @@ const HAVE_BLENDER = which('blender');
 const ASSIMP_SKIP = !HAVE_ASSIMP && process.env.MER_REQUIRE_ALL !== '1' && 'assimp (assimp-utils) is not installed';
 
 let d, dir;
-const glbs = {};   // name → {file, json}
+const glbs = {};   // name → {file, bytes, json}
 
 /** The JSON chunk of a GLB. */
 function jsonOf(bytes) {
@@ -54,7 +54,7 @@ before(async () => {
     const file = path.join(dir, `${name}.glb`);
     fs.writeFileSync(file, bytes);
     if (process.env.MER_ARTIFACTS) fs.copyFileSync(file, path.join(process.env.MER_ARTIFACTS, `importers-${name}.glb`));
-    glbs[name] = { file, json: jsonOf(bytes) };
+    glbs[name] = { file, bytes, json: jsonOf(bytes) };
   }
 });
 
@@ -79,9 +79,11 @@ test('the default GLB needs no extension and places the tree with no node transf
   }
 });
 
-/** `assimp info FILE`: its totals and bounds. */
-function assimpInfo(file) {
-  const out = execFileSync('assimp', ['info', file], { encoding: 'utf8' });
+/** `assimp info FILE`: its totals and bounds. With `raw`, no post-processing (assimp's
+ * default joins vertices alike in every attribute it computes, and drops those no
+ * triangle uses). */
+function assimpInfo(file, { raw = false } = {}) {
+  const out = execFileSync('assimp', ['info', file, ...(raw ? ['--raw'] : [])], { encoding: 'utf8' });
   const num = (label) => Number(out.match(new RegExp(`^${label}:\\s+(\\d+)`, 'm'))?.[1]);
   const vec = (label) => out.match(new RegExp(`^${label}\\s+\\(([^)]*)\\)`, 'm'))[1].trim().split(/\s+/).map(Number);
   return { out, meshes: num('Meshes'), vertices: num('Vertices'), faces: num('Faces'),
@@ -102,14 +104,6 @@ test('assimp imports every vertex and triangle of the default GLB', { skip: ASSI
   }
 });
 
-/** `assimp info FILE --raw`: its totals, with no post-processing (assimp's default joins
- * vertices alike in every attribute it computes, and drops those no triangle uses). */
-function assimpRaw(file) {
-  const out = execFileSync('assimp', ['info', file, '--raw'], { encoding: 'utf8' });
-  const num = (label) => Number(out.match(new RegExp(`^${label}:\\s+(\\d+)`, 'm'))?.[1]);
-  return { out, vertices: num('Vertices'), faces: num('Faces') };
-}
-
 // With implicit junctions the bark has patches whose ring vertices repeat the tubes'
 // (position, normal and UV), and a _RIDGE attribute assimp does not know: it must still
 // read every vertex and triangle, and its default import must keep every triangle and
@@ -118,7 +112,7 @@ test('assimp imports the GLB with implicit junctions', { skip: ASSIMP_SKIP }, ()
   const { file, json } = glbs.implicit;
   const want = counts(json);
   assert.ok(json.meshes[0].primitives.some((p) => p.attributes._RIDGE !== undefined), 'the ridge attribute is there');
-  const raw = assimpRaw(file);
+  const raw = assimpInfo(file, { raw: true });
   assert.equal(raw.vertices, want.vertices, `raw import: vertices\n${raw.out}`);
   assert.equal(raw.faces, want.faces, 'raw import: triangles');
   const got = assimpInfo(file);
@@ -128,9 +122,7 @@ test('assimp imports the GLB with implicit junctions', { skip: ASSIMP_SKIP }, ()
 });
 
 /** The vertices of the GLB's TRIANGLES primitives that no triangle of theirs uses. */
-function unusedVertices(file) {
-  const bytes = fs.readFileSync(file);
-  const json = jsonOf(bytes);
+function unusedVertices({ bytes, json }) {
   const bin = bytes.subarray(20 + bytes.readUInt32LE(12) + 8);
   const at = (i) => {
     const a = json.accessors[i];
@@ -151,7 +143,7 @@ function unusedVertices(file) {
 }
 
 test('every vertex of each GLB is a triangle\'s (importers drop the others)', () => {
-  for (const [name, { file }] of Object.entries(glbs)) assert.equal(unusedVertices(file), 0, name);
+  for (const [name, glb] of Object.entries(glbs)) assert.equal(unusedVertices(glb), 0, name);
 });
 
 // Blender converts glTF's +Y up to its +Z up. The script prints one JSON line. Debian
