@@ -97,10 +97,11 @@
  * laterals run nearly along their parent, stays tubes (`junctions_unfit`
  * counts those). A patch is
  * polygonized by dual contouring, which keeps the ridge's crease sharp, on
- * the fork's grid, else on one 0.7 × as fine; where neither closes, by
- * marching tetrahedra on each (`junctions_smooth` counts those); else by
- * dual contouring on one half as fine (a thin continuation's); a fork
- * whose patch closes on none stays tubes (`junctions_open`). In this mode
+ * the fork's grid, else on it moved half a cell, on one 0.7 × as fine or on
+ * one half as fine (a thin continuation's); where none closes, by marching
+ * tetrahedra on the fork's grid or the one 0.7 × as fine
+ * (`junctions_smooth` counts those); a fork whose patch closes on none
+ * stays tubes (`junctions_open`). In this mode
  * every lateral that is not in a patch gets a base disk, so the whole bark is
  * closed (a 2-manifold once vertices of equal position are welded; the UV
  * seams and disks keep their own vertices). Each bark vertex then carries b = F_b(p), the bounding

@@ -222,10 +222,11 @@ static mer_result polygonize_patch(const merp_patch *pt, const merp_joint *jt, m
 /* Builds jt's patch on a grid of cells h by dual contouring (sharp) or
  * marching tetrahedra into exact arrays of its own. MER_ERR_INVALID when the
  * patch does not close on its cuts. */
-static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, uint32_t sharp, mer_error *err)
+static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float shift, uint32_t sharp,
+                                mer_error *err)
 {
     merp_patch pt = {.j = jt->field, .forks = jt->forks, .link = jt->link, .cuts = jt->cuts, .sharp = sharp};
-    if (!merp_joint_grid(b, jt, h, &pt.grid))
+    if (!merp_joint_grid(b, jt, h, shift, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
     for (uint32_t s = 0; s < jt->cuts; s++) {
         merp_cut *c = &pt.cut[s];
@@ -290,29 +291,37 @@ static void free_patch(merp_joint *jt)
  * and closes on the finest. */
 #define FINER 0.7f
 #define FINEST 0.5f
+/* The fork's grid moved back by this × its cell on every axis: where dual
+ * contouring's mesh is no manifold (a cell's sheet that meets one face
+ * twice, so that two cells' vertices share the quads of all four of that
+ * face's edges), that is an accident of where the grid's corners fall, and
+ * half a cell over they fall elsewhere, at the first grid's cost
+ * (fig6-sylleptic's 5 open forks, seeds 1-5, closed on it). */
+#define SHIFT 0.5f
 
 /* Builds jt's patch (build_patch_at), trying in turn: dual contouring, which
  * keeps the branch bark ridge's crease sharp (G04 §3.2), on the fork's grid,
- * on a finer one and on the finest (FINEST: a thin continuation's); then
- * marching tetrahedra on the first two, whose crease is rounded off within a
- * cell (before the finest grid, it made 29 of 3,246 patches on 25 trees;
+ * on it moved by SHIFT, on a finer one and on the finest (FINEST: a thin
+ * continuation's); then marching tetrahedra on the first and the finer,
+ * whose crease is rounded off within a cell (before the finest grid, it made 29 of 3,246 patches on 25 trees;
  * now 2 of 3,264). Dual contouring's patch may not close where two sheets
  * of a cell cross one face twice, or two vertices fall at one position;
  * either's where the thinnest laterals (a little over a cell per radius)
  * leave a cut's cap so few cells near its rim that the side cuts a piece of
- * it off, a second loop on that cut. The first patch that closes is kept. MER_ERR_INVALID (and the caller unplans the
- * fork) when none does. */
+ * it off, a second loop on that cut. The first patch that closes is kept.
+ * MER_ERR_INVALID (and the caller unplans the fork) when none does. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
 {
     static const struct {
-        float scale;
+        float scale, shift;
         uint32_t sharp;
-    } tries[] = {{1.0f, 1}, {FINER, 1}, {FINEST, 1}, {1.0f, 0}, {FINER, 0}};
+    } tries[] = {{1.0f, 0.0f, 1},  {1.0f, SHIFT, 1}, {FINER, 0.0f, 1},
+                 {FINEST, 0.0f, 1}, {1.0f, 0.0f, 0}, {FINER, 0.0f, 0}};
     float h = merp_joint_cell(b, jt);
     mer_result rc = MER_ERR_INVALID;
     for (size_t t = 0; t < sizeof tries / sizeof *tries && rc == MER_ERR_INVALID; t++) {
         free_patch(jt);
-        rc = build_patch_at(b, jt, tries[t].scale * h, tries[t].sharp, err);
+        rc = build_patch_at(b, jt, tries[t].scale * h, tries[t].shift, tries[t].sharp, err);
         jt->smooth = !tries[t].sharp;
     }
     return rc;

@@ -6,6 +6,7 @@
  * patches). */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -368,8 +369,9 @@ static const float *shaft_origin(const merp_joint *jt, uint32_t s)
     return jt->field[jt->cut_fork[s]].in.b;
 }
 
-bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g)
+bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float shift, merp_grid *g)
 {
+    assert(shift >= 0.0f && shift < 1.0f);
     const float *J = jt->field[0].in.b;
     float lo[3], hi[3];
     for (int k = 0; k < 3; k++)
@@ -396,8 +398,8 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, merp_
     uint64_t cells = 1;
     g->h = h;
     for (int k = 0; k < 3; k++) {
-        g->origin[k] = lo[k];
-        g->n[k] = (uint32_t)ceilf((hi[k] - lo[k]) / h);
+        g->origin[k] = lo[k] - shift * h;
+        g->n[k] = (uint32_t)ceilf((hi[k] - g->origin[k]) / h);
         g->n[k] = g->n[k] < 1 ? 1 : g->n[k];
         cells *= g->n[k];
     }
@@ -798,7 +800,7 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
      * lateral to a fork with thin laterals may need 17 a trunk radius and
      * cost as much as forty single forks; such a run is not planned. */
     merp_grid grid;
-    if (!settle_cuts(b, cl, jt, &c, &h, need) || !merp_joint_grid(b, jt, h, &grid) ||
+    if (!settle_cuts(b, cl, jt, &c, &h, need) || !merp_joint_grid(b, jt, h, 0.0f, &grid) ||
         merp_node_radius(b, P[0]) > RUN_FINEST * h)
         return false;
     /* Each fork's bark ages as a single fork's (plan_one). */

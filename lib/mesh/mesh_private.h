@@ -265,9 +265,10 @@ float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
 #define MERP_JOINT_MAX_CELLS 2000000u /* a patch's grid at most (a run up a thick trunk may need 1.4 M; the walk touches only the cells the surface crosses); a fork that needs more stays tubes */
 /* The grid of jt's patch into *g (joints_plan.c): the box of every shaft
  * from its J to just past its cut, and of every fork's J, grown by the
- * shell its surface stays in, with cells of h. False when it would have
- * more than MERP_JOINT_MAX_CELLS cells. */
-bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, merp_grid *g);
+ * shell its surface stays in, with cells of h, its origin moved back by
+ * shift × h (0 ≤ shift < 1) on every axis. False when it would have more
+ * than MERP_JOINT_MAX_CELLS cells. */
+bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float shift, merp_grid *g);
 /* jt's maps forgotten (joints_plan.c): its forks are tubes again, unless
  * another patch serves them (a run that took them in). */
 void merp_joint_forget(merp_builder *b, merp_joint *jt);

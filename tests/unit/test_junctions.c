@@ -296,7 +296,11 @@ static void chosen_forks_get_patches(void **state)
  * (runs_keep_their_cells_coarse): 783, 5 and 89. A run takes in a fork
  * relayed with its thinner continuation among the laterals (it had
  * refused such relays) and plans it as it grew, its continuation going
- * on: 787, 5 and 85, and none by marching tetrahedra. */
+ * on: 787, 5 and 85, and none by marching tetrahedra. A patch whose
+ * dual contouring is no manifold on the fork's grid (a cell's sheet
+ * meeting one face twice: an accident of where the grid's corners fall) is
+ * tried on that grid moved half a cell before a finer one: 792, 0 and 85
+ * (seed 3 had 4 open, seed 2 one). */
 static void sylleptic_forks_mesh(void **state)
 {
     (void)state;
@@ -310,8 +314,8 @@ static void sylleptic_forks_mesh(void **state)
     print_message("fig6-sylleptic, seeds 1-5: %u patched, %u open, %u unfit, %u patches by marching tetrahedra\n",
                   c.patched, c.open, c.unfit, c.smooth);
     assert_true(c.smooth <= 6);
-    assert_true(c.patched > 785);
-    assert_true(c.open <= 10);
+    assert_true(c.patched > 790);
+    assert_int_equal(c.open, 0);
     assert_true(c.unfit <= 87);
 }
 
