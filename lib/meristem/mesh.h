@@ -84,13 +84,13 @@
  * the patch's laterals (a sylleptic shoot's forks). Forks a few radii
  * apart, whose cuts would fall in each other's patches (a thick axis's
  * short internodes; a fork near the base of another fork's lateral), are
- * patched together as a run: one patch for up to four forks, each axis
+ * patched together as a run: one patch for up to eight forks, each axis
  * through them one solid (with each fork's bud scale scar), every fork's
  * laterals blending in with their ridges, and a lateral that a fork of the
  * run goes on up blending in with all of that fork's surface. A fork
  * whose axes bend too much there, whose cuts would fall in another fork's
  * patch that no run takes in (thickest laterals are served first; a run
- * of more than four forks, or whose grid would be too large) or past a
+ * of more than eight forks, or whose grid would be too large) or past a
  * growing tip's apex,
  * whose cut ring would be under 0.4 of its grid's cell in radius even on
  * cells four times finer than the fork's own, or whose

@@ -262,7 +262,12 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err);
 /* A patch's grid spacing (joints_plan.c). */
 float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
 #define MERP_JOINT_SHELL 1.6f /* the surface stays within this × a shaft's radius of its axis */
-#define MERP_JOINT_MAX_CELLS 2000000u /* a patch's grid at most (a run up a thick trunk may need 1.4 M; the walk touches only the cells the surface crosses); a fork that needs more stays tubes */
+/* A patch's grid at most: a run of eight forks up a thick trunk, or one
+ * with a thin continuation, may need several million (the walk touches
+ * only the cells the surface crosses, and its arrays are allocated, not
+ * cleared, but for a bit a sample and a cell); a fork that needs more
+ * stays tubes. */
+#define MERP_JOINT_MAX_CELLS 8000000u
 /* The grid of jt's patch into *g (joints_plan.c): the box of every shaft
  * from its J to just past its cut, and of every fork's J, grown by the
  * shell its surface stays in, with cells of h, its origin moved back by
