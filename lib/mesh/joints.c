@@ -303,12 +303,13 @@ static void free_patch(merp_joint *jt)
  * keeps the branch bark ridge's crease sharp (G04 §3.2), on the fork's grid,
  * on it moved by SHIFT, on a finer one and on the finest (FINEST: a thin
  * continuation's); then marching tetrahedra on the first and the finer,
- * whose crease is rounded off within a cell (before the finest grid, it made 29 of 3,246 patches on 25 trees;
- * now 2 of 3,264). Dual contouring's patch may not close where two sheets
- * of a cell cross one face twice, or two vertices fall at one position;
- * either's where the thinnest laterals (a little over a cell per radius)
- * leave a cut's cap so few cells near its rim that the side cuts a piece of
- * it off, a second loop on that cut. The first patch that closes is kept.
+ * whose crease is rounded off within a cell (before the finest grid, it
+ * made 29 of 3,246 patches on 25 trees; now 2 of 3,264). Dual contouring's
+ * patch may not close where a cell's sheet meets one face twice (SHIFT), or
+ * two vertices fall at one position, or where the thinnest laterals (a
+ * little over a cell per radius) leave a cut's cap so few cells near its
+ * rim that the side cuts a piece of it off, a second loop on that cut. The
+ * first patch that closes is kept.
  * MER_ERR_INVALID (and the caller unplans the fork) when none does. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
 {
