@@ -251,10 +251,11 @@ static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float
     /* Exact arrays, with room for the seam's copies (at most one a vertex). */
     size_t room = 2 * (size_t)m.vertex_count;
     if (rc == MER_OK) {
-        jt->mesh = (merp_trimesh){m.vertex_count, m.triangle_count,
-                                  merp_malloc(room * 3 * sizeof(float)),
-                                  merp_malloc(room * 3 * sizeof(float)),
-                                  merp_malloc((size_t)m.triangle_count * 3 * sizeof(uint32_t))};
+        jt->mesh = (merp_trimesh){.vertex_count = m.vertex_count,
+                                  .triangle_count = m.triangle_count,
+                                  .positions = merp_malloc(room * 3 * sizeof(float)),
+                                  .normals = merp_malloc(room * 3 * sizeof(float)),
+                                  .triangles = merp_malloc((size_t)m.triangle_count * 3 * sizeof(uint32_t))};
         jt->uvs = merp_malloc(room * 2 * sizeof(float));
         jt->ridge = merp_malloc(room * sizeof(float));
         jt->shaft = merp_malloc(room);
@@ -287,8 +288,8 @@ static void free_patch(merp_joint *jt)
 /* A patch's finer grids: these × the first's cell. The first is set by
  * the parent's and the laterals' radii, not the continuation's; where the
  * continuation is far thinner (a sylleptic fork's), its cut ring may span
- * too few cells for the patch to close on either of the first two grids,
- * and closes on the finest. */
+ * too few cells for the patch to close on the fork's grid, moved or not,
+ * or on the finer one, and closes on the finest. */
 #define FINER 0.7f
 #define FINEST 0.5f
 /* The fork's grid moved back by this × its cell on every axis: where dual

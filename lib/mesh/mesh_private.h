@@ -264,8 +264,10 @@ float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
 #define MERP_JOINT_SHELL 1.6f /* the surface stays within this × a shaft's radius of its axis */
 /* A patch's grid at most: a run of eight forks up a thick trunk, or one
  * with a thin continuation, may need several million (the walk touches
- * only the cells the surface crosses, and its arrays are allocated, not
- * cleared, but for a bit a sample and a cell); a fork that needs more
+ * only the cells the surface crosses: its per-cell and per-sample arrays,
+ * some 50 bytes a cell, are reserved but cleared only for a bit a sample
+ * and a cell, and the mesh's arrays are capped by MERP_PATCH_ROOM_VERTICES,
+ * not sized for a surface through every cell); a fork that needs more
  * stays tubes. */
 #define MERP_JOINT_MAX_CELLS 8000000u
 /* The grid of jt's patch into *g (joints_plan.c): the box of every shaft

@@ -51,8 +51,9 @@ int main(int argc, char **argv)
         const merp_patch pt = f.pt;
         uint64_t vmax, tmax;
         merp_patch_bound(&pt, &vmax, &tmax);
-        merp_trimesh m = {0, 0, malloc(vmax * 3 * sizeof(float)), malloc(vmax * 3 * sizeof(float)),
-                          malloc(tmax * 3 * sizeof(uint32_t))};
+        merp_trimesh m = {.positions = malloc(vmax * 3 * sizeof(float)),
+                          .normals = malloc(vmax * 3 * sizeof(float)),
+                          .triangles = malloc(tmax * 3 * sizeof(uint32_t))};
         mer_error err;
         int built = 1;
         for (int i = 0; built && i < runs; i++) {

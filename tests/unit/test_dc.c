@@ -103,6 +103,49 @@ static void ball(void **state)
     mesh_free(&o);
 }
 
+/* With rooms set (merp_trimesh.vertex_room, triangle_room), both
+ * polygonizers stop with MER_ERR_INVALID rather than write past them, and
+ * with room enough give the mesh they give with their whole bound: a run's
+ * patch reserves what its surface can take, not what a surface through
+ * every cell of its grid would. */
+static void rooms_are_kept(void **state)
+{
+    (void)state;
+    const merp_seg s = {{0, 0, 0}, {0, 0, 0}, 1, 1};
+    const merp_grid g = {{-1.5f, -1.5f, -1.5f}, 0.1f, {30, 30, 30}};
+    for (int sharp = 0; sharp < 2; sharp++) {
+        mesh_out whole;
+        if (sharp)
+            dc(&g, seg_fn, &s, &whole);
+        else
+            mtet(&g, seg_fn, &s, &whole);
+        uint32_t V = whole.m.vertex_count, T = whole.m.triangle_count;
+        /* rooms as the whole mesh needs (plus a cell's worth), then one short */
+        const uint32_t rooms[4][2] = {{V + 19, T + 12}, {V + 19, 0}, {V / 2, 0}, {0, T / 2}};
+        for (int r = 0; r < 4; r++) {
+            mesh_out o;
+            mesh_alloc(&o, rooms[r][0] ? rooms[r][0] : whole.vmax, rooms[r][1] ? rooms[r][1] : whole.tmax);
+            o.m.vertex_room = rooms[r][0], o.m.triangle_room = rooms[r][1];
+            mer_error err;
+            mer_result rc = sharp ? merp_dc_polygonize(&g, seg_fn, NULL, &s, NULL, 0, &o.m, NULL, &err)
+                                  : merp_mtet_polygonize(&g, seg_fn, &s, &o.m, &err);
+            if (r < 2) {
+                assert_int_equal(rc, MER_OK);
+                assert_int_equal(o.m.vertex_count, V);
+                assert_int_equal(o.m.triangle_count, T);
+                assert_memory_equal(o.m.positions, whole.m.positions, (size_t)V * 3 * sizeof(float));
+                assert_memory_equal(o.m.triangles, whole.m.triangles, (size_t)T * 3 * sizeof(uint32_t));
+            } else {
+                assert_int_equal(rc, MER_ERR_INVALID);
+                assert_true(o.m.vertex_count <= (rooms[r][0] ? rooms[r][0] : V));
+                assert_true(o.m.triangle_count <= (rooms[r][1] ? rooms[r][1] : T));
+            }
+            mesh_free(&o);
+        }
+        mesh_free(&whole);
+    }
+}
+
 static void capsule(void **state)
 {
     (void)state;
@@ -182,6 +225,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(ball),
+        cmocka_unit_test(rooms_are_kept),
         cmocka_unit_test(capsule),
         cmocka_unit_test(cube_creases),
     };

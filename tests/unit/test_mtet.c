@@ -155,8 +155,9 @@ static void seeded_walk(void **state)
     const merp_seg s = {{0, 0, 0}, {0, 0, 0}, 1, 1};
     mesh_out dense, walked;
     polygonize(&grid_ball, seg_fn, &s, &dense);
-    walked.m = (merp_trimesh){0, 0, malloc(dense.vmax * 3 * sizeof(float)), malloc(dense.vmax * 3 * sizeof(float)),
-                              malloc(dense.tmax * 3 * sizeof(uint32_t))};
+    walked.m = (merp_trimesh){.positions = malloc(dense.vmax * 3 * sizeof(float)),
+                              .normals = malloc(dense.vmax * 3 * sizeof(float)),
+                              .triangles = malloc(dense.tmax * 3 * sizeof(uint32_t))};
     const float seed[1][3] = {{0.05f, -0.3f, 0.2f}};
     mer_error err;
     assert_int_equal(merp_mtet_polygonize_seeded(&grid_ball, seg_fn, &s, seed, 1, &walked.m, &err), MER_OK);

@@ -106,7 +106,7 @@ static soup *patch_soup(fork_fixture *f, merp_trimesh *m)
     soup *s = calloc(1, sizeof *s);
     s->pos = malloc((vmax + STUBS_V) * 3 * sizeof(float));
     s->tri = malloc((tmax + STUBS_T) * 3 * sizeof(uint32_t));
-    *m = (merp_trimesh){0, 0, s->pos, malloc(vmax * 3 * sizeof(float)), s->tri};
+    *m = (merp_trimesh){.positions = s->pos, .normals = malloc(vmax * 3 * sizeof(float)), .triangles = s->tri};
     mer_error err;
     if (merp_patch_build(&f->pt, m, &err) != MER_OK)
         fail_msg("%s", err.message);
@@ -163,7 +163,7 @@ static bool dc_closes(fork_fixture *f)
     f->pt.sharp = 1;
     uint64_t vmax, tmax;
     merp_patch_bound(&f->pt, &vmax, &tmax);
-    merp_trimesh m = {0, 0, malloc(vmax * 3 * sizeof(float)), NULL, malloc(tmax * 3 * sizeof(uint32_t))};
+    merp_trimesh m = {.positions = malloc(vmax * 3 * sizeof(float)), .triangles = malloc(tmax * 3 * sizeof(uint32_t))};
     mer_error err;
     bool ok = merp_patch_build(&f->pt, &m, &err) == MER_OK &&
               merp_patch_closes(&m, m.vertex_count - 3 * SIDES);

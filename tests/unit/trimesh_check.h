@@ -76,8 +76,9 @@ typedef struct mesh_out {
 static inline void mesh_alloc(mesh_out *o, uint64_t vertices, uint64_t triangles)
 {
     o->vmax = vertices, o->tmax = triangles;
-    o->m = (merp_trimesh){0, 0, malloc(vertices * 3 * sizeof(float)), malloc(vertices * 3 * sizeof(float)),
-                          malloc(triangles * 3 * sizeof(uint32_t))};
+    o->m = (merp_trimesh){.positions = malloc(vertices * 3 * sizeof(float)),
+                          .normals = malloc(vertices * 3 * sizeof(float)),
+                          .triangles = malloc(triangles * 3 * sizeof(uint32_t))};
 }
 
 static inline void mesh_free(mesh_out *o)

@@ -469,14 +469,24 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
     uint32_t cell[3];
     float cf[8];
     uint8_t mask;
-    while (rc == MER_OK && merp_walk_next(&w, cell, cf, &mask))
-        rc = cell_vertices(&d, cell, cf, mask);
+    bool room = true;
+    while (rc == MER_OK && room && merp_walk_next(&w, cell, cf, &mask)) {
+        room = out->vertex_room == 0 || out->vertex_count + MERP_DC_SHEETS <= out->vertex_room;
+        if (room)
+            rc = cell_vertices(&d, cell, cf, mask);
+    }
     /* Every crossed cell has its vertices: now the quads, in the walk's
-     * order (that of d.sheets), from the masks the cells kept. */
-    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK; i++)
-        cell_quads(&d, d.sheets[i].cell, d.sheets[i].mask);
+     * order (that of d.sheets), from the masks the cells kept: a quad for
+     * each of a cell's three edges at its lowest corner, two triangles. */
+    for (uint32_t i = 0; i < d.nsheets && rc == MER_OK && room; i++) {
+        room = out->triangle_room == 0 || out->triangle_count + 6 <= out->triangle_room;
+        if (room)
+            cell_quads(&d, d.sheets[i].cell, d.sheets[i].mask);
+    }
     dc_free(&w, &d);
     if (rc != MER_OK)
         return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory polygonizing a field");
+    if (!room)
+        return mer_error_set(err, MER_ERR_INVALID, NULL, "a polygonized surface outgrows its arrays");
     return MER_OK;
 }

@@ -223,6 +223,10 @@ typedef struct merp_trimesh {
     uint32_t vertex_count, triangle_count;
     float *positions, *normals;
     uint32_t *triangles;
+    /* The arrays' room for a polygonizer: 0 where they hold its *_bound
+     * (nothing to check); else it stops with MER_ERR_INVALID before its
+     * counts would pass them (merp_patch_bound's caps). */
+    uint32_t vertex_room, triangle_room;
 } merp_trimesh;
 
 /* The most vertices and triangles merp_mtet_polygonize can write for `g`: one
@@ -238,8 +242,9 @@ void merp_mtet_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles
  * the outside one). Vertices are refined on their edge by regula falsi to
  * |f − c| small; normals are −∇f by central differences. Samples are
  * evaluated once; edges are only solved in cells whose corners differ in sign.
- * `out` must hold merp_mtet_bound's counts; its counts are set. Errors:
- * MER_ERR_NOMEM (scratch). Cost O(samples) evaluations + O(crossed cells). */
+ * `out` must hold merp_mtet_bound's counts, or its rooms be set; its counts
+ * are set. Errors: MER_ERR_NOMEM (scratch), MER_ERR_INVALID (past a room).
+ * Cost O(samples) evaluations + O(crossed cells). */
 mer_result merp_mtet_polygonize(const merp_grid *g, merp_field_fn f, const void *data,
                                 merp_trimesh *out, mer_error *err);
 
@@ -290,10 +295,10 @@ typedef struct merp_dc_source {
  * looked at; else only the surface reached from the seeds (as
  * merp_mtet_polygonize_seeded). Normals are −∇f at the vertices (one side's,
  * on a crease): from `grad` in closed form, or with `grad` NULL by forward
- * differences (three evaluations). `out` holds merp_dc_bound's counts; `src`
- * (NULL, or room for as many vertices) gets each vertex's source. Errors:
- * MER_ERR_NOMEM. Cost: O(crossed cells) evaluations: each crossed edge is
- * solved once. */
+ * differences (three evaluations). `out` holds merp_dc_bound's counts, or
+ * its rooms are set; `src` (NULL, or room for as many vertices) gets each
+ * vertex's source. Errors: MER_ERR_NOMEM; MER_ERR_INVALID (past a room).
+ * Cost: O(crossed cells) evaluations: each crossed edge is solved once. */
 mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad,
                               const void *data, const float (*seeds)[3], uint32_t nseeds,
                               merp_trimesh *out, merp_dc_source *src, mer_error *err);
@@ -548,8 +553,12 @@ typedef struct merp_patch {
 } merp_patch;
 
 /* The most vertices and triangles merp_patch_build writes: the polygonizer's
- * bound for the grid, plus each cut's ring and its stitch (the loop's
- * vertices are the polygonizer's). */
+ * bound for the grid, capped at MERP_PATCH_ROOM_VERTICES and twice as many
+ * triangles, plus each cut's ring and its stitch (the loop's vertices are
+ * the polygonizer's). The bound of a surface through every cell of the grid
+ * would reserve gigabytes for a run's grid of millions of cells, whose
+ * surface crosses a few per cent of them. */
+#define MERP_PATCH_ROOM_VERTICES (1u << 20) /* far past any patch the mesh keeps (MER_MESH_CHUNK_VERTICES) */
 void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles);
 
 /* Polygonizes the junction between its cuts and stitches each cut's boundary
@@ -567,7 +576,8 @@ void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triang
  * wound outwards.
  * `out` holds merp_patch_bound's counts; unused polygonizer vertices are
  * dropped. Errors: MER_ERR_NOMEM; MER_ERR_INVALID when a cut leaves no single
- * loop (the grid or cuts do not fit the junction). Cost: the polygonizer's,
+ * loop (the grid or cuts do not fit the junction), or the surface outgrows
+ * the polygonizer's capped room. Cost: the polygonizer's,
  * plus O(vertices log vertices). */
 mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *err);
 

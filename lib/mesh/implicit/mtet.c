@@ -191,10 +191,19 @@ static mer_result march(const merp_grid *g, merp_field_fn f, const void *data, c
     uint32_t cell[3];
     float cf[8];
     uint8_t mask;
-    while (merp_walk_next(&w, cell, cf, &mask))
-        cell_march(&m, cell, cf);
+    bool room = true;
+    while (room && merp_walk_next(&w, cell, cf, &mask)) {
+        /* A cell adds at most a vertex per edge of its tetrahedra (19) and
+         * two triangles per tetrahedron. */
+        room = (out->vertex_room == 0 || out->vertex_count + 19 <= out->vertex_room) &&
+               (out->triangle_room == 0 || out->triangle_count + 12 <= out->triangle_room);
+        if (room)
+            cell_march(&m, cell, cf);
+    }
     merp_walk_free(&w);
     merp_free(m.edge_v), merp_free(m.cleared);
+    if (!room)
+        return mer_error_set(err, MER_ERR_INVALID, NULL, "a polygonized surface outgrows its arrays");
     return MER_OK;
 }
 

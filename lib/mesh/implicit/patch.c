@@ -68,12 +68,22 @@ static float clipped_gradient(const float p[3], const void *data, float g[3])
     return f;
 }
 
-void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
+/* The polygonizer's room: its bound, capped (merp_patch_bound). */
+static void polygonizer_room(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
 {
     if (pt->sharp)
         merp_dc_bound(&pt->grid, vertices, triangles);
     else
         merp_mtet_bound(&pt->grid, vertices, triangles);
+    if (*vertices > MERP_PATCH_ROOM_VERTICES)
+        *vertices = MERP_PATCH_ROOM_VERTICES;
+    if (*triangles > 2 * (uint64_t)MERP_PATCH_ROOM_VERTICES)
+        *triangles = 2 * (uint64_t)MERP_PATCH_ROOM_VERTICES;
+}
+
+void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
+{
+    polygonizer_room(pt, vertices, triangles);
     for (uint32_t i = 0; i < pt->cuts; i++) {
         *vertices += pt->cut[i].sides;
         /* A stitch is a triangle per loop vertex and per ring vertex; the
@@ -495,6 +505,8 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
         for (int k = 0; k < 3; k++)
             seeds[i][k] = i == 0 ? J[k] : 0.5f * (J[k] + pt->cut[i - 1].o[k]);
     uint64_t vmax, tmax;
+    polygonizer_room(pt, &vmax, &tmax);
+    out->vertex_room = (uint32_t)vmax, out->triangle_room = (uint32_t)tmax;
     merp_patch_bound(pt, &vmax, &tmax);
     int8_t *on_cut = merp_malloc((size_t)vmax);
     merp_dc_source *cells = pt->sharp ? merp_malloc((size_t)vmax * sizeof *cells) : NULL;
