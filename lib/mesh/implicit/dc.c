@@ -471,7 +471,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
     uint8_t mask;
     bool room = true;
     while (rc == MER_OK && room && merp_walk_next(&w, cell, cf, &mask)) {
-        room = out->vertex_room == 0 || out->vertex_count + MERP_DC_SHEETS <= out->vertex_room;
+        room = merp_trimesh_has_room(out, MERP_DC_SHEETS, 0);
         if (room)
             rc = cell_vertices(&d, cell, cf, mask);
     }
@@ -479,7 +479,7 @@ mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient
      * order (that of d.sheets), from the masks the cells kept: a quad for
      * each of a cell's three edges at its lowest corner, two triangles. */
     for (uint32_t i = 0; i < d.nsheets && rc == MER_OK && room; i++) {
-        room = out->triangle_room == 0 || out->triangle_count + 6 <= out->triangle_room;
+        room = merp_trimesh_has_room(out, 0, 6);
         if (room)
             cell_quads(&d, d.sheets[i].cell, d.sheets[i].mask);
     }

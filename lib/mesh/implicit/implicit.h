@@ -229,6 +229,14 @@ typedef struct merp_trimesh {
     uint32_t vertex_room, triangle_room;
 } merp_trimesh;
 
+/* Whether m's arrays have room for `vertices` and `triangles` more (always,
+ * where its rooms are 0). */
+static inline bool merp_trimesh_has_room(const merp_trimesh *m, uint32_t vertices, uint32_t triangles)
+{
+    return (m->vertex_room == 0 || m->vertex_count + vertices <= m->vertex_room) &&
+           (m->triangle_room == 0 || m->triangle_count + triangles <= m->triangle_room);
+}
+
 /* The most vertices and triangles merp_mtet_polygonize can write for `g`: one
  * vertex per grid edge of the Freudenthal triangulation (7 a sample), two
  * triangles per tetrahedron (6 a cell). */

@@ -195,8 +195,7 @@ static mer_result march(const merp_grid *g, merp_field_fn f, const void *data, c
     while (room && merp_walk_next(&w, cell, cf, &mask)) {
         /* A cell adds at most a vertex per edge of its tetrahedra (19) and
          * two triangles per tetrahedron. */
-        room = (out->vertex_room == 0 || out->vertex_count + 19 <= out->vertex_room) &&
-               (out->triangle_room == 0 || out->triangle_count + 12 <= out->triangle_room);
+        room = merp_trimesh_has_room(out, 19, 12);
         if (room)
             cell_march(&m, cell, cf);
     }

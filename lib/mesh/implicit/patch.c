@@ -81,9 +81,9 @@ static void polygonizer_room(const merp_patch *pt, uint64_t *vertices, uint64_t 
         *triangles = 2 * (uint64_t)MERP_PATCH_ROOM_VERTICES;
 }
 
-void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
+/* merp_patch_bound from the polygonizer's room: each cut's ring and stitch added. */
+static void add_stitches(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
 {
-    polygonizer_room(pt, vertices, triangles);
     for (uint32_t i = 0; i < pt->cuts; i++) {
         *vertices += pt->cut[i].sides;
         /* A stitch is a triangle per loop vertex and per ring vertex; the
@@ -91,6 +91,12 @@ void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triang
         *triangles += pt->cut[i].sides;
     }
     *triangles += *vertices;
+}
+
+void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles)
+{
+    polygonizer_room(pt, vertices, triangles);
+    add_stitches(pt, vertices, triangles);
 }
 
 typedef struct edge {
@@ -507,7 +513,7 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
     uint64_t vmax, tmax;
     polygonizer_room(pt, &vmax, &tmax);
     out->vertex_room = (uint32_t)vmax, out->triangle_room = (uint32_t)tmax;
-    merp_patch_bound(pt, &vmax, &tmax);
+    add_stitches(pt, &vmax, &tmax);
     int8_t *on_cut = merp_malloc((size_t)vmax);
     merp_dc_source *cells = pt->sharp ? merp_malloc((size_t)vmax * sizeof *cells) : NULL;
     if (on_cut == NULL || (pt->sharp && cells == NULL)) {
