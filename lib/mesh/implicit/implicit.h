@@ -579,9 +579,13 @@ void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triang
  * lies in its plane; each loop vertex is then moved in that plane, along
  * its ray from o, to just inside the ring's polygon (the surface at a cut is
  * the plain tube, so this undoes the polygonizer's error of about a cell,
- * which the zip would show as a ledge round the shaft). The result's only
- * open edges are the rings' (so a tube that shares the ring closes it),
- * wound outwards.
+ * which the zip would show as a ledge round the shaft), and the surface
+ * within half a ring radius before the cut is drawn towards the ring's
+ * polygon, fully at the loop and not at all half a radius in (the tube
+ * beyond is a prism on that polygon, inside the round surface by up to
+ * 1 − cos(π / sides) of the radius: a shoulder otherwise). The result's
+ * only open edges are the rings' (so a tube that shares the ring closes
+ * it), wound outwards.
  * `out` holds merp_patch_bound's counts; unused polygonizer vertices are
  * dropped. Errors: MER_ERR_NOMEM; MER_ERR_INVALID when a cut leaves no single
  * loop (the grid or cuts do not fit the junction), or the surface outgrows

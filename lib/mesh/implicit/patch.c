@@ -192,11 +192,32 @@ static float wrap_2pi(float a)
  * a diagonal) would otherwise take that vertex's very position, which the
  * closure check, welding bit-equal positions, reads as one vertex. */
 #define SEAT_INSET 1e-3f
+
+/* The distance from the cut's centre to the ring's polygon along the unit
+ * direction (x, y) in the frame (u, v), whose angle as stitch measures it is
+ * a (the ring's angles φ sorted by `order`); 0 where the ray meets no edge
+ * ahead (a ring that is no convex polygon about o). */
+static float ring_polygon_at(const merp_cut *c, const float u[3], const float v[3], float x, float y, float a,
+                             const float *phi, const uint32_t *order)
+{
+    uint32_t s = c->sides, k = 0; /* the last ring vertex at or before a, cyclically */
+    while (k + 1 < s && phi[order[k + 1]] <= a)
+        k++;
+    if (phi[order[0]] > a)
+        k = s - 1;
+    const float *pa = c->ring + 3 * (size_t)order[k], *pb = c->ring + 3 * (size_t)order[(k + 1) % s];
+    float da[3] = {pa[0] - c->o[0], pa[1] - c->o[1], pa[2] - c->o[2]};
+    float db[3] = {pb[0] - c->o[0], pb[1] - c->o[1], pb[2] - c->o[2]};
+    float ax = v3_dot(da, u), ay = v3_dot(da, v), ex = v3_dot(db, u) - ax, ey = v3_dot(db, v) - ay;
+    /* The ray t·(x, y) meets a + σ·e where t = (a × e) / ((x, y) × e). */
+    float den = x * ey - y * ex, t = (ax * ey - ay * ex) / den;
+    return den != 0.0f && t > 0.0f ? t : 0.0f;
+}
+
 static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], const float v[3],
                       const uint32_t *L, uint32_t m_len, const float *alpha, const float *phi,
                       const uint32_t *order)
 {
-    uint32_t s = c->sides;
     for (uint32_t i = 0; i < m_len; i++) {
         float *p = m->positions + 3 * (size_t)L[i];
         float d[3] = {p[0] - c->o[0], p[1] - c->o[1], p[2] - c->o[2]};
@@ -204,23 +225,64 @@ static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], cons
         if (!(len > 0.0f))
             continue; /* on the axis: no direction to seat it along */
         x /= len, y /= len;
-        float a = alpha[i];
-        uint32_t k = 0; /* the last ring vertex at or before a, cyclically */
-        while (k + 1 < s && phi[order[k + 1]] <= a)
-            k++;
-        if (phi[order[0]] > a)
-            k = s - 1;
-        const float *pa = c->ring + 3 * (size_t)order[k], *pb = c->ring + 3 * (size_t)order[(k + 1) % s];
-        float da[3] = {pa[0] - c->o[0], pa[1] - c->o[1], pa[2] - c->o[2]};
-        float db[3] = {pb[0] - c->o[0], pb[1] - c->o[1], pb[2] - c->o[2]};
-        float ax = v3_dot(da, u), ay = v3_dot(da, v), ex = v3_dot(db, u) - ax, ey = v3_dot(db, v) - ay;
-        /* The ray t·(x, y) meets a + σ·e where t = (a × e) / ((x, y) × e). */
-        float den = x * ey - y * ex, t = (ax * ey - ay * ex) / den;
-        if (!(den != 0.0f && t > 0.0f))
-            continue; /* a ring that is no convex polygon about o: leave it */
+        float t = ring_polygon_at(c, u, v, x, y, alpha[i], phi, order);
+        if (!(t > 0.0f))
+            continue;
         t *= 1.0f - SEAT_INSET;
         for (int q = 0; q < 3; q++)
             p[q] = c->o[q] + t * (x * u[q] + y * v[q]);
+    }
+}
+
+/* The band of shaft before a cut, TAPER_BAND × the ring's radius long: the
+ * patch's surface there is round (the field's capsule), the tube's beyond
+ * the cut a prism on the ring's polygon, whose sides lie up to 1 − cos(π /
+ * sides) of the radius inside the circle (13 % at six sides, 3 % at twelve).
+ * Seated on the polygon, the loop meets the prism, but the round surface a
+ * cell before it stood out from it by that much: a shoulder round the shaft
+ * at every cut, plain in the page's close-up at detail 2. */
+#define TAPER_BAND 0.5f
+
+/* Moves the patch's vertices in cut c's band (the first `vertices`, but
+ * those on a cut: the loops, seated already, and the caps, dropped) towards
+ * the ring's polygon, each about the cut's axis along its own ray, by the
+ * weight w = 1 − smoothstep of its distance from the plane over the band:
+ * the outline goes from the polygon's at the cut to the round one at the
+ * band's end with no step and no kink (w and its slope are continuous at
+ * both ends). Only vertices within the cut's reach of its axis move: the
+ * plan keeps the other primitives' supports off the cut's disk, so what
+ * moves is this shaft's surface (half a radius in, at most the foot of a
+ * blend, by a few per cent of the radius). `a0`, `sgn`: stitch's angle
+ * measure. */
+static void taper_band(merp_trimesh *m, const merp_cut *c, const float u[3], const float v[3], float a0, float sgn,
+                       const float *phi, const uint32_t *order, const int8_t *on_cut, uint32_t vertices)
+{
+    float r = 0.0f; /* the ring's radius: the largest of its vertices' */
+    for (uint32_t j = 0; j < c->sides; j++) {
+        const float *q = c->ring + 3 * (size_t)j;
+        float d[3] = {q[0] - c->o[0], q[1] - c->o[1], q[2] - c->o[2]};
+        r = fmaxf(r, v3_len(d));
+    }
+    const float band = TAPER_BAND * r;
+    if (!(band > 0.0f))
+        return;
+    for (uint32_t i = 0; i < vertices; i++) {
+        if (on_cut[i] >= 0)
+            continue;
+        float *p = m->positions + 3 * (size_t)i, before = -cut_distance(c, p);
+        if (!(before > 0.0f && before < band))
+            continue;
+        float d[3] = {p[0] - c->o[0], p[1] - c->o[1], p[2] - c->o[2]};
+        float x = v3_dot(d, u), y = v3_dot(d, v), len = sqrtf(x * x + y * y);
+        if (!(len > 0.0f && len <= c->reach))
+            continue;
+        x /= len, y /= len;
+        float rho = ring_polygon_at(c, u, v, x, y, wrap_2pi(sgn * (atan2f(y, x) - a0)), phi, order);
+        if (!(rho > 0.0f && rho < r))
+            continue;
+        float f = before / band, w = 1.0f - f * f * (3.0f - 2.0f * f), move = len * w * (1.0f - rho / r);
+        for (int q = 0; q < 3; q++)
+            p[q] -= move * (x * u[q] + y * v[q]);
     }
 }
 
@@ -229,7 +291,7 @@ static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], cons
  * (L_{i+1}, L_i, R_j) when the loop's next vertex comes first, (R_j, R_{j+1},
  * L_i) when the ring's does, so the band runs each loop edge backwards. */
 static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, uint32_t m_len,
-                         float *scratch, uint32_t *order, mer_error *err)
+                         const int8_t *on_cut, uint32_t vertices, float *scratch, uint32_t *order, mer_error *err)
 {
     float u[3], v[3];
     v3_any_perp(c->n, u);
@@ -278,6 +340,7 @@ static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, 
             order[k] = order[k - 1], order[k - 1] = t;
         }
     seat_loop(m, c, u, v, L, m_len, alpha, phi, order);
+    taper_band(m, c, u, v, a0, sgn, phi, order, on_cut, vertices);
     uint32_t i = 0, j = 0, s = c->sides;
     while (i < m_len || j < s) {
         float next_ring = j + 1 < s ? phi[order[j + 1]] : phi[order[0]] + MERP_TWO_PI;
@@ -486,7 +549,7 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int8_t *on_c
         uint32_t len = 0;
         rc = take_loop(on_cut, next, vertices, i, L, &len, err);
         if (rc == MER_OK)
-            rc = stitch(m, &pt->cut[i], L, len, scratch, order, err);
+            rc = stitch(m, &pt->cut[i], L, len, on_cut, vertices, scratch, order, err);
     }
     for (uint32_t v = 0; v < vertices && rc == MER_OK; v++)
         if (next[v] < UINT32_MAX - 1)
