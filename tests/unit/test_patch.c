@@ -243,7 +243,8 @@ static float farthest_off_polygon(const float *rho, size_t nrho, float lo, float
                 for (int i = 0; i < 3; i++) {
                     float d[3] = {p[0] - f.o[i][0], p[1] - f.o[i][1], p[2] - f.o[i][2]};
                     float along = v3_dot(d, f.n[i]);
-                    if (along < lo * f.r[i] || along > hi * f.r[i] || v3_dot(d, d) - along * along > 2.0f * f.r[i] * f.r[i])
+                    bool off_band = along < lo * f.r[i] || along > hi * f.r[i];
+                    if (off_band || v3_dot(d, d) - along * along > 2.0f * f.r[i] * f.r[i])
                         continue;
                     float q[3] = {p[0] - along * f.n[i][0], p[1] - along * f.n[i][1], p[2] - along * f.n[i][2]};
                     worst = fmaxf(worst, to_polygon(f.rings[i], SIDES, q) / f.r[i]);

@@ -277,7 +277,7 @@ static void taper_band(merp_trimesh *m, const merp_cut *c, const float u[3], con
         if (!(len > 0.0f && len <= c->reach))
             continue;
         x /= len, y /= len;
-        float rho = ring_polygon_at(c, u, v, x, y, wrap_2pi(sgn * (atan2f(y, x) - a0)), phi, order);
+        float rho = ring_polygon_at(c, u, v, x, y, wrap_2pi(sgn * (angle_about(c, u, v, p) - a0)), phi, order);
         if (!(rho > 0.0f && rho < r))
             continue;
         float f = before / band, w = 1.0f - f * f * (3.0f - 2.0f * f), move = len * w * (1.0f - rho / r);
