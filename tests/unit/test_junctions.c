@@ -50,6 +50,10 @@ static mer_scene *grown14(const char *preset, uint64_t seed)
     assert_int_equal(mer_preset_params(preset, &p, &err), MER_OK);
     mer_scene *s = NULL;
     assert_int_equal(mer_scene_new(&p, seed, &s, &err), MER_OK);
+    /* An L-system's or the inverse model's preset starts from its definition. */
+    const char *source = mer_preset_definition(preset);
+    if (source != NULL && (p.model == MER_MODEL_LSYSTEM || p.model == MER_MODEL_INVERSE))
+        assert_int_equal(mer_scene_set_definition(s, source, strlen(source), &err), MER_OK);
     assert_int_equal(mer_scene_step(s, 14, NULL, NULL, NULL, NULL, &err), MER_OK);
     return s;
 }
@@ -318,6 +322,33 @@ static void sylleptic_forks_mesh(void **state)
     assert_true(c.patched > 795);
     assert_int_equal(c.open, 0);
     assert_true(c.unfit <= 79);
+}
+
+/* Junctions for every growth model (issue 18: "for every growth model"):
+ * an L-system's (ABOP's Fig. 2.6a), space colonization's (P09's Fig. 4,
+ * Runions et al.'s 2007) and the inverse model's trees each get patches,
+ * and each whole bark is closed (closed_with_junctions). */
+static void every_growth_model_gets_patches(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *preset;
+        uint32_t patched; /* at least, seeds 1-2 */
+    } trees[] = {{"abop-2.6a", 55}, {"fig4-colonization", 180}, {"runions-2007", 110}, {"inverse-conifer", 14}};
+    for (size_t t = 0; t < sizeof trees / sizeof *trees; t++) {
+        junction_counts c = {0};
+        uint32_t closed = 0;
+        for (uint64_t seed = 1; seed <= 2; seed++) {
+            mer_scene *s = grown14(trees[t].preset, seed);
+            add_counts(s, &c);
+            closed += closed_with_junctions(s);
+            mer_scene_free(s);
+        }
+        print_message("%s, seeds 1-2: %u patched, %u open, %u unfit\n", trees[t].preset, c.patched, c.open, c.unfit);
+        assert_int_equal(closed, c.patched);
+        assert_true(c.patched >= trees[t].patched);
+        assert_int_equal(c.open, 0);
+    }
 }
 
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
@@ -1133,6 +1164,7 @@ int main(void)
         cmocka_unit_test(whole_tree_is_closed),
         cmocka_unit_test(chosen_forks_get_patches),
         cmocka_unit_test(sylleptic_forks_mesh),
+        cmocka_unit_test(every_growth_model_gets_patches),
         cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(close_forks_get_one_patch),
         cmocka_unit_test(thick_trunk_runs_get_big_grids),
