@@ -58,9 +58,18 @@ mer_result merp_mesh_collect_axes(merp_builder *b, mer_error *err)
         a->lost_bands = 0;
         a->ends_in = 0;
         uint32_t last = id;
+        float length = n->length;
         while (alive(b, b->nodes[last].main_child)) {
             last = b->nodes[last].main_child;
+            length += b->nodes[last].length;
             a->count++;
+        }
+        // A branch of no length at all (a guiding-vector shoot of hops of
+        // none) is no tube: its rings would lie one on the other under a
+        // disk, bands of no area. Its own branches are axes of their own.
+        if (!trunk && !(length > 0.0f)) {
+            b->axis_count--;
+            continue;
         }
         // A tip still has its terminal bud (dormant, flowered or aborted); a
         // pruned or shed continuation leaves neither child nor bud: a cut.

@@ -100,6 +100,7 @@ typedef struct merp_cursor {
     uint32_t chunk_cap;
     uint32_t twig;     /* the `twig` flag of the chunks being made */
     uint32_t line_i;   /* next twig line index (bark only) */
+    uint32_t merged_v, merged_i; /* not written: rings that repeat the last and their bands (tube.c) */
 } merp_cursor;
 
 typedef struct merp_builder {

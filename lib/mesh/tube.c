@@ -8,6 +8,11 @@
 #include "mesh_private.h"
 #include "core/vec.h"
 
+/* What emit_ring may do with a ring that repeats the last (repeats_last):
+ * nothing, go on from the last where a band holds it, or also take the
+ * place of an axis's first ring, which no band holds yet. */
+typedef enum merge { MERGE_NONE, MERGE_HELD, MERGE_FIRST } merge;
+
 /* One axis being meshed: its ring layout and the frame carried along it. */
 typedef struct tube {
     const merp_axis *a;
@@ -16,6 +21,8 @@ typedef struct tube {
     uint32_t rings;             /* rings written: a tip ends in a cone, a cut in a ring */
     uint32_t ring0;             /* the first ring's first vertex */
     uint32_t prev_ring;         /* the last ring's first vertex */
+    bool prev_joined;           /* whether a band joins the last ring to one below */
+    bool prev_plain;            /* whether the last ring is an internode's (not a cut's) */
     float t_prev[3], normal[3]; /* the last ring's tangent and frame normal */
     float v;                    /* arc length / circumference so far (UV v) */
     float last_v, last_at, last_r; /* the last ring's v, its distance along its
@@ -79,16 +86,42 @@ static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center
     tb->v += circumference > 0.0f ? below->length / circumference : 0.0f;
 }
 
+/* Whether the ring about `center` of `radius` in the frame (tb->normal,
+ * bin) puts every vertex where the last ring's is, to the rounding of the
+ * coordinates (a millionth of their size: a zero-length internode whose
+ * tangent turns moves some vertices by an ulp). */
+static bool repeats_last(const tube *tb, const mer_mesh_part *part, const float center[3], float radius,
+                         const float bin[3])
+{
+    for (uint32_t j = 0; j < tb->sides; j++)
+        for (int k = 0; k < 3; k++) {
+            float p = center[k] + radius * (tb->cos_t[j] * tb->normal[k] + tb->sin_t[j] * bin[k]);
+            float q = part->positions[3 * ((size_t)tb->prev_ring + j) + k];
+            if (!(fabsf(p - q) <= 1e-6f * (1.0f + fabsf(q))))
+                return false;
+        }
+    return true;
+}
+
 /* A ring about `center` in the plane ⊥ t (the frame carried to t), normals
  * tilted by `slope` (the local taper, so a cone shades as a cone), UV v `v`,
  * joined by quads to the last ring when `join`. A cut ring of joint `jt`
  * (mesh.h, Junctions) is recorded there on a dry run and copied from there
  * otherwise, frame and all, with the normal the patch gave its copy, so the
- * two match bit for bit and shade alike. */
+ * two match bit for bit and shade alike.
+ *
+ * A ring that repeats the last internode's (repeats_last: the rings of an
+ * internode of no length, where an L-system string branches twice at one
+ * point or a guiding-vector branch begins with a hop of none) is not
+ * written, nor the band of no area between them, as `m` allows: the last
+ * ring goes on for both (MERGE_HELD), or, where no band holds the last yet
+ * (an axis's first ring), this one takes its place (MERGE_FIRST). Counted
+ * in the cursor's merged_v and merged_i. */
 static void emit_ring(merp_builder *b, tube *tb, const float center[3], const float t[3],
-                      float radius, float slope, float v, const mer_node *owner, bool join,
+                      float radius, float slope, float v, const mer_node *owner, bool join, merge m,
                       merp_joint *jt, uint32_t cut)
 {
+    assert(m == MERGE_NONE || jt == NULL);
     merp_cursor *c = &b->bark;
     const uint32_t sides = tb->sides, stride = tb->stride;
     if (jt != NULL && !b->dry) {
@@ -120,6 +153,17 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
         jt->sides[cut] = sides;
         return;
     }
+    if (m != MERGE_NONE && join && tb->prev_plain && (tb->prev_joined || m == MERGE_FIRST) &&
+        repeats_last(tb, c->part, center, radius, bin)) {
+        c->merged_v += stride;
+        c->merged_i += 6 * sides;
+        if (tb->prev_joined)
+            return;
+        /* The last ring, the axis's first, is the last vertices taken. */
+        c->v -= stride;
+        c->part->chunks[c->part->chunk_count - 1].vertex_count -= stride;
+        join = false;
+    }
     const uint32_t first = merp_take_vertices(c, stride);
     mer_mesh_part *part = c->part;
     for (uint32_t j = 0; j < stride; j++) {
@@ -146,6 +190,8 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
         }
     }
     tb->prev_ring = first;
+    tb->prev_joined = join;
+    tb->prev_plain = jt == NULL;
 }
 
 /* Ring i, and the quads joining it to the last ring when `join`. */
@@ -161,7 +207,12 @@ static void ring(merp_builder *b, tube *tb, uint32_t i, bool join)
     for (uint32_t k = lo; k < hi; k++)
         span += b->nodes[b->chain[k < count ? k : count - 1]].length;
     float slope = span > 0.0f ? (r[lo] - r[hi]) / span : 0.0f;
-    emit_ring(b, tb, center, t, r[i], slope, tb->v, owner, join, NULL, 0);
+    /* A twig's lines run from ring to ring; a disk's rim is vertices of its
+     * own, so the ring under it must keep a band. */
+    merge m = b->bark.twig ? MERGE_NONE
+              : i + 1 == tb->rings && tb->a->end != MERP_END_TIP ? MERGE_HELD
+                                                                  : MERGE_FIRST;
+    emit_ring(b, tb, center, t, r[i], slope, tb->v, owner, join, m, NULL, 0);
     tb->last_v = tb->v, tb->last_at = 0.0f, tb->last_r = r[i];
 }
 
@@ -180,7 +231,7 @@ static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, ui
     float slope = n->length > 0.0f ? (r[k] - r[k + 1]) / n->length : 0.0f;
     float circumference = MERP_TWO_PI * 0.5f * (r[k] + r[k + 1]);
     float v = tb->v + (circumference > 0.0f ? s / circumference : 0.0f), radius = r[k] + (r[k + 1] - r[k]) * f;
-    emit_ring(b, tb, center, t, radius, slope, v, n, join, jt, cut);
+    emit_ring(b, tb, center, t, radius, slope, v, n, join, MERGE_NONE, jt, cut);
     tb->last_v = v, tb->last_at = s, tb->last_r = radius;
 }
 

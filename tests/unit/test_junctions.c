@@ -326,15 +326,18 @@ static void sylleptic_forks_mesh(void **state)
 
 /* Junctions for every growth model (issue 18: "for every growth model"):
  * an L-system's (ABOP's Fig. 2.6a), space colonization's (P09's Fig. 4,
- * Runions et al.'s 2007) and the inverse model's trees each get patches,
- * and each whole bark is closed (closed_with_junctions). */
+ * Runions et al.'s 2007), the inverse model's and guiding vectors' (Xu &
+ * Mould's Fig. 4, whose internodes of no length once left bands of no
+ * area) trees each get patches, and each whole bark is closed
+ * (closed_with_junctions). */
 static void every_growth_model_gets_patches(void **state)
 {
     (void)state;
     static const struct {
         const char *preset;
         uint32_t patched; /* at least, seeds 1-2 */
-    } trees[] = {{"abop-2.6a", 55}, {"fig4-colonization", 180}, {"runions-2007", 110}, {"inverse-conifer", 14}};
+    } trees[] = {{"abop-2.6a", 55},       {"fig4-colonization", 180}, {"runions-2007", 110},
+                 {"inverse-conifer", 14}, {"gv-fig4-1000", 100}};
     for (size_t t = 0; t < sizeof trees / sizeof *trees; t++) {
         junction_counts c = {0};
         uint32_t closed = 0;

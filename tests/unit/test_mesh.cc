@@ -44,6 +44,10 @@ mer_scene *grow(const char *preset, uint32_t steps, uint64_t seed,
             fail_msg("set %s: %s", kv.first, err.message);
     mer_scene *s = nullptr;
     assert_int_equal(mer_scene_new(&p, seed, &s, &err), MER_OK);
+    // An L-system's or the inverse model's preset starts from its definition.
+    const char *source = mer_preset_definition(preset);
+    if (source != nullptr && (p.model == MER_MODEL_LSYSTEM || p.model == MER_MODEL_INVERSE))
+        assert_int_equal(mer_scene_set_definition(s, source, std::strlen(source), &err), MER_OK);
     assert_int_equal(mer_scene_step(s, steps, nullptr, nullptr, nullptr, nullptr, &err), MER_OK);
     return s;
 }
@@ -226,6 +230,58 @@ void test_tip_has_cap_closed_tube(void **)
     assert_true(found);
     mer_mesh_free(m);
     mer_scene_free(s);
+}
+
+// Internodes of no length (an L-system string that branches twice at one
+// point, ABOP's Fig. 2.8a ternary tree at every branch's end; guiding
+// vectors' shoots that begin with a hop of none, or are nothing else) put
+// two rings one on the other: the bark keeps one ring for both, so no
+// triangle of it has no area, and every vertex is a triangle's.
+void test_no_length_no_flat_bands(void **)
+{
+    for (const char *preset : {"abop-2.8a", "gv-fig4-1000"}) {
+        mer_scene *s = grow(preset, 14, 1);
+        uint32_t none = 0;
+        for (uint32_t id = 0; id < mer_scene_node_bound(s); id++) {
+            mer_node n{};
+            assert_int_equal(mer_scene_node(s, id, &n, nullptr), MER_OK);
+            none += n.alive && n.length == 0.0f;
+        }
+        print_message("%s: %u internodes of no length\n", preset, none);
+        assert_true(none > 20); // the case is there to be met
+        for (bool implicit : {false, true}) {
+            mer_mesh_options o{};
+            o.junctions = implicit ? MER_JUNCTIONS_IMPLICIT : MER_JUNCTIONS_TUBES;
+            mer_mesh *m = mesh_of(s, o);
+            const mer_mesh_part &b = m->bark;
+            std::vector<bool> used(b.vertex_count);
+            uint32_t flat = 0;
+            for (uint32_t c = 0; c < b.chunk_count; c++) {
+                const mer_mesh_chunk &ch = b.chunks[c];
+                for (uint32_t t = 0; t < ch.index_count; t += 3) {
+                    const float *p[3];
+                    for (uint32_t k = 0; k < 3; k++) {
+                        uint32_t v = ch.first_vertex + b.indices[ch.first_index + t + k];
+                        used[v] = true;
+                        p[k] = b.positions + 3 * static_cast<size_t>(v);
+                    }
+                    float e1[3], e2[3];
+                    for (int k = 0; k < 3; k++)
+                        e1[k] = p[1][k] - p[0][k], e2[k] = p[2][k] - p[0][k];
+                    float x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
+                          z = e1[0] * e2[1] - e1[1] * e2[0];
+                    flat += x == 0.0f && y == 0.0f && z == 0.0f;
+                }
+            }
+            print_message("%s, %s: %u triangles, %u of no area, %u of %u vertices in none\n", preset,
+                          implicit ? "implicit" : "tubes", b.index_count / 3, flat,
+                          static_cast<uint32_t>(std::count(used.begin(), used.end(), false)), b.vertex_count);
+            assert_int_equal(flat, 0);
+            assert_int_equal(std::count(used.begin(), used.end(), false), 0);
+            mer_mesh_free(m);
+        }
+        mer_scene_free(s);
+    }
 }
 
 // A pruned axis ends in a flat disk whose normal is the axis direction.
@@ -886,6 +942,7 @@ int main()
         cmocka_unit_test(test_straight_tube_radius),
         cmocka_unit_test(test_uv_v_monotonic_and_u_around),
         cmocka_unit_test(test_tip_has_cap_closed_tube),
+        cmocka_unit_test(test_no_length_no_flat_bands),
         cmocka_unit_test(test_cut_has_flat_cap),
         cmocka_unit_test(test_node_ids_live_and_first_vertex),
         cmocka_unit_test(test_sides_fall_with_diameter_and_detail),
