@@ -35,6 +35,10 @@
  * order of a triangle's corners, so it survives an encoder that rotates them
  * (EXT_meshopt_compression's TRIANGLES mode); in this mesh every bark triangle
  * lists a vertex of its lower ring first, so the first vertex is that one too.
+ * An internode of no length has no band: its two rings would lie one on the
+ * other, so one ring serves both and belongs to the internode above (but for
+ * twigs drawn with twig lines, whose lines run ring to ring); a branch of no
+ * length at all has no tube.
  *
  * Leaves. At each living internode made in the last `leaf_age` seasons of
  * growth (counted back from the newest internode, so a tree that has stopped

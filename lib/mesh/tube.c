@@ -157,8 +157,15 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
         repeats_last(tb, c->part, center, radius, bin)) {
         c->merged_v += stride;
         c->merged_i += 6 * sides;
-        if (tb->prev_joined)
+        if (tb->prev_joined) {
+            /* The kept ring is this internode's now (Picking: the band
+             * above it is this internode's; the one below it still reads
+             * as the internode under the one of no length, by its ring). */
+            for (uint32_t j = 0; j < stride; j++)
+                c->part->node_ids[tb->prev_ring + j] = owner->id;
+            merp_mesh_color(b, c->part, tb->prev_ring, stride, owner);
             return;
+        }
         /* The last ring, the axis's first, is the last vertices taken. */
         c->v -= stride;
         c->part->chunks[c->part->chunk_count - 1].vertex_count -= stride;

@@ -284,6 +284,53 @@ void test_no_length_no_flat_bands(void **)
     }
 }
 
+// Picking (mesh.h) where a ring was kept for an internode of no length: an
+// axis F(2), then an internode of no length that carries three laterals,
+// then F(2) again. The band along the second F(2) names it, not the
+// internode of no length below it, which names no triangle at all (a click
+// on the continuation once pruned that one, laterals and all).
+void test_no_length_names_no_band(void **)
+{
+    mer_params p;
+    mer_error err{};
+    assert_int_equal(mer_preset_params("abop-1.24a", &p, &err), MER_OK);
+    assert_int_equal(p.model, MER_MODEL_LSYSTEM);
+    mer_scene *s = nullptr;
+    assert_int_equal(mer_scene_new(&p, 1, &s, &err), MER_OK);
+    const char *def = "axiom: !(1)F(2)[&(30)F(1)][/(120)&(30)F(1)][/(240)&(30)F(1)]F(2)\n";
+    assert_int_equal(mer_scene_set_definition(s, def, std::strlen(def), &err), MER_OK);
+    assert_int_equal(mer_scene_step(s, 1, nullptr, nullptr, nullptr, nullptr, &err), MER_OK);
+    mer_mesh *m = mesh_of(s);
+    const mer_mesh_part &b = m->bark;
+    std::map<uint32_t, uint32_t> named; // internode id -> triangles that name it
+    for (uint32_t c = 0; c < b.chunk_count; c++) {
+        const mer_mesh_chunk &ch = b.chunks[c];
+        for (uint32_t t = 0; t < ch.index_count; t += 3) {
+            uint32_t id = UINT32_MAX;
+            for (uint32_t k = 0; k < 3; k++)
+                id = std::min(id, b.node_ids[ch.first_vertex + b.indices[ch.first_index + t + k]]);
+            named[id]++;
+        }
+    }
+    uint32_t none = 0;
+    for (uint32_t id = 0; id < mer_scene_node_bound(s); id++) {
+        mer_node n{};
+        assert_int_equal(mer_scene_node(s, id, &n, nullptr), MER_OK);
+        if (!n.alive)
+            continue;
+        if (n.length == 0.0f) {
+            none++;
+            assert_int_not_equal(n.main_child, MER_NO_NODE); // in the middle of its axis
+            assert_int_equal(named[id], 0);
+        } else {
+            assert_true(named[id] > 0);
+        }
+    }
+    assert_int_equal(none, 1);
+    mer_mesh_free(m);
+    mer_scene_free(s);
+}
+
 // A pruned axis ends in a flat disk whose normal is the axis direction.
 void test_cut_has_flat_cap(void **)
 {
@@ -943,6 +990,7 @@ int main()
         cmocka_unit_test(test_uv_v_monotonic_and_u_around),
         cmocka_unit_test(test_tip_has_cap_closed_tube),
         cmocka_unit_test(test_no_length_no_flat_bands),
+        cmocka_unit_test(test_no_length_names_no_band),
         cmocka_unit_test(test_cut_has_flat_cap),
         cmocka_unit_test(test_node_ids_live_and_first_vertex),
         cmocka_unit_test(test_sides_fall_with_diameter_and_detail),
