@@ -86,6 +86,17 @@ static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center
     tb->v += circumference > 0.0f ? below->length / circumference : 0.0f;
 }
 
+/* Vertex j's direction from the axis (`radial`) and position `p` on the
+ * ring about `center` of `radius` in the frame (tb->normal, bin). */
+static void ring_vertex(const tube *tb, const float center[3], float radius, const float bin[3], uint32_t j,
+                        float radial[3], float p[3])
+{
+    for (int k = 0; k < 3; k++) {
+        radial[k] = tb->cos_t[j] * tb->normal[k] + tb->sin_t[j] * bin[k];
+        p[k] = center[k] + radius * radial[k];
+    }
+}
+
 /* Whether the ring about `center` of `radius` in the frame (tb->normal,
  * bin) puts every vertex where the last ring's is, to the rounding of the
  * coordinates (a millionth of their size: a zero-length internode whose
@@ -93,13 +104,15 @@ static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center
 static bool repeats_last(const tube *tb, const mer_mesh_part *part, const float center[3], float radius,
                          const float bin[3])
 {
-    for (uint32_t j = 0; j < tb->sides; j++)
+    for (uint32_t j = 0; j < tb->sides; j++) {
+        float radial[3], p[3];
+        ring_vertex(tb, center, radius, bin, j, radial, p);
         for (int k = 0; k < 3; k++) {
-            float p = center[k] + radius * (tb->cos_t[j] * tb->normal[k] + tb->sin_t[j] * bin[k]);
             float q = part->positions[3 * ((size_t)tb->prev_ring + j) + k];
-            if (!(fabsf(p - q) <= 1e-6f * (1.0f + fabsf(q))))
+            if (!(fabsf(p[k] - q) <= 1e-6f * (1.0f + fabsf(q))))
                 return false;
         }
+    }
     return true;
 }
 
@@ -143,10 +156,10 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
     if (b->dry) {
         if (jt == NULL)
             return;
-        for (uint32_t j = 0; j < sides; j++)
-            for (int k = 0; k < 3; k++)
-                jt->ring[cut][3 * j + k] =
-                    center[k] + radius * (tb->cos_t[j] * tb->normal[k] + tb->sin_t[j] * bin[k]);
+        for (uint32_t j = 0; j < sides; j++) {
+            float radial[3];
+            ring_vertex(tb, center, radius, bin, j, radial, jt->ring[cut] + 3 * j);
+        }
         memcpy(jt->frame[cut][0], tb->normal, sizeof tb->normal);
         memcpy(jt->frame[cut][1], bin, sizeof bin);
         jt->v[cut] = v;
@@ -176,11 +189,9 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
     for (uint32_t j = 0; j < stride; j++) {
         uint32_t jj = j == sides ? 0 : j;
         float radial[3], p[3], nrm[3];
-        for (int k = 0; k < 3; k++) {
-            radial[k] = tb->cos_t[jj] * tb->normal[k] + tb->sin_t[jj] * bin[k];
-            p[k] = center[k] + radius * radial[k];
+        ring_vertex(tb, center, radius, bin, jj, radial, p);
+        for (int k = 0; k < 3; k++)
             nrm[k] = (radial[k] + slope * t[k]) * inv;
-        }
         if (jt != NULL) { /* the patch's own copy of this vertex shares it all */
             memcpy(p, jt->ring[cut] + 3 * jj, sizeof p);
             memcpy(nrm, jt->ring_normal[cut] + 3 * jj, sizeof nrm);

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <string.h>
 
+#include <meristem/presets.h>
 #include <meristem/scene.h>
 
 /* A scene from `p` and `seed`; fails the test if it cannot be made. */
@@ -29,6 +30,15 @@ static inline mer_scene *new_defined_scene(const mer_params *p, uint64_t seed, c
     if (mer_scene_set_definition(s, text, strlen(text), &err) != MER_OK)
         fail_msg("definition: %u:%u %s", err.line, err.column, err.message);
     return s;
+}
+
+/* A scene of preset `name` from its parameters `p` and `seed`, given the
+ * preset's definition where it has one (an L-system's or the inverse
+ * model's source; P09's trees need none). */
+static inline mer_scene *new_preset_scene(const char *name, const mer_params *p, uint64_t seed)
+{
+    const char *text = mer_preset_definition(name);
+    return text != NULL ? new_defined_scene(p, seed, text) : new_scene(p, seed);
 }
 
 /* Runs `n` whole steps; fails the test on an error or a short run. */

@@ -19,6 +19,7 @@
 #include <meristem.h>
 
 #include "mesh/mesh_private.h"
+#include "scene_helpers.h"
 #include "scene_private.h"
 #include "trimesh_check.h"
 
@@ -48,12 +49,7 @@ static mer_scene *grown14(const char *preset, uint64_t seed)
     mer_params p;
     mer_error err;
     assert_int_equal(mer_preset_params(preset, &p, &err), MER_OK);
-    mer_scene *s = NULL;
-    assert_int_equal(mer_scene_new(&p, seed, &s, &err), MER_OK);
-    /* An L-system's or the inverse model's preset starts from its definition. */
-    const char *source = mer_preset_definition(preset);
-    if (source != NULL && (p.model == MER_MODEL_LSYSTEM || p.model == MER_MODEL_INVERSE))
-        assert_int_equal(mer_scene_set_definition(s, source, strlen(source), &err), MER_OK);
+    mer_scene *s = new_preset_scene(preset, &p, seed);
     assert_int_equal(mer_scene_step(s, 14, NULL, NULL, NULL, NULL, &err), MER_OK);
     return s;
 }

@@ -26,6 +26,8 @@ extern "C" {
 #include <cmocka.h>
 }
 
+#include "scene_helpers.h"
+
 #include "gltf/tinygltf_private.h"
 
 
@@ -42,12 +44,7 @@ mer_scene *grow(const char *preset, uint32_t steps, uint64_t seed,
     for (auto &kv : sets)
         if (mer_params_set(&p, kv.first, kv.second, &err) != MER_OK)
             fail_msg("set %s: %s", kv.first, err.message);
-    mer_scene *s = nullptr;
-    assert_int_equal(mer_scene_new(&p, seed, &s, &err), MER_OK);
-    // An L-system's or the inverse model's preset starts from its definition.
-    const char *source = mer_preset_definition(preset);
-    if (source != nullptr && (p.model == MER_MODEL_LSYSTEM || p.model == MER_MODEL_INVERSE))
-        assert_int_equal(mer_scene_set_definition(s, source, std::strlen(source), &err), MER_OK);
+    mer_scene *s = new_preset_scene(preset, &p, seed);
     assert_int_equal(mer_scene_step(s, steps, nullptr, nullptr, nullptr, nullptr, &err), MER_OK);
     return s;
 }
