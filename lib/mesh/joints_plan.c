@@ -45,10 +45,17 @@ static bool tip_cone(const merp_builder *b, uint32_t id)
 /* Whether a shaft may cross or be cut in internode id: a living one, and
  * no tip's cone unless `cone` (a shaft may end in a cone, the tube then
  * running from the cut ring to the apex; and a relayed fork's parent may be
- * one, its tip inside the patch). */
+ * one, its tip inside the patch). An internode of no length may be crossed
+ * and may be a fork's parent: where an L-system string branches at one
+ * point more often than an internode holds laterals (ABOP's Fig. 2.8a, a
+ * ternary tree: F[...]/[...]/[...]), the branches past the second leave an
+ * internode of no length, at the same J, and with those refused no fork of
+ * such a plant got a patch (abop-2.8a: 26 forks, all unfit; 13 patched
+ * with them). follow() never cuts in one (a cut lies
+ * past the arc so far), so no cut ring falls where no tube is. */
 static bool usable(const merp_builder *b, uint32_t id, bool cone)
 {
-    if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || b->nodes[id].length <= 0.0f)
+    if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || !(b->nodes[id].length >= 0.0f))
         return false;
     return cone || !tip_cone(b, id);
 }

@@ -350,6 +350,35 @@ static void every_growth_model_gets_patches(void **state)
     }
 }
 
+/* An L-system string that branches three times at one point (ABOP's Fig.
+ * 2.8a, a ternary tree) leaves an internode of no length there: its forks
+ * get patches like any other (none did while the planner refused internodes
+ * of no length: abop-2.8a's 26 forks all stayed tubes), some of them forks
+ * whose parent is such an internode, and every patch closes. (abop-2.8a's
+ * whole bark is not checked closed here: welded, it holds 22 directed edges
+ * twice, and 36 when it had no patch at all, where two internodes' tubes
+ * or disks meet at one point: the tubes', not a patch's.) */
+static void forks_atop_internodes_of_no_length_get_patches(void **state)
+{
+    (void)state;
+    mer_scene *s = grown14("abop-2.8a", 1);
+    mer_mesh *m = implicit_mesh(s);
+    uint32_t atop = 0;
+    for (uint32_t i = 0; i < m->junctions; i++) {
+        mer_node n;
+        mer_error err;
+        assert_int_equal(mer_scene_node(s, m->junction_forks[i], &n, &err), MER_OK);
+        atop += !(n.length > 0.0f);
+    }
+    print_message("abop-2.8a seed 1: %u patched (%u atop an internode of no length), %u open, %u unfit\n",
+                  m->junctions, atop, m->junctions_open, m->junctions_unfit);
+    assert_true(m->junctions >= 10);
+    assert_true(atop >= 1);
+    assert_int_equal(m->junctions_open, 0);
+    mer_mesh_free(m);
+    mer_scene_free(s);
+}
+
 /* Bark vertices of s's mesh with options o within 1e-5 of any of the n
  * points at; the points with any into *points_hit (when not NULL). */
 static uint32_t vertices_at(const mer_scene *s, const mer_mesh_options *o, const float (*at)[3], uint32_t n,
@@ -1164,6 +1193,7 @@ int main(void)
         cmocka_unit_test(chosen_forks_get_patches),
         cmocka_unit_test(sylleptic_forks_mesh),
         cmocka_unit_test(every_growth_model_gets_patches),
+        cmocka_unit_test(forks_atop_internodes_of_no_length_get_patches),
         cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(close_forks_get_one_patch),
         cmocka_unit_test(thick_trunk_runs_get_big_grids),
