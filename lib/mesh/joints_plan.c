@@ -51,8 +51,8 @@ static bool tip_cone(const merp_builder *b, uint32_t id)
  * ternary tree: F[...]/[...]/[...]), the branches past the second leave an
  * internode of no length, at the same J, and with those refused no fork of
  * such a plant got a patch (abop-2.8a: 26 forks, all unfit; 13 patched
- * with them). follow() never cuts in one (a cut lies
- * past the arc so far), so no cut ring falls where no tube is. */
+ * with them). follow() never cuts in one (a cut lies past the arc so far),
+ * so no cut ring falls where no tube is. */
 static bool usable(const merp_builder *b, uint32_t id, bool cone)
 {
     if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || !(b->nodes[id].length >= 0.0f))
