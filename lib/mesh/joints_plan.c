@@ -49,10 +49,10 @@ static bool tip_cone(const merp_builder *b, uint32_t id)
  * and may be a fork's parent: where an L-system string branches at one
  * point more often than an internode holds laterals (ABOP's Fig. 2.8a, a
  * ternary tree: F[...]/[...]/[...]), the branches past the second leave an
- * internode of no length, at the same J, and with those refused no fork of
- * such a plant got a patch (abop-2.8a: 26 forks, all unfit; 13 patched
- * with them). follow() never cuts in one (a cut lies past the arc so far),
- * so no cut ring falls where no tube is. */
+ * internode of no length, at the same J (one fork: fork_laterals), and
+ * with those refused no fork of such a plant got a patch (abop-2.8a, seed
+ * 1: none; 13, every fork, with them). follow() never cuts in one (a cut
+ * lies past the arc so far), so no cut ring falls where no tube is. */
 static bool usable(const merp_builder *b, uint32_t id, bool cone)
 {
     if (id == MER_NO_NODE || id >= b->node_count || !b->nodes[id].alive || !(b->nodes[id].length >= 0.0f))
@@ -496,6 +496,98 @@ static bool patch_lateral(const merp_builder *b, const mer_node *p, const float 
     return a != NULL && !merp_mesh_is_twig(b, a) && v3_len(gap) <= 1e-4f * (1.0f + v3_len(J));
 }
 
+/* Where an L-system string branches at one point more often than an
+ * internode holds laterals (ABOP's Fig. 2.8a: F[..]/[..]/[..]), the branches
+ * leave a chain of internodes along one axis, each but the first of no
+ * length, whose tips are all one J: one fork. Its owner is the chain's last
+ * internode, the one whose continuation (if any) has a length; the owner's
+ * patch takes the laterals of the whole chain (fork_laterals). Planned at
+ * each internode instead, the last one's patch (a relay of its one lateral,
+ * when the axis ends there) covered J and left every other branch of the
+ * fork a tube (abop-2.8a, seed 1: 13 such relays patched, every fork's
+ * two other laterals through their skin). */
+
+/* The internode before q in its fork's chain: q's parent where q has no
+ * length and is its parent's continuation; else MER_NO_NODE. */
+static uint32_t chain_up(const merp_builder *b, uint32_t q)
+{
+    const mer_node *n = &b->nodes[q];
+    if (n->length != 0.0f || n->parent == MER_NO_NODE || b->nodes[n->parent].main_child != q)
+        return MER_NO_NODE;
+    return n->parent;
+}
+
+/* Whether P's tip is J of a fork owned further up its axis: its
+ * continuation is living and has no length. */
+static bool owned_above(const merp_builder *b, uint32_t P)
+{
+    uint32_t C = b->nodes[P].main_child;
+    return C != MER_NO_NODE && b->nodes[C].alive && b->nodes[C].length == 0.0f;
+}
+
+/* Whether P's tip is shared with another internode of its axis (a chain of
+ * more than one; runs do not take such forks in). */
+static bool in_chain(const merp_builder *b, uint32_t P)
+{
+    return owned_above(b, P) || chain_up(b, P) != MER_NO_NODE;
+}
+
+#define CHAIN_LATERALS 8 /* fork_laterals gathers at most this many */
+
+/* The laterals that may be shafts of the patch of the fork owned by P
+ * (patch_lateral): P's, then its chain's up from P, each internode's in
+ * its own order; at most CHAIN_LATERALS. The count. */
+static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3], uint32_t *lat)
+{
+    uint32_t n = 0;
+    for (uint32_t q = P, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++)
+        for (int k = 0; k < 2 && n < CHAIN_LATERALS; k++)
+            if (patch_lateral(b, &b->nodes[q], J, b->nodes[q].lateral_child[k]))
+                lat[n++] = b->nodes[q].lateral_child[k];
+    return n;
+}
+
+/* Whether unit directions n and m are too close to parallel for two
+ * shafts of one patch (clear_of's test). */
+static bool alongside(const float n[3], const float m[3])
+{
+    float c = v3_dot(n, m);
+    return c > 0.0f && 1.0f - c * c < 0.04f;
+}
+
+/* The laterals of a chain's fork (fork_laterals; lat[0..n), in their
+ * order) that its patch holds, in the same order: the thickest first (the
+ * first of equals), at most MERP_JUNCTION_LATERALS, none alongside the
+ * continuation C or a thicker one kept. A string may draw two branches
+ * from one point along one line (abop-1.24c, whose nested brackets start
+ * branches of two derivation levels at one J in the same two directions),
+ * which no field tells apart; the one left out stays a tube from J, as the
+ * laterals past the field's room do. The count kept. */
+static uint32_t chain_laterals(const merp_builder *b, uint32_t *lat, uint32_t n, uint32_t C)
+{
+    bool kept[CHAIN_LATERALS] = {false};
+    for (uint32_t room = MERP_JUNCTION_LATERALS; room > 0; room--) {
+        uint32_t t = n;
+        for (uint32_t k = 0; k < n; k++) {
+            if (kept[k] || (t < n && !(b->nodes[lat[k]].diameter > b->nodes[lat[t]].diameter)))
+                continue;
+            bool clear = !alongside(b->nodes[lat[k]].dir, b->nodes[C].dir);
+            for (uint32_t o = 0; o < n && clear; o++)
+                clear = !kept[o] || !alongside(b->nodes[lat[k]].dir, b->nodes[lat[o]].dir);
+            if (clear)
+                t = k;
+        }
+        if (t == n)
+            break;
+        kept[t] = true;
+    }
+    uint32_t m = 0;
+    for (uint32_t k = 0; k < n; k++)
+        if (kept[k])
+            lat[m++] = lat[k];
+    return m;
+}
+
 /* Plans the fork at P's tip into jt (cuts, field) and, with `claim`,
  * claims what its patch covers; false when it does not fit between the
  * patches planned so far.
@@ -526,25 +618,30 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool cl
     const bool none = C == MER_NO_NODE || !b->nodes[C].alive, relay = none || swap;
     float J[3];
     merp_tip_of(p, J);
-    uint32_t lat[2], nl = 0;
-    for (int k = 0; k < 2; k++)
-        if (patch_lateral(b, p, J, p->lateral_child[k]))
-            lat[nl++] = p->lateral_child[k];
+    if (owned_above(b, P))
+        return false; /* the fork's owner plans it */
+    uint32_t lat[CHAIN_LATERALS], nl = fork_laterals(b, P, J, lat);
     if (relay) { /* the thickest lateral relays the axis (the first of equals) */
         if (nl == 0)
             return false;
-        uint32_t t = nl == 2 && b->nodes[lat[1]].diameter > b->nodes[lat[0]].diameter, L = lat[t];
+        uint32_t t = 0;
+        for (uint32_t k = 1; k < nl; k++)
+            if (b->nodes[lat[k]].diameter > b->nodes[lat[t]].diameter)
+                t = k;
+        uint32_t L = lat[t];
         if (swap) { /* the continuation, thinner, in the relay's place among the laterals */
             if (none || !usable(b, C, true) || !(b->nodes[C].diameter < b->nodes[L].diameter))
                 return false;
             lat[t] = C;
         } else {
-            if (nl == 2)
-                lat[0] = lat[1 - t];
+            for (uint32_t k = t; k + 1 < nl; k++)
+                lat[k] = lat[k + 1];
             nl--;
         }
         C = L;
     }
+    if (chain_up(b, P) != MER_NO_NODE) /* (P's own laterals are at most two) */
+        nl = chain_laterals(b, lat, nl, C);
     if (!usable(b, P, none) || !usable(b, C, true) || (nl == 0 && !relay))
         return false;
     *jt = (merp_joint){.start = {P, C},
@@ -848,14 +945,15 @@ static candidate *candidates(const merp_builder *b, float threshold, uint32_t *c
         return NULL;
     for (uint32_t id = 0; id < b->node_count; id++) {
         const mer_node *p = &b->nodes[id];
-        if (!p->alive || p->diameter < threshold)
+        if (!p->alive || p->diameter < threshold || owned_above(b, id))
             continue;
-        float key = 0.0f;
-        for (int k = 0; k < 2; k++) {
-            uint32_t L = p->lateral_child[k];
-            if (L != MER_NO_NODE && b->nodes[L].alive && b->nodes[L].diameter >= LATERAL_RATIO * p->diameter)
-                key = fmaxf(key, b->nodes[L].diameter);
-        }
+        float key = 0.0f; /* over the fork's chain (fork_laterals) */
+        for (uint32_t q = id, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++)
+            for (int k = 0; k < 2; k++) {
+                uint32_t L = b->nodes[q].lateral_child[k];
+                if (L != MER_NO_NODE && b->nodes[L].alive && b->nodes[L].diameter >= LATERAL_RATIO * b->nodes[q].diameter)
+                    key = fmaxf(key, b->nodes[L].diameter);
+            }
         if (key > 0.0f)
             c[n++] = (candidate){key, id};
     }
@@ -913,6 +1011,8 @@ static int walk_down(const merp_builder *b, uint32_t f, const gathered *to, uint
                     slot = (uint8_t)k;
             }
         }
+        if (in_chain(b, p) && is_fork(b, p, threshold))
+            return -1; /* a chain's fork: runs do not take one in (fork_laterals) */
         int at = to != NULL ? gathered_index(to, p) : p == target ? 0 : -1;
         if (at >= 0) {
             *link = (merp_link){0, slot}, *start = id;
@@ -937,7 +1037,7 @@ static bool gather(const merp_builder *b, gathered *g, uint32_t F)
         return true;
     uint32_t between[MERP_RUN_FORKS], nb, start, room = MERP_RUN_FORKS - 1 - g->n;
     merp_link link;
-    if (g->n == MERP_RUN_FORKS)
+    if (g->n == MERP_RUN_FORKS || in_chain(b, F))
         return false;
     bool found = walk_down(b, F, g, 0, g->threshold, room, between, &nb, &link, &start) >= 0;
     for (uint32_t i = 0; i < g->n && !found; i++)
@@ -1090,7 +1190,7 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
                         uint32_t *taken, uint32_t *nt)
 {
     gathered g = {.fork = {P}, .n = 1, .threshold = threshold};
-    bool ok = false, stuck = false;
+    bool ok = false, stuck = in_chain(b, P);
     *nt = 0;
     while (!ok && !stuck && X != UINT32_MAX) {
         for (uint32_t i = 0; i < b->joints[X].forks && !stuck; i++)

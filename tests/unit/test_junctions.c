@@ -359,10 +359,17 @@ static void every_growth_model_gets_patches(void **state)
 }
 
 /* An L-system string that branches three times at one point (ABOP's Fig.
- * 2.8a, a ternary tree) leaves an internode of no length there: its forks
- * get patches like any other (none did while the planner refused internodes
- * of no length: abop-2.8a's 26 forks all stayed tubes), some of them forks
- * whose parent is such an internode, and every patch closes. */
+ * 2.8a, a ternary tree) leaves an internode of no length there, whose tip
+ * is its parent's: one fork of three branches, which one patch holds (the
+ * thickest relays the axis, the others are its laterals, each with its
+ * ridge), and every patch closes, as does the whole bark. While the
+ * planner refused internodes of no length, all 26 of abop-2.8a's forks
+ * (seed 1; two at each J) stayed tubes; while it planned a fork at each
+ * internode, the one of no length got a relay of its one lateral with no
+ * ridge and the other 13 were unfit. Where a string draws two branches
+ * from one point along one line (abop-1.24c), the patch takes one of them:
+ * 3 of abop-1.24c's 42 forks were patched before, relays of the one
+ * lateral. */
 static void forks_atop_internodes_of_no_length_get_patches(void **state)
 {
     (void)state;
@@ -379,6 +386,16 @@ static void forks_atop_internodes_of_no_length_get_patches(void **state)
                   m->junctions, atop, m->junctions_open, m->junctions_unfit);
     assert_true(m->junctions >= 10);
     assert_true(atop >= 1);
+    assert_int_equal(m->junctions_open, 0);
+    assert_int_equal(m->junctions_unfit, 0);
+    assert_int_equal(closed_with_junctions(s), m->junctions);
+    mer_mesh_free(m);
+    mer_scene_free(s);
+    s = grown14("abop-1.24c", 1);
+    m = implicit_mesh(s);
+    print_message("abop-1.24c seed 1: %u patched, %u open, %u unfit\n", m->junctions, m->junctions_open,
+                  m->junctions_unfit);
+    assert_true(m->junctions >= 15);
     assert_int_equal(m->junctions_open, 0);
     mer_mesh_free(m);
     mer_scene_free(s);
