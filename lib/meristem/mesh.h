@@ -77,7 +77,13 @@
  * shaft runs across as many short internodes as its cut needs while its axis
  * stays nearly straight, and the tube and the patch share each ring vertex's
  * normal and b; a continuation or lateral may be cut in a growing tip's last
- * internode, whose cone then runs from the cut ring to the apex. A fork with
+ * internode, whose cone then runs from the cut ring to the apex, and one whose
+ * axis ends before its cut would clear the fork (a bush's short axes), with
+ * no lateral on the way, ends inside a single fork's patch, closed by its
+ * field's round end, with no ring and no tube. The internodes of one axis
+ * whose tips are one J (an L-system string that branches at one point more
+ * often than an internode holds laterals leaves internodes of no length)
+ * are one fork, whose patch takes the laterals of all of them. A fork with
  * no living continuation (its parent ends in its terminal bud, dormant or
  * flowered, or in a cut: a sympodium's forks) is relayed: its thickest
  * lateral goes on from the parent as one solid with it, with the bud scale
@@ -106,9 +112,11 @@
  * tetrahedra on the fork's grid or the one 0.7 × as fine
  * (`junctions_smooth` counts those); a fork whose patch closes on none
  * stays tubes (`junctions_open`). In this mode
- * every lateral that is not in a patch gets a base disk, so the whole bark is
- * closed (a 2-manifold once vertices of equal position are welded; the UV
- * seams and disks keep their own vertices). Each bark vertex then carries b = F_b(p), the bounding
+ * every lateral that is not in a patch gets a base disk, its centre a 32nd of
+ * its radius inside the tube, so the whole bark is closed (a 2-manifold once
+ * vertices of equal position are welded, unless the skeleton draws two
+ * internodes over one another or end to end; the UV seams and disks keep
+ * their own vertices). Each bark vertex then carries b = F_b(p), the bounding
  * field's value (0 on tubes, up to 1 on the ridge and on a fresh bud scale
  * scar: the larger of the laterals' F_b and the parent's scar's weighted
  * F_b), in `ridge` (glTF `_RIDGE`); with a colour mode the colour is darkened by it. Patch UVs

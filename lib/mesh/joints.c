@@ -69,6 +69,37 @@ static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, co
     uv[1] = jt->v[s] + (s == MERP_CUT_IN ? -1.0f : 1.0f) * v3_dot(q, jt->n[s]) / (MERP_TWO_PI * 0.5f * r);
 }
 
+/* A capped shaft's UV frame and v (shaft_uv), which no tube ring records:
+ * u by angle from the in cut's frame laid square to the shaft, and v
+ * running on from the in shaft's at J, so the bark's texture goes on up
+ * the shaft as it would along a tube. */
+static void capped_frames(const merp_builder *b, merp_joint *jt)
+{
+    const float *n0 = jt->n[MERP_CUT_IN], *e0 = jt->frame[MERP_CUT_IN][0], *f0 = jt->frame[MERP_CUT_IN][1];
+    float r0 = merp_node_radius(b, jt->node[MERP_CUT_IN]) + merp_node_end_radius(b, jt->node[MERP_CUT_IN]);
+    float v_J = jt->v[MERP_CUT_IN] + jt->d[MERP_CUT_IN] / (MERP_TWO_PI * 0.5f * r0);
+    /* The in cut's frame turns with the axis's direction up (−n0): its
+     * binormal is σ·(−n0 × e0). */
+    float up[3] = {-n0[0], -n0[1], -n0[2]}, x[3];
+    v3_cross(up, e0, x);
+    float sigma = v3_dot(x, f0) >= 0.0f ? 1.0f : -1.0f;
+    for (uint32_t s = 1; s < jt->cuts; s++) {
+        if (!jt->capped[s])
+            continue;
+        const float *n = jt->n[s];
+        float *e = jt->frame[s][0], *f = jt->frame[s][1], c = v3_dot(e0, n);
+        for (int k = 0; k < 3; k++)
+            e[k] = e0[k] - c * n[k];
+        if (!v3_normalize(e))
+            v3_any_perp(n, e);
+        v3_cross(n, e, f);
+        for (int k = 0; k < 3; k++)
+            f[k] *= sigma;
+        float r = merp_node_radius(b, jt->node[s]) + merp_node_end_radius(b, jt->node[s]);
+        jt->v[s] = v_J + jt->d[s] / (MERP_TWO_PI * 0.5f * r);
+    }
+}
+
 /* Whether triangle c's u spans the seam (jumps over 1 → 0: more than ½). */
 static bool spans_seam(const merp_joint *jt, const uint32_t *c)
 {
@@ -153,6 +184,8 @@ static float mark_fade(const merp_builder *b, const merp_joint *jt, const float 
 {
     float w = 1.0f;
     for (uint32_t s = 0; s < jt->cuts; s++) {
+        if (jt->capped[s])
+            continue; /* no tube beyond it */
         float q[3], r = merp_cut_radius(b, jt, s);
         for (int k = 0; k < 3; k++)
             q[k] = jt->o[s][k] - p[k];
@@ -225,11 +258,13 @@ static mer_result polygonize_patch(const merp_patch *pt, const merp_joint *jt, m
 static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float shift, uint32_t sharp,
                                 mer_error *err)
 {
-    merp_patch pt = {.j = jt->field, .forks = jt->forks, .link = jt->link, .cuts = jt->cuts, .sharp = sharp};
+    merp_patch pt = {.j = jt->field, .forks = jt->forks, .link = jt->link, .sharp = sharp};
     if (!merp_joint_grid(b, jt, h, shift, &pt.grid))
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's grid is too large");
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        merp_cut *c = &pt.cut[s];
+        if (jt->capped[s])
+            continue; /* no cut: its segment's round end closes the shaft */
+        merp_cut *c = &pt.cut[pt.cuts++];
         memcpy(c->o, jt->o[s], sizeof c->o);
         memcpy(c->n, jt->n[s], sizeof c->n);
         c->reach = MERP_JOINT_REACH * merp_cut_radius(b, jt, s) + h; /* the tube's there (plan_one) */
@@ -321,6 +356,7 @@ static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
                  {FINEST, 0.0f, 1}, {1.0f, 0.0f, 0}, {FINER, 0.0f, 0}};
     float h = merp_joint_cell(b, jt);
     mer_result rc = MER_ERR_INVALID;
+    capped_frames(b, jt);
     for (size_t t = 0; t < sizeof tries / sizeof *tries && rc == MER_ERR_INVALID; t++) {
         free_patch(jt);
         rc = build_patch_at(b, jt, tries[t].scale * h, tries[t].shift, tries[t].sharp, err);

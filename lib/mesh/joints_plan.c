@@ -133,17 +133,46 @@ static void point_on(const mer_node *n, float at, float o[3])
         o[k] = n->base[k] + at * n->dir[k];
 }
 
+/* Whether no living lateral leaves internode id (a shaft that ends inside
+ * a patch covers its internodes whole, and a lateral's tube would begin
+ * inside it). */
+static bool bare_internode(const merp_builder *b, uint32_t id)
+{
+    for (int k = 0; k < 2; k++) {
+        uint32_t L = b->nodes[id].lateral_child[k];
+        if (L != MER_NO_NODE && b->nodes[L].alive)
+            return false;
+    }
+    return true;
+}
+
+/* Ends shaft s inside jt's patch at the tip of internode id, its axis's
+ * last, claimed whole (follow): where jt may cap its shafts and no lateral
+ * leaves the internodes it covers (`bare`). */
+static bool cap_end(const merp_builder *b, uint32_t id, bool bare, merp_joint *jt, uint32_t s)
+{
+    if (!jt->cap || !bare || s == MERP_CUT_IN)
+        return false;
+    jt->node[s] = id, jt->at[s] = b->nodes[id].length, jt->capped[s] = 1;
+    return true;
+}
+
 /* Cut s of jt: `need` along its shaft's axis from J, forwards from J at the
  * base of `first` or, `back`, backwards from J at its tip; across as many
  * internodes as that takes (short internodes of a thick axis), none of them
  * claimed by another patch, none a living tip's cone (but a relayed fork's
  * parent, whose tip the patch covers). Sets node[s], at[s];
- * with `mark`, claims what the shaft covers. False when it does not fit. */
+ * with `mark`, claims what the shaft covers. Where the axis ends first, or
+ * would leave its tip's cone under a radius long, an out or lateral shaft
+ * ends inside the patch (cap_end, capped[s]) if it may. False when it does
+ * not fit. */
 static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back, float need, bool mark,
                    merp_joint *jt, uint32_t s)
 {
     float arc = 0.0f;
     uint32_t id = first;
+    bool bare = true; /* no living lateral leaves the internodes passed so far */
+    jt->capped[s] = 0;
     for (uint32_t passed = 0;; passed++) {
         /* a relayed fork's parent may be a tip's cone: the patch covers its tip */
         bool cone = !back || (jt->relay && id == first);
@@ -161,8 +190,15 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
                 cl->blocker = by_lo ? cl->own_lo[id] : cl->own_hi[id];
                 return false;
             }
-            if (!back && tip_cone(b, id) && len - at < merp_node_radius(b, id))
-                return false; /* a tip's cone left under a radius long: a flat disk */
+            if (!back && tip_cone(b, id) && len - at < merp_node_radius(b, id)) {
+                /* a tip's cone left under a radius long (a flat disk): the
+                 * shaft ends inside the patch, or the fork does not fit */
+                if (cl->lo[id] > 0.0f || cl->hi[id] < len || !cap_end(b, id, bare && bare_internode(b, id), jt, s))
+                    return false;
+                if (mark)
+                    cl->lo[id] = len, cl->hi[id] = 0.0f;
+                return true;
+            }
             if (mark && back)
                 cl->hi[id] = at;
             else if (mark)
@@ -177,9 +213,12 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
         if (mark)
             cl->lo[id] = len, cl->hi[id] = 0.0f;
         arc += len;
+        bare = bare && bare_internode(b, id);
         uint32_t next = back ? n->parent : n->main_child;
         if (back && (next == MER_NO_NODE || b->nodes[next].main_child != id))
             return false;
+        if (!back && (next == MER_NO_NODE || !b->nodes[next].alive))
+            return cap_end(b, id, bare, jt, s); /* the axis ends before its cut */
         id = next;
     }
 }
@@ -244,6 +283,25 @@ static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t 
     }
 }
 
+/* Shaft s's segment where it ends inside the patch (capped): from J to
+ * the axis's end, its radius r0 at J and the end's, drawn back so that its
+ * round end reaches the end point (a disk's end, where the tube was flat)
+ * or, with a fifth of that radius, comes to it as the tip's cone did. */
+static void capped_segment(const merp_builder *b, const merp_joint *jt, uint32_t s, const float J_at[3],
+                           float r0, merp_seg *g)
+{
+    float J[3];
+    memcpy(J, J_at, sizeof J);
+    float r_end = merp_cut_radius(b, jt, s);
+    if (tip_cone(b, jt->node[s]))
+        r_end *= 0.2f;
+    float back = fminf(r_end, 0.5f * jt->d[s]);
+    memcpy(g->a, J, sizeof g->a);
+    for (int k = 0; k < 3; k++)
+        g->b[k] = jt->o[s][k] - back * jt->n[s][k];
+    g->ra = r0, g->rb = r_end;
+}
+
 /* Places jt's cuts (see follow), `need` each from J, and with them its
  * field's shafts; with `mark`, claims them. False when one does not fit. */
 static bool place_cuts(const merp_builder *b, claims *cl, const float *need, float h, bool mark, merp_joint *jt)
@@ -274,7 +332,10 @@ static bool place_cuts(const merp_builder *b, claims *cl, const float *need, flo
             merp_seg *g = k == MERP_SLOT_IN ? &f->in : k == MERP_LINK_OUT ? &f->out : &f->lateral[k];
             const float *from = k < MERP_SLOT_IN ? b->nodes[first[s]].base : f->in.b;
             float r0 = s == MERP_CUT_IN ? in_radius(b, jt) : merp_node_radius(b, first[s]);
-            shaft_segment(b, jt, s, from, r0, h, g);
+            if (jt->capped[s])
+                capped_segment(b, jt, s, from, r0, g);
+            else
+                shaft_segment(b, jt, s, from, r0, h, g);
         }
     }
     return true;
@@ -451,7 +512,8 @@ static float thinnest_cut(const merp_builder *b, const merp_joint *jt)
 {
     float thin = INFINITY;
     for (uint32_t s = 0; s < jt->cuts; s++)
-        thin = fminf(thin, merp_cut_radius(b, jt, s));
+        if (!jt->capped[s]) /* no ring */
+            thin = fminf(thin, merp_cut_radius(b, jt, s));
     return thin;
 }
 
@@ -647,6 +709,7 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool cl
     *jt = (merp_joint){.start = {P, C},
                        .cuts = 2,
                        .relay = relay,
+                       .cap = true,
                        .forks = 1,
                        .fork_node = {P},
                        .cut_slot = {MERP_SLOT_IN, MERP_LINK_OUT}};
@@ -1112,7 +1175,8 @@ void merp_joint_forget(merp_builder *b, merp_joint *jt)
     }
     b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
     for (uint32_t s = 1; s < jt->cuts; s++) {
-        b->cut_end[jt->node[s]] = UINT32_MAX;
+        if (!jt->capped[s])
+            b->cut_end[jt->node[s]] = UINT32_MAX;
         if (merp_joint_begins_axis(b->nodes, jt, s))
             b->lateral_in[jt->start[s]] = UINT32_MAX;
     }
@@ -1129,7 +1193,8 @@ static void remember(merp_builder *b, claims *cl, const merp_joint *jt, uint32_t
     }
     b->cut_begin[jt->node[MERP_CUT_IN]] = at;
     for (uint32_t s = 1; s < jt->cuts; s++) {
-        b->cut_end[jt->node[s]] = at * MERP_PATCH_CUTS + s;
+        if (!jt->capped[s]) /* a capped shaft's axis stays inside to its end (tube.c) */
+            b->cut_end[jt->node[s]] = at * MERP_PATCH_CUTS + s;
         if (merp_joint_begins_axis(b->nodes, jt, s)) /* an axis that begins in the patch */
             b->lateral_in[jt->start[s]] = at * MERP_PATCH_CUTS + s;
     }

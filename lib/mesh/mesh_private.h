@@ -74,6 +74,14 @@ typedef struct merp_joint {
                                        lateral axis going on from P
                                        (joints_plan.c; a run's relayed forks
                                        have no living continuation) */
+    bool cap;                       /* its out and lateral shafts may end
+                                       inside it (joints_plan.c: a single
+                                       fork's, not a run's) */
+    uint8_t capped[MERP_PATCH_CUTS]; /* shaft s ends inside the patch: its
+                                       axis ends within the patch's reach of
+                                       J, its field segment's round end closes
+                                       it, and it has no cut ring (sides 0);
+                                       o, n and d are its end's */
     bool ok;                        /* planned, and its patch built */
     bool smooth;                    /* ... by marching tetrahedra (no sharp crease) */
     merp_junction field[MERP_RUN_FORKS]; /* its forks' fields: field[0] a

@@ -401,6 +401,31 @@ static void forks_atop_internodes_of_no_length_get_patches(void **state)
     mer_scene_free(s);
 }
 
+/* A shaft whose axis ends before its cut could clear the fork (a bush's
+ * short axes: abop-1.24a's laterals of one internode, abop-1.31a's
+ * continuation of one) ends inside the patch, closed by its segment's round
+ * end, with no cut ring and no tube: seed 1, abop-1.24a 14 forks patched (1
+ * before), abop-1.31a 7 (5), every patch and the whole bark closed, each
+ * with its ridge. */
+static void shafts_that_end_inside_a_patch(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *preset;
+        uint32_t patched; /* at least, seed 1 */
+    } trees[] = {{"abop-1.24a", 10}, {"abop-1.31a", 7}};
+    for (size_t t = 0; t < sizeof trees / sizeof *trees; t++) {
+        mer_scene *s = grown14(trees[t].preset, 1);
+        junction_counts c = {0};
+        add_counts(s, &c);
+        print_message("%s seed 1: %u patched, %u open, %u unfit\n", trees[t].preset, c.patched, c.open, c.unfit);
+        assert_true(c.patched >= trees[t].patched);
+        assert_int_equal(c.open, 0);
+        assert_int_equal(closed_with_junctions(s), c.patched);
+        mer_scene_free(s);
+    }
+}
+
 /* Where tubes meet at one point, the bark stays a closed 2-manifold: at a
  * fork left as tubes, the laterals' base disks and the parent's end disk
  * all lie at J, and where two of them lie in one vertical plane (every
@@ -1240,6 +1265,7 @@ int main(void)
         cmocka_unit_test(sylleptic_forks_mesh),
         cmocka_unit_test(every_growth_model_gets_patches),
         cmocka_unit_test(forks_atop_internodes_of_no_length_get_patches),
+        cmocka_unit_test(shafts_that_end_inside_a_patch),
         cmocka_unit_test(disks_meeting_at_a_point_keep_the_bark_closed),
         cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(close_forks_get_one_patch),
