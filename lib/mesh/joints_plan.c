@@ -22,7 +22,12 @@
 #define STRAIGHT 0.5f        /* a shaft's axis stays within this × its radius of one line ... */
 #define STRAIGHT_COS 0.9f    /* ... and its cut's internode within 25° of it */
 #define EXTEND 3.0f          /* a shaft's segment reaches this many cells past its cut */
-#define REPLANS 4u           /* a fork's cuts are placed at most this many times (plan_one) */
+/* A fork's cuts are placed at most this many times (place_clear): a cut that
+ * lands where its axis is thicker moves out, and down a steeply tapering
+ * trunk (the inverse model's conifer) that takes up to a dozen passes: with
+ * 4, inverse-conifer left 23 forks (seeds 1-5) "still thickening", with 12,
+ * 9, none of them for that; 64 patch no more. */
+#define REPLANS 12u
 #define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
 #define CELLS_PER_LATERAL_RADIUS 1.25f /* ... and at least per lateral radius */
