@@ -112,8 +112,9 @@
  * tetrahedra on the fork's grid or the one 0.7 × as fine
  * (`junctions_smooth` counts those); a fork whose patch closes on none
  * stays tubes (`junctions_open`). In this mode
- * every lateral that is not in a patch gets a base disk, its centre a 32nd of
- * its radius inside the tube, so the whole bark is closed (a 2-manifold once
+ * every lateral that is not in a patch gets a base disk, and every disk's
+ * centre (an end's, the trunk's base's too) lies a 32nd of its radius inside
+ * its tube, so the whole bark is closed (a 2-manifold once
  * vertices of equal position are welded, unless the skeleton draws two
  * internodes over one another or end to end; the UV seams and disks keep
  * their own vertices). Each bark vertex then carries b = F_b(p), the bounding

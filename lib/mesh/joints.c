@@ -78,8 +78,9 @@ static void capped_frames(const merp_builder *b, merp_joint *jt)
     const float *n0 = jt->n[MERP_CUT_IN], *e0 = jt->frame[MERP_CUT_IN][0], *f0 = jt->frame[MERP_CUT_IN][1];
     float r0 = merp_node_radius(b, jt->node[MERP_CUT_IN]) + merp_node_end_radius(b, jt->node[MERP_CUT_IN]);
     float v_J = jt->v[MERP_CUT_IN] + jt->d[MERP_CUT_IN] / (MERP_TWO_PI * 0.5f * r0);
-    /* The in cut's frame turns with the axis's direction up (−n0): its
-     * binormal is σ·(−n0 × e0). */
+    /* The in cut's frame turns with the axis's direction up (−n0): tube.c
+     * records its binormal as (−n0) × e0, σ = 1; σ keeps the capped frame's
+     * handedness the in cut's should that ever change. */
     float up[3] = {-n0[0], -n0[1], -n0[2]}, x[3];
     v3_cross(up, e0, x);
     float sigma = v3_dot(x, f0) >= 0.0f ? 1.0f : -1.0f;

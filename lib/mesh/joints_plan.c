@@ -198,7 +198,11 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
             if (!back && tip_cone(b, id) && len - at < merp_node_radius(b, id)) {
                 /* a tip's cone left under a radius long (a flat disk): the
                  * shaft ends inside the patch, or the fork does not fit */
-                if (cl->lo[id] > 0.0f || cl->hi[id] < len || !cap_end(b, id, bare && bare_internode(b, id), jt, s))
+                if (cl->hi[id] < len) {
+                    cl->blocker = cl->own_hi[id];
+                    return false;
+                }
+                if (!cap_end(b, id, bare && bare_internode(b, id), jt, s))
                     return false;
                 if (mark)
                     cl->lo[id] = len, cl->hi[id] = 0.0f;
@@ -810,7 +814,9 @@ static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt,
         uint32_t id = jt->start[s];
         for (; id != jt->node[s]; id = back ? b->nodes[id].parent : b->nodes[id].main_child)
             claim_whole(b, cl, id, owner);
-        if (back)
+        if (jt->capped[s]) /* its last internode too (follow) */
+            claim_whole(b, cl, id, owner);
+        else if (back)
             cl->hi[id] = set ? jt->at[s] : INFINITY, cl->own_hi[id] = owner;
         else
             cl->lo[id] = set ? jt->at[s] : 0.0f, cl->own_lo[id] = owner;
@@ -1013,16 +1019,18 @@ static candidate *candidates(const merp_builder *b, float threshold, uint32_t *c
         return NULL;
     for (uint32_t id = 0; id < b->node_count; id++) {
         const mer_node *p = &b->nodes[id];
-        if (!p->alive || p->diameter < threshold || owned_above(b, id))
+        if (!p->alive || owned_above(b, id))
             continue;
-        float key = 0.0f; /* over the fork's chain (fork_laterals) */
-        for (uint32_t q = id, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++)
+        float key = 0.0f, thick = 0.0f; /* over the fork's chain (fork_laterals) */
+        for (uint32_t q = id, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++) {
+            thick = fmaxf(thick, b->nodes[q].diameter);
             for (int k = 0; k < 2; k++) {
                 uint32_t L = b->nodes[q].lateral_child[k];
                 if (L != MER_NO_NODE && b->nodes[L].alive && b->nodes[L].diameter >= LATERAL_RATIO * b->nodes[q].diameter)
                     key = fmaxf(key, b->nodes[L].diameter);
             }
-        if (key > 0.0f)
+        }
+        if (key > 0.0f && thick >= threshold)
             c[n++] = (candidate){key, id};
     }
     qsort(c, n, sizeof *c, candidate_cmp);
