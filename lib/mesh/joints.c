@@ -75,15 +75,9 @@ static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, co
  * the shaft as it would along a tube. */
 static void capped_frames(const merp_builder *b, merp_joint *jt)
 {
-    const float *n0 = jt->n[MERP_CUT_IN], *e0 = jt->frame[MERP_CUT_IN][0], *f0 = jt->frame[MERP_CUT_IN][1];
+    const float *e0 = jt->frame[MERP_CUT_IN][0];
     float r0 = merp_node_radius(b, jt->node[MERP_CUT_IN]) + merp_node_end_radius(b, jt->node[MERP_CUT_IN]);
     float v_J = jt->v[MERP_CUT_IN] + jt->d[MERP_CUT_IN] / (MERP_TWO_PI * 0.5f * r0);
-    /* The in cut's frame turns with the axis's direction up (−n0): tube.c
-     * records its binormal as (−n0) × e0, σ = 1; σ keeps the capped frame's
-     * handedness the in cut's should that ever change. */
-    float up[3] = {-n0[0], -n0[1], -n0[2]}, x[3];
-    v3_cross(up, e0, x);
-    float sigma = v3_dot(x, f0) >= 0.0f ? 1.0f : -1.0f;
     for (uint32_t s = 1; s < jt->cuts; s++) {
         if (!jt->capped[s])
             continue;
@@ -93,9 +87,7 @@ static void capped_frames(const merp_builder *b, merp_joint *jt)
             e[k] = e0[k] - c * n[k];
         if (!v3_normalize(e))
             v3_any_perp(n, e);
-        v3_cross(n, e, f);
-        for (int k = 0; k < 3; k++)
-            f[k] *= sigma;
+        v3_cross(n, e, f); /* as tube.c's in cut has it: (−n0) × e0, −n0 the axis up */
         float r = merp_node_radius(b, jt->node[s]) + merp_node_end_radius(b, jt->node[s]);
         jt->v[s] = v_J + jt->d[s] / (MERP_TWO_PI * 0.5f * r);
     }

@@ -296,11 +296,10 @@ static void shaft_segment(const merp_builder *b, const merp_joint *jt, uint32_t 
  * the axis's end, its radius r0 at J and the end's, drawn back so that its
  * round end reaches the end point (a disk's end, where the tube was flat)
  * or, with a fifth of that radius, comes to it as the tip's cone did. */
-static void capped_segment(const merp_builder *b, const merp_joint *jt, uint32_t s, const float J_at[3],
-                           float r0, merp_seg *g)
+static void capped_segment(const merp_builder *b, const merp_joint *jt, uint32_t s, const float J[3], float r0,
+                           merp_seg *g)
 {
-    float J[3];
-    memcpy(J, J_at, sizeof J);
+    assert(s != MERP_CUT_IN); /* so g is not the in segment whose end J may be */
     float r_end = merp_cut_radius(b, jt, s);
     if (tip_cone(b, jt->node[s]))
         r_end *= 0.2f;
