@@ -98,16 +98,17 @@ static const merp_axis *axis_from(const merp_builder *b, uint32_t first)
 }
 
 /* How far along n from J a cut of a shaft of radius r (reach ρ) must lie to
- * be clear of a primitive leaving J along m with support R: the disk at d
- * is at least d·sin φ − ρ from that primitive's axis (φ between n and m), or
- * d when m points back. -1 when they are too close to parallel. */
+ * be clear of a primitive leaving J along m with support R: the cut's disk
+ * at d, square to n (as place_cuts lays it), comes nearest that primitive's
+ * axis at its rim on m's side, d·sin φ − ρ·cos φ from it (φ between n and
+ * m), or d when m points back. -1 when they are too close to parallel. */
 static float clear_of(const float n[3], const float m[3], float R, float rho)
 {
     float c = v3_dot(n, m);
     if (c <= 0.0f)
         return R;
     float s = sqrtf(fmaxf(0.0f, 1.0f - c * c));
-    return s < 0.2f ? -1.0f : (R + rho) / s;
+    return s < 0.2f ? -1.0f : (R + rho * c) / s;
 }
 
 /* The years of a shoot made in step `born`: 1 in the season it appears (a
@@ -420,10 +421,10 @@ typedef struct clearance {
     uint32_t prims;
 } clearance;
 
-/* How far from its J cut s of jt must lie, its reach rho; -1 when no
- * distance clears the others. */
+/* How far from its J cut s of jt must lie, its reach rho, with the shafts
+ * along dir (a single fork's); -1 when no distance clears the others. */
 static float clear_distance(const merp_builder *b, const merp_joint *jt, const clearance *c, uint32_t s,
-                            float rho, float h)
+                            float rho, float h, const float (*dir)[3])
 {
     float d = merp_node_radius(b, jt->start[s]);
     if (c->prim != NULL)
@@ -431,7 +432,7 @@ static float clear_distance(const merp_builder *b, const merp_joint *jt, const c
     for (uint32_t o = 0; o < jt->cuts; o++) {
         if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
             continue;
-        float x = clear_of(c->dir[s], c->dir[o], c->R[o], rho);
+        float x = clear_of(dir[s], dir[o], c->R[o], rho);
         if (x < 0.0f)
             return -1.0f;
         d = fmaxf(d, x);
@@ -445,10 +446,15 @@ static const float *shaft_origin(const merp_joint *jt, uint32_t s)
     return jt->field[jt->cut_fork[s]].in.b;
 }
 
+/* The grid's samples lie on a lattice through the fork's J (a run's first),
+ * so the crotch is sampled alike wherever the cuts fall: moved or not, as
+ * the tree grows, its patch's cells near J stay put (cut at the box's
+ * corner, an out cut a cell nearer J moved every sample of the patch, and
+ * fork_ages' tenth-year crotch lost or kept its ridge vertices by chance). */
 bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float shift, merp_grid *g)
 {
     assert(shift >= 0.0f && shift < 1.0f);
-    const float *J = jt->field[0].in.b;
+    const float *J0 = jt->field[0].in.b, *J = J0;
     float lo[3], hi[3];
     for (int k = 0; k < 3; k++)
         lo[k] = hi[k] = J[k];
@@ -474,7 +480,7 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float
     uint64_t cells = 1;
     g->h = h;
     for (int k = 0; k < 3; k++) {
-        g->origin[k] = lo[k] - shift * h;
+        g->origin[k] = J0[k] - h * ceilf((J0[k] - lo[k]) / h) - shift * h;
         g->n[k] = (uint32_t)ceilf((hi[k] - g->origin[k]) / h);
         g->n[k] = g->n[k] < 1 ? 1 : g->n[k];
         cells *= g->n[k];
@@ -487,31 +493,44 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float
  * tube's radius at the cut (joints.c), which is known only once the cut is
  * placed: first the radius at J, then, while a cut lands where its axis is
  * thicker, again with that radius (the cut moves out, clear of the others
- * by the wider reach). False when the cuts do not fit. */
+ * by the wider reach). A single fork's shafts are first taken along their
+ * first internodes; once placed, each runs straight from J through its
+ * cut's centre (place_cuts), and a cut nearer J than those directions
+ * clear (an axis that bends) moves out by half a cell until it clears
+ * them. Cuts only move out. False when the cuts do not fit. */
 static bool place_clear(const merp_builder *b, claims *cl, merp_joint *jt, const clearance *c, float h, float *need)
 {
-    float r_reach[MERP_PATCH_CUTS];
+    float r_reach[MERP_PATCH_CUTS], push[MERP_PATCH_CUTS] = {0};
     for (uint32_t s = 0; s < jt->cuts; s++)
         r_reach[s] = merp_node_radius(b, jt->start[s]);
     for (uint32_t pass = 0;; pass++) {
         for (uint32_t s = 0; s < jt->cuts; s++) {
-            float d = clear_distance(b, jt, c, s, MERP_JOINT_REACH * r_reach[s] + h, h);
+            float d = clear_distance(b, jt, c, s, MERP_JOINT_REACH * r_reach[s] + h, h, c->dir);
             if (d < 0.0f)
                 return false;
-            need[s] = d + 2.0f * h;
+            need[s] = fmaxf(d + 2.0f * h, pass > 0 ? need[s] : 0.0f) + push[s];
+            push[s] = 0.0f;
         }
         if (!place_cuts(b, cl, need, h, false, jt))
             return false;
-        bool thicker = false;
+        bool again = false;
         for (uint32_t s = 0; s < jt->cuts; s++) {
             float r = merp_cut_radius(b, jt, s);
             if (r > r_reach[s])
-                r_reach[s] = r, thicker = true;
+                r_reach[s] = r, again = true;
         }
-        if (!thicker)
+        for (uint32_t s = 0; c->prim == NULL && s < jt->cuts; s++) {
+            float d = clear_distance(b, jt, c, s, MERP_JOINT_REACH * r_reach[s] + h, h,
+                                     (const float(*)[3])jt->n);
+            if (d < 0.0f)
+                return false;
+            if (!jt->capped[s] && jt->d[s] < d) /* a capped shaft has no cut */
+                push[s] = 0.5f * h, again = true;
+        }
+        if (!again)
             break;
         if (pass + 1 == REPLANS)
-            return false; /* still thickening: the axis is no shaft for a patch */
+            return false; /* still thickening or bending: the axis is no shaft for a patch */
     }
     return true;
 }

@@ -281,8 +281,9 @@ float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
 #define MERP_JOINT_MAX_CELLS 8000000u
 /* The grid of jt's patch into *g (joints_plan.c): the box of every shaft
  * from its J to just past its cut, and of every fork's J, grown by the
- * shell its surface stays in, with cells of h, its origin moved back by
- * shift × h (0 ≤ shift < 1) on every axis. False when it would have more
+ * shell its surface stays in, with cells of h on a lattice through J (a
+ * run's first), moved back by shift × h (0 ≤ shift < 1) on every axis.
+ * False when it would have more
  * than MERP_JOINT_MAX_CELLS cells. */
 bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float shift, merp_grid *g);
 /* jt's maps forgotten (joints_plan.c): its forks are tubes again, unless
