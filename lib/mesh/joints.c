@@ -191,10 +191,41 @@ static float mark_fade(const merp_builder *b, const merp_joint *jt, const float 
     return w;
 }
 
+/* Where a vertex's normal −∇F_g points into the surface its triangles make
+ * (their area-weighted normals' sum `facing` points the other way), their
+ * mean instead. F_g is no smooth function at a crease: its gradient there is
+ * one side's, and in PCM's compression, where each solid is deformed by the
+ * other (f1' = f1 + c − f2), that side's is ∇f1 − ∇f2, which can point
+ * inwards; such a vertex shaded black (fork_ages' fork in its first year, a
+ * vertex on the bud scale scar's crease). Not the ring copies: at a cut the
+ * field is the plain tube's, and their normals are the tube's ring's. */
+static void face_outwards(const merp_trimesh *m, uint32_t ring_first, float *facing)
+{
+    memset(facing, 0, 3 * (size_t)m->vertex_count * sizeof *facing);
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *c = m->triangles + 3 * (size_t)t;
+        const float *a = m->positions + 3 * (size_t)c[0], *p1 = m->positions + 3 * (size_t)c[1],
+                    *p2 = m->positions + 3 * (size_t)c[2];
+        float e1[3], e2[3], n[3];
+        for (int k = 0; k < 3; k++)
+            e1[k] = p1[k] - a[k], e2[k] = p2[k] - a[k];
+        v3_cross(e1, e2, n);
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++)
+                facing[3 * (size_t)c[i] + k] += n[k];
+    }
+    for (uint32_t v = 0; v < ring_first; v++) {
+        float *nr = m->normals + 3 * (size_t)v, *f = facing + 3 * (size_t)v;
+        if (v3_dot(nr, f) < 0.0f && v3_normalize(f))
+            memcpy(nr, f, 3 * sizeof *nr);
+    }
+}
+
 /* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
- * rings shade as the tubes), shafts, ridge b = F_b, UVs (ring copies exactly
- * the ring's), then the seam split. */
-static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *scratch)
+ * rings shade as the tubes; face_outwards where it points inwards), shafts,
+ * ridge b = F_b, UVs (ring copies exactly the ring's), then the seam split.
+ * `facing`: room for 3 floats a vertex. */
+static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *scratch, float *facing)
 {
     merp_trimesh *m = &jt->mesh;
     uint32_t ring_first = m->vertex_count;
@@ -223,7 +254,13 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
         jt->shaft[v] = (uint8_t)s;
         jt->uvs[2 * v] = (float)j / (float)jt->sides[s];
         jt->uvs[2 * v + 1] = jt->v[s];
-        memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float));
+    }
+    face_outwards(m, ring_first, facing);
+    for (uint32_t v = ring_first; v < m->vertex_count; v++) { /* the tube shades its ring alike */
+        uint32_t s = 0, j = v - ring_first;
+        for (; j >= jt->sides[s]; s++)
+            j -= jt->sides[s];
+        memcpy(jt->ring_normal[s] + 3 * j, m->normals + 3 * (size_t)v, 3 * sizeof(float));
     }
     if (!b->opt.no_uvs)
         split_seam(jt, scratch);
@@ -288,17 +325,18 @@ static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float
         jt->ridge = merp_malloc(room * sizeof(float));
         jt->shaft = merp_malloc(room);
         uint32_t *scratch = merp_malloc(room * sizeof(uint32_t));
+        float *facing = merp_malloc(3 * (size_t)m.vertex_count * sizeof(float) + 1);
         if (!jt->mesh.positions || !jt->mesh.normals || !jt->mesh.triangles || !jt->uvs ||
-            !jt->ridge || !jt->shaft || !scratch) {
+            !jt->ridge || !jt->shaft || !scratch || !facing) {
             rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for a junction");
         } else {
             memcpy(jt->mesh.positions, m.positions, (size_t)m.vertex_count * 3 * sizeof(float));
             memcpy(jt->mesh.triangles, m.triangles, (size_t)m.triangle_count * 3 * sizeof(uint32_t));
-            patch_attributes(b, jt, scratch);
+            patch_attributes(b, jt, scratch, facing);
             if (jt->mesh.vertex_count > MER_MESH_CHUNK_VERTICES)
                 rc = mer_error_set(err, MER_ERR_INVALID, NULL, "a junction has too many vertices");
         }
-        merp_free(scratch);
+        merp_free(scratch), merp_free(facing);
     }
     merp_free(m.positions), merp_free(m.normals), merp_free(m.triangles);
     return rc;

@@ -1146,7 +1146,7 @@ static void fork_ages(void **state)
  * continuation half a parent radius further up at 45°, and every patch was
  * longer than its fork needs). Measured as what a patch adds to the bark:
  * its vertices less those of the tubes it replaces, per patched fork, on
- * fig7-bh-0.54 (seeds 1-2, 14 steps): 932 with the ball, 816 with the disk. */
+ * fig7-bh-0.54 (seeds 1-2, 14 steps): 890 with the ball, 774 with the disk. */
 static void cuts_lie_where_the_shafts_clear(void **state)
 {
     (void)state;
@@ -1165,7 +1165,61 @@ static void cuts_lie_where_the_shafts_clear(void **state)
         mer_scene_free(s);
     }
     print_message("fig7-bh-0.54, seeds 1-2: %.0f bark vertices a patched fork\n", (double)added / (double)forks);
-    assert_true((double)added / (double)forks < 875.0);
+    assert_true((double)added / (double)forks < 830.0);
+}
+
+/* The bark's vertices whose normal points against the triangles round them
+ * (their area-weighted normals' sum), by more than 120°, chunk by chunk. */
+static uint32_t normals_inwards(const mer_mesh_part *m)
+{
+    float *sum = calloc(3 * (size_t)m->vertex_count + 1, sizeof *sum);
+    for (uint32_t c = 0; c < m->chunk_count; c++) {
+        const mer_mesh_chunk *ch = &m->chunks[c];
+        for (uint32_t k = 0; k + 2 < ch->index_count; k += 3) {
+            uint32_t v[3];
+            for (int i = 0; i < 3; i++)
+                v[i] = ch->first_vertex + m->indices[ch->first_index + k + (uint32_t)i];
+            const float *a = m->positions + 3 * (size_t)v[0], *b = m->positions + 3 * (size_t)v[1],
+                        *d = m->positions + 3 * (size_t)v[2];
+            float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+            float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    sum[3 * (size_t)v[i] + (size_t)j] += n[j];
+        }
+    }
+    uint32_t inwards = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        const float *f = sum + 3 * (size_t)v, *n = m->normals + 3 * (size_t)v;
+        float l = sqrtf(dot3(f, f));
+        inwards += l > 0.0f && dot3(f, n) < -0.5f * l;
+    }
+    free(sum);
+    return inwards;
+}
+
+/* A patch vertex whose −∇F_g points into the surface takes its triangles'
+ * mean normal instead (joints.c's face_outwards): in PCM's compression
+ * zone, at the bud scale scar's crease, the field's gradient can point
+ * inwards, and fork_ages' fork in its first year showed such a vertex as a
+ * black spot on its scar. On that tree at 5-8 steps, 79 bark vertices had
+ * a normal more than 120° from their triangles' without it, 18 with it:
+ * ring copies of a few thin cuts, whose stitch folds, and some not traced
+ * (see README, Junctions). */
+static void normals_face_outwards(void **state)
+{
+    (void)state;
+    uint32_t inwards = 0;
+    for (uint32_t steps = 5; steps <= 8; steps++) {
+        mer_scene *s = grown(steps);
+        mer_mesh *m = implicit_mesh(s);
+        assert_true(m->junctions > 0);
+        inwards += normals_inwards(&m->bark);
+        mer_mesh_free(m);
+        mer_scene_free(s);
+    }
+    print_message("fig7-bh-0.54 seed 7, steps 5-8: %u bark vertices with a normal against their faces\n", inwards);
+    assert_true(inwards <= 25);
 }
 
 /* A fork whose parent thickens sharply below it, as below a dense whorl
@@ -1316,6 +1370,7 @@ int main(void)
         cmocka_unit_test(same_bytes_and_default_unchanged),
         cmocka_unit_test(fork_ages),
         cmocka_unit_test(cuts_lie_where_the_shafts_clear),
+        cmocka_unit_test(normals_face_outwards),
         cmocka_unit_test(thick_below_the_fork_is_patched),
         cmocka_unit_test(same_bytes_whatever_the_threads),
         cmocka_unit_test(bad_options),
