@@ -198,7 +198,10 @@ static float mark_fade(const merp_builder *b, const merp_joint *jt, const float 
  * other (f1' = f1 + c − f2), that side's is ∇f1 − ∇f2, which can point
  * inwards; such a vertex shaded black (fork_ages' fork in its first year, a
  * vertex on the bud scale scar's crease). Not the ring copies: at a cut the
- * field is the plain tube's, and their normals are the tube's ring's. */
+ * field is the plain tube's, and their normals are the tube's ring's. At a
+ * crease turning more than 90°, a vertex's one-sided normal may also be
+ * replaced where the other side's triangles are larger: it then shades as
+ * the mean, which such a crease is drawn with anyway. */
 static void face_outwards(const merp_trimesh *m, uint32_t ring_first, float *facing)
 {
     memset(facing, 0, 3 * (size_t)m->vertex_count * sizeof *facing);

@@ -26,7 +26,9 @@
  * lands where its axis is thicker moves out, and down a steeply tapering
  * trunk (the inverse model's conifer) that takes up to a dozen passes: with
  * 4, inverse-conifer left 23 forks (seeds 1-5) "still thickening", with 12,
- * 9, none of them for that; 64 patch no more. */
+ * 9, none of them for that; 64 patch no more. A single fork's cut that its
+ * bending axis leaves short of clearing the others moves out in the same
+ * passes. */
 #define REPLANS 12u
 #define PCM_WIDTH 0.15f      /* w of PCM's bulge, in field units */
 #define CELLS_PER_RADIUS 3.0f /* a patch's grid: cells per parent radius ... */
@@ -97,12 +99,8 @@ static const merp_axis *axis_from(const merp_builder *b, uint32_t first)
     return bsearch(&first, b->axes, b->axis_count, sizeof *b->axes, axis_cmp);
 }
 
-/* How far along n from J a cut of a shaft of radius r (reach ρ) must lie to
- * be clear of a primitive leaving J along m with support R: the cut's disk
- * at d, square to n (as place_cuts lays it), comes nearest that primitive's
- * axis at its rim on m's side, d·sin φ − ρ·cos φ from it (φ between n and
- * m), or d when m points back. -1 when they are too close to parallel. */
-static float clear_of(const float n[3], const float m[3], float R, float rho)
+/* (mesh_private.h) */
+float merp_cut_clearance(const float n[3], const float m[3], float R, float rho)
 {
     float c = v3_dot(n, m);
     if (c <= 0.0f)
@@ -385,7 +383,7 @@ static float plane_gap(const run_prim *q, const run_prim *s, const float p[3])
 }
 
 /* How far from its J along its direction shaft s's cut must lie (see
- * clear_of, which a single fork's shafts, all from one J, solve in closed
+ * merp_cut_clearance, which a single fork's shafts, all from one J, solve in closed
  * form): the first d from r in steps of h/2 where the cut's disk (radius ρ)
  * is at least R from every other primitive (but the axis's, for an axis
  * shaft); -1 when none within RUN_CLEAR × r. The disk is that far when
@@ -413,7 +411,7 @@ static float clear_of_run(const run_prim *prim, uint32_t n, uint32_t s, float r,
 }
 
 /* What a patch's cuts must clear: a single fork's shafts all leave one J
- * (clear_of, from their directions and supports), a run's leave several
+ * (merp_cut_clearance, from their directions and supports), a run's leave several
  * (clear_of_run over its primitives, when `prim` is set). */
 typedef struct clearance {
     float dir[MERP_PATCH_CUTS][3], R[MERP_PATCH_CUTS];
@@ -432,7 +430,7 @@ static float clear_distance(const merp_builder *b, const merp_joint *jt, const c
     for (uint32_t o = 0; o < jt->cuts; o++) {
         if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
             continue;
-        float x = clear_of(dir[s], dir[o], c->R[o], rho);
+        float x = merp_cut_clearance(dir[s], dir[o], c->R[o], rho);
         if (x < 0.0f)
             return -1.0f;
         d = fmaxf(d, x);
@@ -447,8 +445,8 @@ static const float *shaft_origin(const merp_joint *jt, uint32_t s)
 }
 
 /* The grid's samples lie on a lattice fixed to the fork's J (a run's first),
- * so the crotch is sampled alike wherever the cuts fall: moved or not, as
- * the tree grows, its patch's cells near J stay put (from the box's corner,
+ * so the crotch is sampled alike wherever the cuts fall: however the cuts
+ * move, its samples keep their place about J in cells (from the box's corner,
  * an out cut a cell nearer J moved every sample of the patch, and
  * fork_ages' tenth-year crotch lost or kept its ridge vertices by that
  * chance). J lies J_OFF of a cell past a lattice plane on each axis, and
@@ -501,8 +499,9 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float
  * by the wider reach). A single fork's shafts are first taken along their
  * first internodes; once placed, each runs straight from J through its
  * cut's centre (place_cuts), and a cut nearer J than those directions
- * clear (an axis that bends) moves out by half a cell until it clears
- * them. Cuts only move out. False when the cuts do not fit. */
+ * clear (an axis that bends) moves out by its shortfall (at least half a
+ * cell) until it clears them. Cuts only move out. False when the cuts do
+ * not fit. */
 static bool place_clear(const merp_builder *b, claims *cl, merp_joint *jt, const clearance *c, float h, float *need)
 {
     float r_reach[MERP_PATCH_CUTS], push[MERP_PATCH_CUTS] = {0};
@@ -529,8 +528,12 @@ static bool place_clear(const merp_builder *b, claims *cl, merp_joint *jt, const
                                      (const float(*)[3])jt->n);
             if (d < 0.0f)
                 return false;
-            if (!jt->capped[s] && jt->d[s] < d) /* a capped shaft has no cut */
-                push[s] = 0.5f * h, again = true;
+            /* The placed segments clear the others from d on
+             * (merp_cut_clearance is exact for them); the first placement's
+             * 2h past d is a margin. The chord is at most the arc, so the
+             * shortfall is a least move. A capped shaft has no cut. */
+            if (!jt->capped[s] && jt->d[s] < d)
+                push[s] = fmaxf(0.5f * h, d - jt->d[s]), again = true;
         }
         if (!again)
             break;
@@ -642,7 +645,7 @@ static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3
 }
 
 /* Whether unit directions n and m are too close to parallel for two
- * shafts of one patch (clear_of's test). */
+ * shafts of one patch (merp_cut_clearance's test). */
 static bool alongside(const float n[3], const float m[3])
 {
     float c = v3_dot(n, m);

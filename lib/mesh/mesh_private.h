@@ -281,11 +281,19 @@ float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
 #define MERP_JOINT_MAX_CELLS 8000000u
 /* The grid of jt's patch into *g (joints_plan.c): the box of every shaft
  * from its J to just past its cut, and of every fork's J, grown by the
- * shell its surface stays in, with cells of h on a lattice through J (a
- * run's first), moved back by shift × h (0 ≤ shift < 1) on every axis.
- * False when it would have more
- * than MERP_JOINT_MAX_CELLS cells. */
+ * shell its surface stays in, with cells of h on a lattice fixed to J (a
+ * run's first; J a fifth of a cell off it), moved back by shift × h
+ * (0 ≤ shift < 1) on every axis. False when it would have more than
+ * MERP_JOINT_MAX_CELLS cells. */
 bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float shift, merp_grid *g);
+/* How far along n (unit) from J a cut of reach ρ must lie to be clear of a
+ * primitive leaving J along m (unit) with support R (joints_plan.c): the
+ * cut's disk at d, square to n (as a single fork's cuts are laid), comes
+ * nearest that primitive's axis at its rim on m's side, d·sin φ − ρ·cos φ
+ * from it (φ between n and m), so d = (R + ρ·cos φ) / sin φ; R when m
+ * points back (cos φ ≤ 0: the disk is at least d from the ray); -1 when
+ * they are too close to parallel (sin φ < 0.2). */
+float merp_cut_clearance(const float n[3], const float m[3], float R, float rho);
 /* jt's maps forgotten (joints_plan.c): its forks are tubes again, unless
  * another patch serves them (a run that took them in). */
 void merp_joint_forget(merp_builder *b, merp_joint *jt);

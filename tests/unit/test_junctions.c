@@ -1140,6 +1140,64 @@ static void fork_ages(void **state)
     mer_scene_free(s);
 }
 
+/* The distance from the disk of radius rho about d·n, square to n, to the
+ * ray from the origin along m, by brute force: its rim and rings inside it
+ * sampled every half degree. */
+static double disk_to_ray(const double n[3], const double m[3], double d, double rho)
+{
+    double u[3], w[3], t[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+    double c = t[0] * n[0] + t[1] * n[1] + t[2] * n[2], l = 0.0;
+    for (int k = 0; k < 3; k++)
+        u[k] = t[k] - c * n[k], l += u[k] * u[k];
+    for (int k = 0; k < 3; k++)
+        u[k] /= sqrt(l);
+    w[0] = n[1] * u[2] - n[2] * u[1], w[1] = n[2] * u[0] - n[0] * u[2], w[2] = n[0] * u[1] - n[1] * u[0];
+    double best = INFINITY;
+    for (int ring = 0; ring <= 8; ring++)
+        for (int a = 0; a < 720; a++) {
+            double r = rho * ring / 8.0, phi = a * M_PI / 360.0, p[3], along = 0.0, q2 = 0.0;
+            for (int k = 0; k < 3; k++)
+                p[k] = d * n[k] + r * (cos(phi) * u[k] + sin(phi) * w[k]), along += p[k] * m[k];
+            along = along > 0.0 ? along : 0.0;
+            for (int k = 0; k < 3; k++)
+                q2 += (p[k] - along * m[k]) * (p[k] - along * m[k]);
+            best = fmin(best, sqrt(q2));
+        }
+    return best;
+}
+
+/* merp_cut_clearance against brute force, over shafts 12° to 170° apart:
+ * the disk it places is clear of the other primitive's support R, and one
+ * a twentieth of R nearer J is not (where the shafts are not back to back),
+ * so a cut lies no further out than it must (the disk taken as a ball put
+ * a continuation half a parent radius further up at 45°) and no nearer. */
+static void cut_clearance_is_exact(void **state)
+{
+    (void)state;
+    uint32_t tight = 0;
+    for (int i = 0; i < 400; i++) {
+        double phi = (12.0 + 158.0 * (i % 40) / 39.0) * M_PI / 180.0, tilt = 0.37 * i;
+        double rho = 0.2 + 1.8 * ((i * 7) % 11) / 10.0, R = 0.3 + 2.0 * ((i * 3) % 13) / 12.0;
+        /* n, and e a unit vector square to it: m at φ from n towards e */
+        double n[3] = {sin(tilt) * 0.6, cos(tilt) * 0.6, 0.8}, e[3] = {cos(tilt), -sin(tilt), 0.0}, m[3];
+        for (int k = 0; k < 3; k++)
+            m[k] = cos(phi) * n[k] + sin(phi) * e[k];
+        float nf[3] = {(float)n[0], (float)n[1], (float)n[2]}, mf[3] = {(float)m[0], (float)m[1], (float)m[2]};
+        double d = (double)merp_cut_clearance(nf, mf, (float)R, (float)rho);
+        if (cos(phi) > 0.0 && sin(phi) < 0.2) { /* too close to parallel */
+            assert_true(d < 0.0 || sin(phi) > 0.199);
+            continue;
+        }
+        assert_true(d > 0.0);
+        assert_true(disk_to_ray(n, m, d, rho) >= R * (1.0 - 1e-3));
+        if (cos(phi) > 0.0) {
+            assert_true(disk_to_ray(n, m, d - 0.05 * R, rho) < R);
+            tight++;
+        }
+    }
+    assert_true(tight > 150);
+}
+
 /* Each shaft is cut where its disk (square to the shaft, reach ρ) first
  * clears the other shafts' fields: d·sin φ − ρ·cos φ from a shaft at φ, the
  * rim nearest it (d·sin φ − ρ, the disk taken as a ball, cut the
@@ -1173,6 +1231,7 @@ static void cuts_lie_where_the_shafts_clear(void **state)
 static uint32_t normals_inwards(const mer_mesh_part *m)
 {
     float *sum = calloc(3 * (size_t)m->vertex_count + 1, sizeof *sum);
+    assert_non_null(sum);
     for (uint32_t c = 0; c < m->chunk_count; c++) {
         const mer_mesh_chunk *ch = &m->chunks[c];
         for (uint32_t k = 0; k + 2 < ch->index_count; k += 3) {
@@ -1369,6 +1428,7 @@ int main(void)
         cmocka_unit_test(seams_share_normals),
         cmocka_unit_test(same_bytes_and_default_unchanged),
         cmocka_unit_test(fork_ages),
+        cmocka_unit_test(cut_clearance_is_exact),
         cmocka_unit_test(cuts_lie_where_the_shafts_clear),
         cmocka_unit_test(normals_face_outwards),
         cmocka_unit_test(thick_below_the_fork_is_patched),
