@@ -1262,9 +1262,9 @@ static uint32_t normals_inwards(const mer_mesh_part *m)
  * zone, at the bud scale scar's crease, the field's gradient can point
  * inwards, and fork_ages' fork in its first year showed such a vertex as a
  * black spot on its scar. On that tree at 5-8 steps, 79 bark vertices had
- * a normal more than 120° from their triangles' without it, 18 with it:
- * ring copies of a few thin cuts, whose stitch folds, and some not traced
- * (see README, Junctions). */
+ * a normal more than 120° from their triangles' without it, 18 with it,
+ * not traced yet (the two looked at lie where a thin lateral's tube meets
+ * its patch: a ring or its copy). */
 static void normals_face_outwards(void **state)
 {
     (void)state;
