@@ -257,14 +257,9 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
         jt->shaft[v] = (uint8_t)s;
         jt->uvs[2 * v] = (float)j / (float)jt->sides[s];
         jt->uvs[2 * v + 1] = jt->v[s];
+        memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float)); /* face_outwards keeps it */
     }
     face_outwards(m, ring_first, facing);
-    for (uint32_t v = ring_first; v < m->vertex_count; v++) { /* the tube shades its ring alike */
-        uint32_t s = 0, j = v - ring_first;
-        for (; j >= jt->sides[s]; s++)
-            j -= jt->sides[s];
-        memcpy(jt->ring_normal[s] + 3 * j, m->normals + 3 * (size_t)v, 3 * sizeof(float));
-    }
     if (!b->opt.no_uvs)
         split_seam(jt, scratch);
 }
@@ -432,19 +427,6 @@ static float patch_cost(const merp_builder *b, const merp_joint *jt)
     return area / (h * h);
 }
 
-typedef struct costed {
-    float cost;
-    uint32_t joint;
-} costed;
-
-static int costlier_first(const void *x, const void *y)
-{
-    const costed *p = x, *q = y;
-    if (p->cost != q->cost)
-        return p->cost > q->cost ? -1 : 1;
-    return p->joint < q->joint ? -1 : p->joint > q->joint;
-}
-
 /* The joints in the order the threads take them: the costliest first, so
  * that no thread is left with a large patch while the others idle (on the
  * 10k bench tree the trunk's run of five forks, a tenth of the work, came
@@ -456,14 +438,14 @@ static bool patch_order(const merp_builder *b, uint32_t *order)
             order[i] = i;
         return true;
     }
-    costed *c = merp_malloc((b->joint_count ? b->joint_count : 1) * sizeof *c);
+    merp_ranked *c = merp_malloc((b->joint_count ? b->joint_count : 1) * sizeof *c);
     if (c == NULL)
         return false;
     for (uint32_t i = 0; i < b->joint_count; i++)
-        c[i] = (costed){patch_cost(b, &b->joints[i]), i};
-    qsort(c, b->joint_count, sizeof *c, costlier_first);
+        c[i] = (merp_ranked){patch_cost(b, &b->joints[i]), i};
+    qsort(c, b->joint_count, sizeof *c, merp_ranked_cmp);
     for (uint32_t i = 0; i < b->joint_count; i++)
-        order[i] = c[i].joint;
+        order[i] = c[i].id;
     merp_free(c);
     return true;
 }

@@ -1020,15 +1020,12 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     return true;
 }
 
-/* A fork that may get a patch, and its thickest lateral's diameter. */
-typedef struct candidate {
-    float key;
-    uint32_t id;
-} candidate;
+/* A fork that may get a patch (id), and its thickest lateral's diameter (key). */
+typedef merp_ranked candidate;
 
-static int candidate_cmp(const void *x, const void *y)
+int merp_ranked_cmp(const void *x, const void *y)
 {
-    const candidate *a = x, *b = y;
+    const merp_ranked *a = x, *b = y;
     if (a->key != b->key)
         return a->key > b->key ? -1 : 1;
     return (a->id > b->id) - (a->id < b->id);
@@ -1059,7 +1056,7 @@ static candidate *candidates(const merp_builder *b, float threshold, uint32_t *c
         if (key > 0.0f && thick >= threshold)
             c[n++] = (candidate){key, id};
     }
-    qsort(c, n, sizeof *c, candidate_cmp);
+    qsort(c, n, sizeof *c, merp_ranked_cmp);
     *count = n;
     return c;
 }

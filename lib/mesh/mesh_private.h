@@ -294,6 +294,14 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float
  * points back (cos φ ≤ 0: the disk is at least d from the ray); -1 when
  * they are too close to parallel (sin φ < 0.2). */
 float merp_cut_clearance(const float n[3], const float m[3], float R, float rho);
+/* An id and the key it is ranked by; merp_ranked_cmp orders them for qsort,
+ * largest key first, ties by id (joints_plan.c: the forks planned thickest
+ * lateral first; joints.c: the patches built costliest first). */
+typedef struct merp_ranked {
+    float key;
+    uint32_t id;
+} merp_ranked;
+int merp_ranked_cmp(const void *x, const void *y);
 /* jt's maps forgotten (joints_plan.c): its forks are tubes again, unless
  * another patch serves them (a run that took them in). */
 void merp_joint_forget(merp_builder *b, merp_joint *jt);
