@@ -234,23 +234,64 @@ static void ring(merp_builder *b, tube *tb, uint32_t i, bool join)
     tb->last_v = tb->v, tb->last_at = 0.0f, tb->last_r = r[i];
 }
 
-/* Joint jt's cut ring `cut`, at its distance along the axis's internode k,
- * square to the patch's shaft there (its cut plane's normal, towards the
- * axis's tip). */
-static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, uint32_t k, bool join)
+/* Where joint jt's cut ring `cut` lies, at its distance along the axis's
+ * internode k: its centre, its tangent (square to the patch's shaft there,
+ * its cut plane's normal, towards the axis's tip) and radius; *f: how far
+ * along the internode. */
+static void cut_place(const merp_builder *b, const merp_joint *jt, uint32_t cut, uint32_t k, float center[3],
+                      float t[3], float *radius, float *f)
 {
     const mer_node *n = &b->nodes[b->chain[k]];
     const float *r = b->radii, s = jt->at[cut];
-    float f = n->length > 0.0f ? s / n->length : 0.0f, center[3], t[3];
+    *f = n->length > 0.0f ? s / n->length : 0.0f;
     for (int a = 0; a < 3; a++) {
         center[a] = n->base[a] + s * n->dir[a];
         t[a] = cut == MERP_CUT_IN ? -jt->n[cut][a] : jt->n[cut][a];
     }
+    *radius = r[k] + (r[k + 1] - r[k]) * *f;
+}
+
+/* Joint jt's cut ring `cut` in the axis's internode k (cut_place). */
+static void cut_ring(merp_builder *b, tube *tb, merp_joint *jt, uint32_t cut, uint32_t k, bool join)
+{
+    const mer_node *n = &b->nodes[b->chain[k]];
+    const float *r = b->radii, s = jt->at[cut];
+    float center[3], t[3], radius, f;
+    cut_place(b, jt, cut, k, center, t, &radius, &f);
     float slope = n->length > 0.0f ? (r[k] - r[k + 1]) / n->length : 0.0f;
     float circumference = MERP_TWO_PI * 0.5f * (r[k] + r[k + 1]);
-    float v = tb->v + (circumference > 0.0f ? s / circumference : 0.0f), radius = r[k] + (r[k + 1] - r[k]) * f;
+    float v = tb->v + (circumference > 0.0f ? s / circumference : 0.0f);
     emit_ring(b, tb, center, t, radius, slope, v, n, join, MERGE_NONE, jt, cut);
     tb->last_v = v, tb->last_at = s, tb->last_r = radius;
+}
+
+/* How far the disk about `c` of radius `r` square to unit `t` lies on the
+ * + side of the plane through `o` square to unit `n` (its nearest rim
+ * point's signed distance). */
+static float disk_clear(const float c[3], const float t[3], float r, const float o[3], const float n[3])
+{
+    float q[3] = {c[0] - o[0], c[1] - o[1], c[2] - o[2]}, ct = v3_dot(n, t);
+    return v3_dot(n, q) - r * sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
+}
+
+/* Whether ring i (centre `center`, tangent `t`) and the band to it from
+ * joint jt's cut ring `cut` in internode k (or from it to the cut, when the
+ * cut is `after` the ring) would fold: a cut square to a shaft that leans
+ * from its internode puts one side of its ring farther along the axis than
+ * the other, and where the next ring is nearer than that (an L-system
+ * bush's internodes, shorter than their radius: abop-1.24d, seed 1, 14
+ * steps, 6 cuts) the band between them turns inside out. Such a ring is
+ * left out, the cut's band running to the ring beyond it. Not a fold: each
+ * disk wholly on its own side of the other's plane (the tube lies on the
+ * + side of a cut's normal jt->n, in or out). */
+static bool folds_on_cut(const merp_builder *b, const float center[3], const float t[3], uint32_t i,
+                         const merp_joint *jt, uint32_t cut, uint32_t k, bool after)
+{
+    float o[3], tc[3], rho, f;
+    cut_place(b, jt, cut, k, o, tc, &rho, &f);
+    float back[3] = {-t[0], -t[1], -t[2]};
+    return disk_clear(center, t, b->radii[i], o, jt->n[cut]) <= 0.0f ||
+           disk_clear(o, jt->n[cut], rho, center, after ? t : back) <= 0.0f;
 }
 
 /* The rings of an axis with implicit junctions, with `emit` written (or, on
@@ -265,13 +306,27 @@ static bool rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *ri
 {
     const uint32_t count = tb->a->count;
     bool inside = b->lateral_in[b->chain[0]] != UINT32_MAX, any = false;
+    uint32_t out_cut = UINT32_MAX, out_k = 0; /* the last ring's, when it is an out cut's */
     *rings = *bands = 0;
     for (uint32_t i = 0; i < tb->rings; i++) {
         if (!inside) {
-            if (emit)
-                ring(b, tb, i, any);
-            *bands += any;
-            ++*rings, any = true;
+            float center[3], t[3], v = tb->v;
+            ring_place(b, tb, i, center, t);
+            tb->v = v; /* ring() places it again */
+            uint32_t g = i < count ? b->cut_begin[b->chain[i]] : UINT32_MAX;
+            bool folds = any && ((out_cut != UINT32_MAX &&
+                                  folds_on_cut(b, center, t, i, &b->joints[out_cut / MERP_PATCH_CUTS],
+                                               out_cut % MERP_PATCH_CUTS, out_k, false)) ||
+                                 (g != UINT32_MAX && folds_on_cut(b, center, t, i, &b->joints[g], MERP_CUT_IN, i, true)));
+            if (folds) {
+                if (emit)
+                    ring_place(b, tb, i, center, t); /* only to carry v to ring i */
+            } else {
+                if (emit)
+                    ring(b, tb, i, any);
+                *bands += any;
+                ++*rings, any = true, out_cut = UINT32_MAX;
+            }
         } else if (emit) {
             float center[3], t[3];
             ring_place(b, tb, i, center, t); /* only to carry v to ring i */
@@ -284,12 +339,14 @@ static bool rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *ri
             if (emit)
                 cut_ring(b, tb, &b->joints[e / MERP_PATCH_CUTS], e % MERP_PATCH_CUTS, i, false);
             ++*rings, any = true, inside = false;
+            out_cut = e, out_k = i;
         }
         if (g != UINT32_MAX) {
             assert(!inside && any);
             if (emit)
                 cut_ring(b, tb, &b->joints[g], MERP_CUT_IN, i, true);
             ++*rings, ++*bands, inside = true;
+            out_cut = UINT32_MAX;
         }
     }
     return inside;
