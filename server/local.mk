@@ -24,7 +24,7 @@ server_meristemd_SOURCES = \
 	server/session_load.c server/session_summary.c server/session_snapshot.c \
 	server/session_history.c server/revisions.c server/revisions.h \
 	server/snapshot.c server/snapshot.h \
-	server/export.c server/export.h \
+	server/export.c server/export.h server/cores.c server/cores.h \
 	server/clock.h \
 	server/registry.c server/registry.h \
 	server/quarantine.c server/quarantine.h \

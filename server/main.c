@@ -26,6 +26,8 @@
 
 /* Set on SIGINT or SIGTERM: running batches stop at their next whole step. */
 static atomic_int stopping;
+/* The cores lent to the snapshots meshed at once (--patch-threads 0). */
+static merd_cores cores;
 
 /* What sessions need of the settings. */
 static merd_session_config session_config(const merd_settings *config)
@@ -40,8 +42,8 @@ static merd_session_config session_config(const merd_settings *config)
         .max_seconds = (double)config->max_seconds,
         .checkpoint_every = (uint32_t)config->checkpoint_every,
         .compact = config->compact,
-        .patch_threads = config->patch_threads > 0 ? (uint32_t)config->patch_threads
-                                                   : merd_export_patch_threads((uint32_t)config->workers),
+        .patch_threads = (uint32_t)config->patch_threads,
+        .cores = &cores,
     };
 }
 
@@ -113,6 +115,7 @@ int main(int argc, char **argv)
     if (merd_static_find_root(config.web_root, sizeof config.web_root, stderr) != 0)
         return EXIT_FAILURE;
     char data_dir[PATH_MAX];
+    merd_cores_init(&cores, merd_export_patch_threads(1));
     merd_app app = {.settings = &config, .session_config = session_config(&config)};
     app.metrics = merd_metrics_new();
     app.registry = merd_registry_new(&app.session_config, (uint32_t)config.max_sessions);

@@ -106,7 +106,8 @@ void merd_metrics_snapshot(merd_metrics *m, bool cached)
     atomic_fetch_add(cached ? &m->snapshot_hits : &m->snapshot_misses, 1);
 }
 
-char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending)
+char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending,
+                          const merd_cores *cores)
 {
     char *text = NULL;
     size_t size = 0;
@@ -150,6 +151,14 @@ char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internode
             (unsigned long long)internodes);
     fprintf(f, "# HELP meristem_jobs_pending Edit and snapshot jobs waiting for a worker.\n"
                "# TYPE meristem_jobs_pending gauge\nmeristem_jobs_pending %zu\n", jobs_pending);
+    if (cores != NULL)
+        fprintf(f, "# HELP meristem_patch_leases_total Snapshots with implicit junctions whose patches "
+                   "were built on lent cores.\n# TYPE meristem_patch_leases_total counter\n"
+                   "meristem_patch_leases_total %llu\n"
+                   "# HELP meristem_patch_threads_total Threads those snapshots' patches were lent, "
+                   "in all.\n# TYPE meristem_patch_threads_total counter\n"
+                   "meristem_patch_threads_total %llu\n",
+                (unsigned long long)atomic_load(&cores->leases), (unsigned long long)atomic_load(&cores->lent));
     fclose(f);
     return text;
 }

@@ -6,6 +6,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "server/cores.h"
+
 typedef struct merd_metrics merd_metrics;
 
 merd_metrics *merd_metrics_new(void);
@@ -21,7 +23,9 @@ void merd_metrics_step(merd_metrics *m, double seconds, uint32_t steps);
 /* Records one snapshot sent: `cached` when the session's cache held it. */
 void merd_metrics_snapshot(merd_metrics *m, bool cached);
 
-/* The exposition text (caller frees), with the gauges given. */
-char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending);
+/* The exposition text (caller frees), with the gauges given and the leases
+ * of `cores` (may be NULL: none). */
+char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending,
+                          const merd_cores *cores);
 
 #endif

@@ -28,6 +28,7 @@
 
 #include <meristem.h>
 
+#include "server/cores.h"
 #include "server/edits.h"
 #include "server/journal.h"
 #include "server/snapshot.h"
@@ -44,8 +45,9 @@ typedef struct merd_session_config {
     const atomic_int *stopping;  /* when set and non-zero: batches stop at the next whole step */
     uint32_t checkpoint_every;   /* revisions between checkpoints; 0: none */
     bool compact;                /* drop the journal records a checkpoint covers */
-    uint32_t patch_threads;      /* threads one snapshot's junction patches take (the
-                                    workers mesh at once); 0: all the cores */
+    uint32_t patch_threads;      /* threads one snapshot's junction patches take; 0: those
+                                    `cores` lends it, or without it all the cores */
+    merd_cores *cores;           /* the cores lent to the snapshots meshed at once, or NULL */
 } merd_session_config;
 
 /* Creates a session with id `id` (32 hex digits) from a create request `spec`

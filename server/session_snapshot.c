@@ -51,12 +51,20 @@ int merd_session_build(merd_session *s, const mer_scene *scene, uint64_t revisio
     uint8_t *bytes = NULL;
     size_t size = 0;
     mer_error err = {0};
-    /* Several workers may mesh at once: each snapshot's patches take their
-     * share of the cores (the bytes are the same whatever the count). */
+    /* Several workers may mesh at once: each snapshot's patches take the
+     * cores the others leave, or a fixed number (the bytes are the same
+     * whatever the count). Meshes with tubes use no threads. */
     mer_mesh_options mesh = options->mesh;
-    if (mesh.threads == 0)
-        mesh.threads = s->cfg->patch_threads;
+    uint32_t lent = 0;
+    if (mesh.threads == 0 && mesh.junctions != MER_JUNCTIONS_TUBES) {
+        if (s->cfg->patch_threads > 0)
+            mesh.threads = s->cfg->patch_threads;
+        else if (s->cfg->cores != NULL)
+            mesh.threads = lent = merd_cores_take(s->cfg->cores);
+    }
     mer_result rc = merd_export_tree(scene, &mesh, &gopt, &origin, &bytes, &size, NULL, &err);
+    if (lent > 0)
+        merd_cores_give(s->cfg->cores, lent);
     if (rc != MER_OK)
         return merd_refuse_lib(why, rc, &err, "");
     *out = merd_snapshot_new(bytes, size);

@@ -57,7 +57,8 @@ static const opt_spec specs[] = {
     {"workers", OPT_LONG, 1, 256, "2", NUM(workers), "threads that step and mesh trees"},
     {"patch-threads", OPT_LONG, 0, 64, "0", NUM(patch_threads),
      "threads that build one snapshot's implicit junction patches (the bytes are the same "
-     "whatever their number); 0: the machine's cores shared among the --workers, at least 1"},
+     "whatever their number); 0: the machine's cores that the snapshots being built beside "
+     "it have not taken, at least 1"},
     {"max-sessions", OPT_LONG, 1, 1000000, "10000", NUM(max_sessions), "live sessions at once"},
     {"max-internodes", OPT_LONG, 1, 50000000, "2000000", NUM(max_internodes),
      "internodes a session's tree may grow to"},

@@ -100,6 +100,6 @@ enum MHD_Result merd_api_metrics(merd_request *req, const char *id)
     uint64_t internodes;
     merd_registry_totals(req->app->registry, &sessions, &internodes);
     char *text = merd_metrics_render(req->app->metrics, sessions, internodes,
-                                     merd_jobs_pending(req->app->jobs));
+                                     merd_jobs_pending(req->app->jobs), req->app->session_config.cores);
     return merd_reply_text(req, 200, text, "text/plain; version=0.0.4; charset=utf-8");
 }

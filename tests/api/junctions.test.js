@@ -3,10 +3,12 @@
 // implicit patches, a `_RIDGE` attribute, a GLB the Khronos validator passes,
 // its own ETag and cache variant; a bad value is a problem+json naming the
 // field; the default snapshot is the tubes' one. --patch-threads sets the
-// threads one snapshot's patches take, and the bytes do not depend on it.
+// threads one snapshot's patches take, and the bytes do not depend on it; by
+// default a snapshot is lent the cores no other snapshot is using.
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
+const os = require('node:os');
 const path = require('node:path');
 const { spawnSync } = require('node:child_process');
 const { validates } = require('../support/gltf.js');
@@ -49,8 +51,8 @@ test('junctions=implicit gives a valid GLB with the ridge; a bad value is refuse
   assert.match(bad.body.detail, /junctions must be tubes or implicit/);
 });
 
-// The thread count is each daemon's (--patch-threads, or the cores shared among
-// the workers by default): a snapshot's bytes are the same whatever it is.
+// The thread count is each daemon's (--patch-threads, or the cores lent by
+// default to each snapshot): a snapshot's bytes are the same whatever it is.
 test('implicit junctions give the same bytes whatever --patch-threads; a bad count is refused', async () => {
   const glb = async (daemon) => {
     const call = (method, p, body) => api(daemon.url, method, p, body);
@@ -81,4 +83,45 @@ test('implicit junctions give the same bytes whatever --patch-threads; a bad cou
   const bad = spawnSync(process.env.MERISTEMD, ['--patch-threads', '65'], { encoding: 'utf8' });
   assert.equal(bad.status, 2);
   assert.match(bad.stderr, /--patch-threads wants an integer from 0 to 64, got '65'/);
+});
+
+// GET /v1/metrics' lease counters: [snapshots lent cores, threads lent].
+const leases = async (daemon) => {
+  const text = await (await fetch(`${daemon.url}/v1/metrics`)).text();
+  const n = (name) => {
+    const m = text.match(new RegExp(`^${name} (\\d+)$`, 'm'));
+    return m ? Number(m[1]) : null;
+  };
+  return [n('meristem_patch_leases_total'), n('meristem_patch_threads_total')];
+};
+
+// By default (--patch-threads 0) a snapshot with implicit junctions is lent the
+// cores no other snapshot is meshing on: alone, all of them, so one user
+// brushing with junctions on no longer waits on one core of an idle machine.
+// Tubes take no threads; a fixed --patch-threads lends nothing.
+test('a lone implicit snapshot is lent every core; tubes and a fixed --patch-threads are not', async () => {
+  const cores = Math.min(os.cpus().length, 64);
+  const grow = async (daemon) => {
+    const made = await api(daemon.url, 'POST', '/v1/sessions', { preset: 'fig7-bh-0.54', seed: 3 });
+    assert.equal(made.status, 201, JSON.stringify(made.body));
+    assert.equal((await api(daemon.url, 'POST', `/v1/sessions/${made.body.id}/edits`, { op: 'step', count: 8 })).status, 200);
+    return `${daemon.url}/v1/sessions/${made.body.id}/snapshot.glb`;
+  };
+  const url = await grow(d);
+  const [l0, t0] = await leases(d);
+  assert.ok(l0 !== null && t0 !== null, 'the lease counters are in /v1/metrics');
+  assert.equal((await fetch(url)).status, 200);
+  assert.deepEqual(await leases(d), [l0, t0], 'tubes borrow no cores');
+  assert.equal((await fetch(`${url}?junctions=implicit`)).status, 200);
+  assert.deepEqual(await leases(d), [l0 + 1, t0 + cores], `a lone snapshot is lent all ${cores} cores`);
+  assert.equal((await fetch(`${url}?junctions=implicit`)).status, 200); // the cache's: no mesh
+  assert.deepEqual(await leases(d), [l0 + 1, t0 + cores]);
+  const fixed = await startDaemon(['--max-steps', '200', '--patch-threads', '1']);
+  try {
+    const u = await grow(fixed);
+    assert.equal((await fetch(`${u}?junctions=implicit`)).status, 200);
+    assert.deepEqual(await leases(fixed), [0, 0], '--patch-threads 1 lends nothing');
+  } finally {
+    await fixed.stop();
+  }
 });

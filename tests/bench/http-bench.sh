@@ -3,6 +3,7 @@
 # Not a test: it prints figures. Usage: tests/bench/http-bench.sh [MERISTEMD]
 #   - small JSON requests: GET /v1/health and GET /v1/sessions/{id}
 #   - one-step edits of a 10,000-internode session answered with the GLB (p99)
+#   - that session's snapshot with implicit junctions, on lent cores and on one
 #   - 1,000 idle young sessions: RSS, and the time to restore them on start
 set -eu
 exe=${1:-server/meristemd}
@@ -54,6 +55,23 @@ size=$(curl -sS -o /dev/null -w '%{size_download}' "$base/v1/sessions/$id/snapsh
 echo "== GET snapshot.glb of that session ($size bytes, cached), one connection (wrk -t1 -c1 -d5s)"
 wrk -t1 -c1 -d5s "$base/v1/sessions/$id/snapshot.glb" | grep -E 'Requests/sec|Latency|Transfer/sec'
 
+# A snapshot with implicit junctions, each of eight variants (colour ×
+# quantize) meshed anew: the patches on the cores lent to it (the default)
+# and, in a second daemon, on one thread (--patch-threads 1).
+implicit_latency() {
+  : >"$data/times"
+  for c in none order light age; do
+    for q in 0 1; do
+      curl -sS -o /dev/null -w '%{time_total}\n' \
+        "$base/v1/sessions/$id/snapshot.glb?junctions=implicit&color=$c&quantize=$q" >>"$data/times"
+    done
+  done
+  sort -n "$data/times" | awk '{ t[NR] = $1 * 1000 } END {
+    printf "   min %.1f ms  median %.1f ms  max %.1f ms  (%d variants)\n", t[1], t[int((NR + 1) / 2)], t[NR], NR }'
+}
+echo "== GET snapshot.glb?junctions=implicit of that session, 8 uncached variants, patches on the lent cores"
+implicit_latency
+
 # A one-step edit changes the tree, so each sample needs its own copy of the
 # 10,000-internode tree: the same preset, seed and steps give the same tree.
 steps=$(curl -sS "$base/v1/sessions/$id" | sed -n 's/.*"step":\([0-9]*\).*/\1/p')
@@ -81,6 +99,14 @@ rm -rf "$data/j"
 start --fsync=interval
 id=$(post "$base/v1/sessions" -d '{"preset":"fig7-bh-0.54","seed":1}' | sed -n 's/.*"id":"\([0-9a-f]*\)".*/\1/p')
 edit_latency "--fsync=interval"
+kill $pid; wait $pid 2>/dev/null || true
+rm -rf "$data/j"
+
+echo "== the same with --patch-threads 1"
+start --patch-threads 1
+id=$(post "$base/v1/sessions" -d '{"preset":"fig7-bh-0.54","seed":1}' | sed -n 's/.*"id":"\([0-9a-f]*\)".*/\1/p')
+post "$base/v1/sessions/$id/edits" -d "{\"op\":\"step\",\"count\":$steps}" >/dev/null
+implicit_latency
 kill $pid; wait $pid 2>/dev/null || true
 rm -rf "$data/j"
 

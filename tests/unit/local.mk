@@ -117,6 +117,11 @@ tests_unit_test_host_SOURCES = tests/unit/test_host.c server/host.c server/host.
 tests_unit_test_host_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_host_LDADD = $(CMOCKA_LIBS)
 
+check_PROGRAMS += tests/unit/test_cores
+tests_unit_test_cores_SOURCES = tests/unit/test_cores.c server/cores.c server/cores.h
+tests_unit_test_cores_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_cores_LDADD = $(CMOCKA_LIBS) -lpthread
+
 check_PROGRAMS += tests/unit/test_head
 tests_unit_test_head_SOURCES = tests/unit/test_head.c server/head.c server/head.h
 tests_unit_test_head_CPPFLAGS = $(UNIT_CPPFLAGS)
