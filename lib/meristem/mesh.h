@@ -74,8 +74,8 @@
  * ridge) is polygonized in a small grid sized to its radii, each shaft's tube
  * ends at an extra ring just outside the other primitives' supports, and the
  * patch is stitched to those rings, so bark is one closed surface there (a
- * tube ring nearer the cut than the cut's tilted ring reaches along the axis
- * is left out, the band running on to the next); a
+ * tube ring that a cut's tilted ring reaches past along the axis, after an
+ * out cut or before an in cut, is left out, the band running past it); a
  * shaft runs across as many short internodes as its cut needs while its axis
  * stays nearly straight, and the tube and the patch share each ring vertex's
  * normal and b; a continuation or lateral may be cut in a growing tip's last

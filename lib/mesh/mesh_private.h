@@ -31,7 +31,8 @@ typedef struct merp_axis {
     uint8_t base_cap; /* 1 for a plant's trunk (and, with implicit junctions, a
                          lateral that starts in no patch) */
     /* With implicit junctions: rings added (two cut rings) less rings dropped
-     * (inside a patch), and the quads between rings dropped, on this axis;
+     * (inside a patch, or folding against a cut: tube.c), and the quads
+     * between rings dropped, on this axis;
      * ends_in when it ends inside a patch (a relayed fork's parent, whose
      * tip the patch covers): no cone or disk then. */
     int32_t extra_rings;

@@ -278,12 +278,12 @@ static float disk_clear(const float c[3], const float t[3], float r, const float
  * joint jt's cut ring `cut` in internode k (or from it to the cut, when the
  * cut is `after` the ring) would fold: a cut square to a shaft that leans
  * from its internode puts one side of its ring farther along the axis than
- * the other, and where the next ring is nearer than that (an L-system
- * bush's internodes, shorter than their radius: abop-1.24d, seed 1, 14
- * steps, 6 cuts) the band between them turns inside out. Such a ring is
- * left out, the cut's band running to the ring beyond it. Not a fold: each
- * disk wholly on its own side of the other's plane (the tube lies on the
- * + side of a cut's normal jt->n, in or out). */
+ * the other, and where a ring is nearer than that (internodes shorter than
+ * their radius: abop-1.24d, seed 1, 14 steps, 6 cuts, and some in the
+ * guiding-vector trees, populus-deltoides and fig12b) the band between them
+ * turns inside out. Not a fold: each disk wholly on its own side of the
+ * other's plane (the tube lies on the + side of a cut's normal jt->n, in or
+ * out). */
 static bool folds_on_cut(const merp_builder *b, const float center[3], const float t[3], uint32_t i,
                          const merp_joint *jt, uint32_t cut, uint32_t k, bool after)
 {
@@ -294,9 +294,39 @@ static bool folds_on_cut(const merp_builder *b, const float center[3], const flo
            disk_clear(o, jt->n[cut], rho, center, after ? t : back) <= 0.0f;
 }
 
+/* How many internodes before an in cut a ring is checked against it
+ * (ring_folds): a cut tilted across internodes shorter than its radius may
+ * reach back past more than one ring. */
+#define FOLD_LOOK 8u
+
+/* Whether ring i (placed at `center`, `t`) is left out of the tube: where
+ * it would fold (folds_on_cut) against the out cut whose ring is the last
+ * written (`out_cut`, in internode out_k; UINT32_MAX: none), or against the
+ * next in cut within FOLD_LOOK internodes, the band then running from the
+ * last ring to the next. Never the axis's first ring or its last (its tip's
+ * cone and its end's disk are built on it), so a ring stays before every in
+ * cut and at the end. The same in the counting walk and the writing one. */
+static bool ring_folds(const merp_builder *b, const tube *tb, uint32_t i, const float center[3], const float t[3],
+                       bool any, uint32_t out_cut, uint32_t out_k)
+{
+    const uint32_t count = tb->a->count;
+    if (!any || i + 1 >= tb->rings)
+        return false;
+    if (out_cut != UINT32_MAX &&
+        folds_on_cut(b, center, t, i, &b->joints[out_cut / MERP_PATCH_CUTS], out_cut % MERP_PATCH_CUTS, out_k, false))
+        return true;
+    for (uint32_t k = i; k < count && k < i + FOLD_LOOK; k++) { /* (no out cut comes first: outside) */
+        uint32_t g = b->cut_begin[b->chain[k]];
+        if (g != UINT32_MAX)
+            return folds_on_cut(b, center, t, i, &b->joints[g], MERP_CUT_IN, k, true);
+    }
+    return false;
+}
+
 /* The rings of an axis with implicit junctions, with `emit` written (or, on
  * a dry run, recorded), else only counted into *rings and *bands: ring i
- * at the base of internode i unless it lies inside a patch, and in
+ * at the base of internode i unless it lies inside a patch or would fold
+ * against a cut (ring_folds), and in
  * internode i the cut that ends a patch (a lateral's or a relay's first,
  * the out cut of a fork below, or at a relayed fork the cut of the thinner
  * continuation, one of its laterals) and then the cut that begins one (the
@@ -313,12 +343,7 @@ static bool rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *ri
             float center[3], t[3], v = tb->v;
             ring_place(b, tb, i, center, t);
             tb->v = v; /* ring() places it again */
-            uint32_t g = i < count ? b->cut_begin[b->chain[i]] : UINT32_MAX;
-            bool folds = any && ((out_cut != UINT32_MAX &&
-                                  folds_on_cut(b, center, t, i, &b->joints[out_cut / MERP_PATCH_CUTS],
-                                               out_cut % MERP_PATCH_CUTS, out_k, false)) ||
-                                 (g != UINT32_MAX && folds_on_cut(b, center, t, i, &b->joints[g], MERP_CUT_IN, i, true)));
-            if (folds) {
+            if (ring_folds(b, tb, i, center, t, any, out_cut, out_k)) {
                 if (emit)
                     ring_place(b, tb, i, center, t); /* only to carry v to ring i */
             } else {
