@@ -3,18 +3,19 @@
 
 #include "server/export.h"
 
-#include <assert.h>
+#include <sched.h>
 #include <unistd.h>
 
 #define MAX_PATCH_THREADS 64 /* mer_mesh_options.threads' range */
 
 /* Implicit junction patches are independent and their bytes do not depend on
- * the thread count (mer_mesh_options.threads), so they may take whatever
- * cores the meshes running beside them leave. */
-uint32_t merd_export_patch_threads(uint32_t jobs)
+ * the thread count (mer_mesh_options.threads), so they may take every core
+ * the process may run on: its CPU affinity's (a container's or taskset's
+ * share), where the system tells it, rather than every core online. */
+uint32_t merd_export_cores(void)
 {
-    assert(jobs >= 1);
-    long n = sysconf(_SC_NPROCESSORS_ONLN) / (long)jobs;
+    cpu_set_t set;
+    long n = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : sysconf(_SC_NPROCESSORS_ONLN);
     return n < 1 ? 1u : n > MAX_PATCH_THREADS ? MAX_PATCH_THREADS : (uint32_t)n;
 }
 
@@ -26,7 +27,7 @@ mer_result merd_export_tree(const mer_scene *scene, const mer_mesh_options *mesh
         *counts = (merd_export_counts){0};
     mer_mesh_options o = *mesh;
     if (o.junctions != MER_JUNCTIONS_TUBES && o.threads == 0)
-        o.threads = merd_export_patch_threads(1);
+        o.threads = merd_export_cores();
     mer_mesh *m = NULL;
     mer_result rc = mer_mesh_build(scene, &o, &m, err);
     if (rc != MER_OK)

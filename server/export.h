@@ -18,11 +18,11 @@ typedef struct merd_origin {
     uint64_t seed;
 } merd_origin;
 
-/* The threads for the implicit junction patches of each of `jobs` meshes built
- * at once (jobs ≥ 1): the machine's online cores shared among them, at least
- * 1 and at most the library's 64, so that busy workers do not oversubscribe
- * the cores. Cost: a sysconf call. */
-uint32_t merd_export_patch_threads(uint32_t jobs);
+/* The cores this process may run on (its CPU affinity's, else the online
+ * ones), at least 1 and at most the library's 64 threads: all of them for
+ * one mesh's implicit junction patches, or the pool meristemd lends its
+ * snapshots (cores.h). Cost: a system call. */
+uint32_t merd_export_cores(void);
 
 /* What a mesh held, for a summary: triangles, and its implicit junctions
  * (mer_mesh's counts of the same names; all 0 with tubes). */
@@ -32,7 +32,7 @@ typedef struct merd_export_counts {
 } merd_export_counts;
 
 /* Meshes `scene` with `mesh` options (implicit junctions on all the machine's
- * cores, merd_export_patch_threads(1), when `mesh` asks for no thread count:
+ * cores, merd_export_cores(), when `mesh` asks for no thread count:
  * one offline export) and encodes it with `gltf` options into
  * *bytes (*size; caller frees with mer_gltf_free). `*counts` (may be NULL)
  * gets the mesh's counts once it is built, also on an encoding failure

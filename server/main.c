@@ -115,7 +115,7 @@ int main(int argc, char **argv)
     if (merd_static_find_root(config.web_root, sizeof config.web_root, stderr) != 0)
         return EXIT_FAILURE;
     char data_dir[PATH_MAX];
-    merd_cores_init(&cores, merd_export_patch_threads(1));
+    merd_cores_init(&cores, merd_export_cores());
     merd_app app = {.settings = &config, .session_config = session_config(&config)};
     app.metrics = merd_metrics_new();
     app.registry = merd_registry_new(&app.session_config, (uint32_t)config.max_sessions);

@@ -9,6 +9,8 @@
 
 #include "server/metrics.h"
 
+#include "server/cores.h"
+
 #define ROUTES 16
 #define STATUSES 24
 
@@ -107,7 +109,7 @@ void merd_metrics_snapshot(merd_metrics *m, bool cached)
 }
 
 char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending,
-                          const merd_cores *cores)
+                          const struct merd_cores *cores)
 {
     char *text = NULL;
     size_t size = 0;

@@ -6,7 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "server/cores.h"
+struct merd_cores;
 
 typedef struct merd_metrics merd_metrics;
 
@@ -26,6 +26,6 @@ void merd_metrics_snapshot(merd_metrics *m, bool cached);
 /* The exposition text (caller frees), with the gauges given and the leases
  * of `cores` (may be NULL: none). */
 char *merd_metrics_render(merd_metrics *m, uint32_t sessions, uint64_t internodes, size_t jobs_pending,
-                          const merd_cores *cores);
+                          const struct merd_cores *cores);
 
 #endif

@@ -100,7 +100,8 @@ const leases = async (daemon) => {
 // brushing with junctions on no longer waits on one core of an idle machine.
 // Tubes take no threads; a fixed --patch-threads lends nothing.
 test('a lone implicit snapshot is lent every core; tubes and a fixed --patch-threads are not', async () => {
-  const cores = Math.min(os.cpus().length, 64);
+  // The daemon counts the cores it may run on (its CPU affinity), as Node does here.
+  const cores = Math.min(os.availableParallelism(), 64);
   const grow = async (daemon) => {
     const made = await api(daemon.url, 'POST', '/v1/sessions', { preset: 'fig7-bh-0.54', seed: 3 });
     assert.equal(made.status, 201, JSON.stringify(made.body));

@@ -1,4 +1,6 @@
 /* meristemd's lease of the cores to the snapshots meshed at once (cores.h). */
+#include "config.h"
+
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
