@@ -212,14 +212,13 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
     tb->prev_plain = jt == NULL;
 }
 
-/* Ring i, and the quads joining it to the last ring when `join`. */
-static void ring(merp_builder *b, tube *tb, uint32_t i, bool join)
+/* Ring i at `center`, square to `t` (ring_place), and the quads joining it
+ * to the last ring when `join`. */
+static void ring_placed(merp_builder *b, tube *tb, uint32_t i, const float center[3], const float t[3], bool join)
 {
     const uint32_t count = tb->a->count;
     const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
     const float *r = b->radii;
-    float center[3], t[3];
-    ring_place(b, tb, i, center, t);
     uint32_t lo = i > 0 ? i - 1 : 0, hi = i < count ? i + 1 : count;
     float span = 0.0f;
     for (uint32_t k = lo; k < hi; k++)
@@ -232,6 +231,14 @@ static void ring(merp_builder *b, tube *tb, uint32_t i, bool join)
                                                                   : MERGE_FIRST;
     emit_ring(b, tb, center, t, r[i], slope, tb->v, owner, join, m, NULL, 0);
     tb->last_v = tb->v, tb->last_at = 0.0f, tb->last_r = r[i];
+}
+
+/* Ring i (ring_place, then ring_placed). */
+static void ring(merp_builder *b, tube *tb, uint32_t i, bool join)
+{
+    float center[3], t[3];
+    ring_place(b, tb, i, center, t);
+    ring_placed(b, tb, i, center, t, join);
 }
 
 /* Where joint jt's cut ring `cut` lies, at its distance along the axis's
@@ -340,15 +347,11 @@ static bool rings_with_joints(merp_builder *b, tube *tb, bool emit, uint32_t *ri
     *rings = *bands = 0;
     for (uint32_t i = 0; i < tb->rings; i++) {
         if (!inside) {
-            float center[3], t[3], v = tb->v;
-            ring_place(b, tb, i, center, t);
-            tb->v = v; /* ring() places it again */
-            if (ring_folds(b, tb, i, center, t, any, out_cut, out_k)) {
+            float center[3], t[3];
+            ring_place(b, tb, i, center, t); /* carries v to ring i, written or not */
+            if (!ring_folds(b, tb, i, center, t, any, out_cut, out_k)) {
                 if (emit)
-                    ring_place(b, tb, i, center, t); /* only to carry v to ring i */
-            } else {
-                if (emit)
-                    ring(b, tb, i, any);
+                    ring_placed(b, tb, i, center, t, any);
                 *bands += any;
                 ++*rings, any = true, out_cut = UINT32_MAX;
             }
