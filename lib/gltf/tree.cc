@@ -186,6 +186,7 @@ Grid grid_for(const mer_mesh &mesh)
         half = std::max(half, 0.5 * (hi[k] - lo[k]));
     }
     g.scale = half > 0 ? half / 32767.0 : 1.0;
+    g.inv_scale = 1.0 / g.scale;
     return g;
 }
 
