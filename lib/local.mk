@@ -5,6 +5,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/core/alloc.h \
 	lib/core/alloc.c \
 	lib/core/array.h \
+	lib/core/atan2.h \
 	lib/core/bytes.h \
 	lib/core/hash.h \
 	lib/core/perlin.h \

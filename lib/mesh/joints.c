@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "core/alloc.h"
+#include "core/atan2.h"
 #include "core/parallel.h"
 #include "mesh_private.h"
 
@@ -64,7 +65,7 @@ static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, co
     for (int k = 0; k < 3; k++)
         q[k] = p[k] - jt->o[s][k];
     float r = merp_node_radius(b, jt->node[s]) + merp_node_end_radius(b, jt->node[s]);
-    float u = atan2f(v3_dot(q, jt->frame[s][1]), v3_dot(q, jt->frame[s][0])) / MERP_TWO_PI;
+    float u = merp_atan2f(v3_dot(q, jt->frame[s][1]), v3_dot(q, jt->frame[s][0])) / MERP_TWO_PI;
     uv[0] = u < 0.0f ? u + 1.0f : u;
     uv[1] = jt->v[s] + (s == MERP_CUT_IN ? -1.0f : 1.0f) * v3_dot(q, jt->n[s]) / (MERP_TWO_PI * 0.5f * r);
 }

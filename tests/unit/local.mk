@@ -261,6 +261,11 @@ tests_unit_test_mtet_SOURCES = tests/unit/test_mtet.c tests/unit/trimesh_check.h
 tests_unit_test_mtet_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_mtet_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_atan2
+tests_unit_test_atan2_SOURCES = tests/unit/test_atan2.c
+tests_unit_test_atan2_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_atan2_LDADD = $(CMOCKA_LIBS) -lm
+
 check_PROGRAMS += tests/unit/test_dc
 tests_unit_test_dc_SOURCES = tests/unit/test_dc.c tests/unit/trimesh_check.h
 tests_unit_test_dc_CPPFLAGS = $(UNIT_CPPFLAGS)
