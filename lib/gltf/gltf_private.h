@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -97,9 +98,16 @@ struct Writer {
     int positions(int view_index, const float *p, size_t first, size_t count, bool quantize);
     // An index accessor: UNSIGNED_SHORT when the chunk's vertices allow it.
     int indices(const uint32_t *idx, size_t count, size_t vertex_count, bool triangles);
-    // Every blob's bytes into `bin` (bin_size bytes), or one blob's at its offset.
+    // Every blob's bytes into `bin` (bin_size bytes; each_blob), or one blob's
+    // at its offset.
     void fill(uint8_t *bin) const;
     void fill(const Blob &b, uint8_t *bin) const;
+    // Calls fn(i) once for every blob i, the biggest first, each to whichever
+    // of this thread and one more has less work so far (a split fixed by the
+    // sizes; fn(i) must write only blob i's own bytes, so they are the same
+    // every time). All on this thread when there is one blob, the BIN chunk
+    // is under `two_threads_from` bytes, or a thread cannot be started.
+    void each_blob(const std::function<void(size_t)> &fn, size_t two_threads_from = 0) const;
 };
 
 // tree.cc: lays out the whole scene graph; the BIN bytes stay in the mesh's arrays.

@@ -9,8 +9,6 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
-#include <system_error>
-#include <thread>
 
 namespace merp_gltf {
 
@@ -88,38 +86,6 @@ void encode(const Writer &w, Plan &p, size_t i, uint8_t *raw, uint8_t *packed)
     }
 }
 
-// Encodes every view on two threads: the biggest views first, each to the
-// thread with less work so far (a fixed split: the same bytes every time).
-// Without a second thread, all of it here.
-void encode_all(const Writer &w, Plan &p, uint8_t *raw, uint8_t *packed)
-{
-    const size_t n = w.blobs.size();
-    std::vector<size_t> order(n);
-    for (size_t i = 0; i < n; i++)
-        order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return w.blobs[a].size > w.blobs[b].size; });
-    std::vector<size_t> mine, theirs;
-    size_t my_bytes = 0, their_bytes = 0;
-    for (size_t i : order) {
-        (my_bytes <= their_bytes ? mine : theirs).push_back(i);
-        (my_bytes <= their_bytes ? my_bytes : their_bytes) += w.blobs[i].size;
-    }
-    std::thread helper;
-    try {
-        helper = std::thread([&]() {
-            for (size_t i : theirs)
-                encode(w, p, i, raw, packed);
-        });
-    } catch (const std::system_error &) {
-        mine.insert(mine.end(), theirs.begin(), theirs.end());
-    }
-    for (size_t i : mine)
-        encode(w, p, i, raw, packed);
-    if (helper.joinable())
-        helper.join();
-}
-
 // Moves the encoded views together in view order, 4-aligned, and points each
 // bufferView of `doc` at its bytes; returns the packed size, or 0 with *rc set
 // when a view could not be encoded.
@@ -167,7 +133,7 @@ mer_result write_meshopt(Writer &w, uint8_t **out, size_t *out_size, mer_error *
     Plan p = plan_for(w);
     std::unique_ptr<uint8_t[]> raw(new uint8_t[w.bin_size + 1]);
     std::unique_ptr<uint8_t[]> packed(new uint8_t[p.region[w.blobs.size()] + 1]);
-    encode_all(w, p, raw.get(), packed.get());
+    w.each_blob([&](size_t i) { encode(w, p, i, raw.get(), packed.get()); });
     mer_result rc;
     const size_t at = pack(w, p, packed.get(), doc, &rc, err);
     if (rc != MER_OK)

@@ -4,8 +4,11 @@
 
 #include "gltf/gltf_private.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cstring>
+#include <system_error>
+#include <thread>
 
 #include <meristem/version.h>
 
@@ -117,8 +120,43 @@ int Writer::indices(const uint32_t *idx, size_t count, size_t vertex_count, bool
 
 void Writer::fill(uint8_t *bin) const
 {
-    for (const Blob &b : blobs)
-        fill(b, bin);
+    // Copying and quantizing run at about 3 GB/s: under 1 MiB, a second
+    // thread costs more than it saves.
+    each_blob([&](size_t i) { fill(blobs[i], bin); }, size_t{1} << 20);
+}
+
+void Writer::each_blob(const std::function<void(size_t)> &fn, size_t two_threads_from) const
+{
+    const size_t n = blobs.size();
+    std::vector<size_t> order(n);
+    for (size_t i = 0; i < n; i++)
+        order[i] = i;
+    if (n < 2 || bin_size < two_threads_from) {
+        for (size_t i : order)
+            fn(i);
+        return;
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return blobs[a].size > blobs[b].size; });
+    std::vector<size_t> mine, theirs;
+    size_t my_bytes = 0, their_bytes = 0;
+    for (size_t i : order) {
+        (my_bytes <= their_bytes ? mine : theirs).push_back(i);
+        (my_bytes <= their_bytes ? my_bytes : their_bytes) += blobs[i].size;
+    }
+    std::thread helper;
+    try {
+        helper = std::thread([&]() {
+            for (size_t i : theirs)
+                fn(i);
+        });
+    } catch (const std::system_error &) {
+        mine.insert(mine.end(), theirs.begin(), theirs.end());
+    }
+    for (size_t i : mine)
+        fn(i);
+    if (helper.joinable())
+        helper.join();
 }
 
 // One blob's bytes (and the padding after them) at its offset in `bin`.

@@ -151,25 +151,35 @@ void test_round_trip(void **)
     }
 }
 
-// Past 65535 vertices the indices must widen to UNSIGNED_INT.
+// Past 65535 vertices the indices must widen to UNSIGNED_INT. At 70,000
+// vertices with normals and node ids the BIN chunk is over 1 MiB, which the
+// writer fills on two threads (Writer::each_blob): every attribute must read
+// back as written.
 void test_wide_indices(void **)
 {
     const size_t n = 70000;
-    std::vector<float> positions(3 * n);
+    std::vector<float> positions(3 * n), normals(3 * n);
+    std::vector<uint32_t> ids(n);
     for (size_t i = 0; i < n; i++) {
         positions[3 * i] = static_cast<float>(i % 100);
         positions[3 * i + 1] = static_cast<float>(i / 100);
         positions[3 * i + 2] = 0.0f;
+        const float a = 0.001f * static_cast<float>(i);
+        normals[3 * i] = std::cos(a), normals[3 * i + 1] = 0.0f, normals[3 * i + 2] = std::sin(a);
+        ids[i] = static_cast<uint32_t>(i * 7 % 65521);
     }
     std::vector<uint32_t> indices = {0, 1, 100, 69998, 69999, 69899};
     plain_mesh m{};
     m.positions = positions.data();
+    m.normals = normals.data();
+    m.node_ids = ids.data();
     m.vertex_count = n;
     m.indices = indices.data();
     m.index_count = indices.size();
     uint8_t *glb = nullptr;
     size_t size = 0;
     assert_int_equal(write_plain_glb(&m, &glb, &size, nullptr), MER_OK);
+    assert_true(size > (size_t{1} << 20));
     save_artifact("unit-wide-indices.glb", glb, size);
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
@@ -181,7 +191,13 @@ void test_wide_indices(void **)
                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
     auto back = read_accessor<uint32_t>(model, p.indices);
     assert_memory_equal(back.data(), indices.data(), indices.size() * sizeof(uint32_t));
-    assert_true(p.attributes.find("NORMAL") == p.attributes.end());
+    auto pos = read_accessor<float>(model, p.attributes.at("POSITION"));
+    auto nrm = read_accessor<float>(model, p.attributes.at("NORMAL"));
+    auto id = read_accessor<float>(model, p.attributes.at("_NODE_ID"));
+    assert_memory_equal(pos.data(), positions.data(), positions.size() * sizeof(float));
+    assert_memory_equal(nrm.data(), normals.data(), normals.size() * sizeof(float));
+    for (size_t i = 0; i < n; i++)
+        assert_int_equal(static_cast<uint32_t>(id[i]), ids[i]);
 }
 
 void test_same_mesh_same_bytes(void **)
