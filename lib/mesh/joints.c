@@ -454,9 +454,11 @@ static bool patch_order(const merp_builder *b, uint32_t *order)
 /* Every patch, on opt.threads threads: patches are pure functions of their
  * joint and each lands in its joint's own arrays, so the bytes are the same
  * whatever the thread count and the order they are taken and finish in;
- * failures are then handled in joint order. */
-static mer_result build_patches(merp_builder *b, mer_error *err)
+ * failures are then handled in joint order (*failed: how many joints failed,
+ * their forks tubes again). */
+static mer_result build_patches(merp_builder *b, uint32_t *failed, mer_error *err)
 {
+    *failed = 0;
     size_t n = b->joint_count ? b->joint_count : 1;
     patch_run r = {b, merp_malloc(n * sizeof *r.rc), merp_malloc(n * sizeof *r.order)};
     if (r.rc == NULL || r.order == NULL || !patch_order(b, r.order)) {
@@ -469,6 +471,7 @@ static mer_result build_patches(merp_builder *b, mer_error *err)
         if (r.rc[i] == MER_ERR_INVALID) {
             merp_joint_forget(b, &b->joints[i]); /* this fork (or run) stays tubes */
             b->joints_open += b->joints[i].forks;
+            ++*failed;
         } else if (r.rc[i] != MER_OK) {
             rc = mer_error_set(err, r.rc[i], NULL, "out of memory for a junction");
         }
@@ -482,9 +485,12 @@ mer_result merp_mesh_joints(merp_builder *b, mer_error *err)
     mer_result rc = merp_mesh_joints_plan(b, err);
     if (rc == MER_OK)
         rc = walk_axes(b, true, err);
+    uint32_t failed = 0;
     if (rc == MER_OK)
-        rc = build_patches(b, err);
-    if (rc == MER_OK)
+        rc = build_patches(b, &failed, err);
+    /* Counted again only where a patch failed and its forks are tubes again:
+     * the counts depend on the cuts alone, which are otherwise as they were. */
+    if (rc == MER_OK && failed > 0)
         rc = walk_axes(b, false, err);
     return rc;
 }
