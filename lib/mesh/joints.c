@@ -507,6 +507,9 @@ void merp_mesh_joints_size(const merp_builder *b, uint64_t *vertices, uint64_t *
 
 #define RIDGE_DARKEN 0.55f /* a colour on the ridge (b = 1) keeps this much of itself */
 
+/* The patches' vertices and triangles into the bark, array by array: the
+ * positions, normals, UVs and ridge values as one copy each, the triangles
+ * offset to the patch's place in its chunk. */
 mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err)
 {
     merp_cursor *c = &b->bark;
@@ -515,26 +518,32 @@ mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err)
         if (!jt->ok)
             continue;
         const merp_trimesh *m = &jt->mesh;
+        const size_t n = m->vertex_count;
         mer_result rc = merp_mesh_begin_group(c, m->vertex_count, err);
         if (rc != MER_OK)
             return rc;
         mer_mesh_part *part = c->part;
-        uint32_t first = merp_take_vertices(c, m->vertex_count);
-        for (uint32_t v = 0; v < m->vertex_count; v++) {
-            const mer_node *n = &b->nodes[jt->start[jt->shaft[v]]];
-            const float *uv = jt->uvs + 2 * (size_t)v;
-            merp_set_vertex(part, first + v, m->positions + 3 * (size_t)v, m->normals + 3 * (size_t)v,
-                            uv[0], uv[1], n->id);
-            part->ridge[first + v] = jt->ridge[v];
-            merp_mesh_color(b, part, first + v, 1, n);
-            if (part->colors != NULL)
+        const uint32_t first = merp_take_vertices(c, m->vertex_count);
+        memcpy(part->positions + 3 * (size_t)first, m->positions, 3 * n * sizeof(float));
+        memcpy(part->normals + 3 * (size_t)first, m->normals, 3 * n * sizeof(float));
+        if (part->uvs != NULL)
+            memcpy(part->uvs + 2 * (size_t)first, jt->uvs, 2 * n * sizeof(float));
+        memcpy(part->ridge + first, jt->ridge, n * sizeof(float));
+        for (uint32_t v = 0; v < m->vertex_count; v++)
+            part->node_ids[first + v] = b->nodes[jt->start[jt->shaft[v]]].id;
+        if (part->colors != NULL)
+            for (uint32_t v = 0; v < m->vertex_count; v++) {
+                merp_mesh_color(b, part, first + v, 1, &b->nodes[jt->start[jt->shaft[v]]]);
                 for (int k = 0; k < 3; k++)
                     part->colors[4 * (size_t)(first + v) + k] *= 1.0f - (1.0f - RIDGE_DARKEN) * jt->ridge[v];
-        }
-        for (uint32_t t = 0; t < m->triangle_count; t++) {
-            const uint32_t *tri = m->triangles + 3 * (size_t)t;
-            merp_put_triangle(c, first + tri[0], first + tri[1], first + tri[2]);
-        }
+            }
+        mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
+        const uint32_t shift = first - chunk->first_vertex, count = 3 * m->triangle_count;
+        uint32_t *out = part->indices + c->i;
+        for (uint32_t k = 0; k < count; k++)
+            out[k] = m->triangles[k] + shift;
+        c->i += count;
+        chunk->index_count += count;
     }
     return MER_OK;
 }
