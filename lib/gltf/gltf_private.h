@@ -38,6 +38,14 @@ struct Blob {
     bool triangles;    // an index view of triangles (not of line segments)
 };
 
+// The bounding box of some positions, per axis.
+struct Box {
+    float lo[3], hi[3];
+};
+
+// The box of positions p[first .. first + count) (a NaN is passed over).
+Box box_of(const float *p, size_t first, size_t count);
+
 // The uniform grid quantized positions live on: p = center + scale · q.
 struct Grid {
     double center[3] = {0, 0, 0};
@@ -94,8 +102,9 @@ struct Writer {
     // A vertex attribute of a whole part: one bufferView that every chunk's
     // accessor reads at its own offset (hence a byteStride, glTF 2.0 §3.6.2.4).
     int vertex_view(const void *src, size_t vertices, int components, Fill fill = Fill::Copy);
-    // The POSITION accessor of vertices [first, first + count), with min and max.
-    int positions(int view_index, const float *p, size_t first, size_t count, bool quantize);
+    // The POSITION accessor of vertices [first, first + count), with min and
+    // max: the box of those positions.
+    int positions(int view_index, const Box &box, size_t first, size_t count, bool quantize);
     // An index accessor: UNSIGNED_SHORT when the chunk's vertices allow it.
     int indices(const uint32_t *idx, size_t count, size_t vertex_count, bool triangles);
     // Every blob's bytes into `bin` (bin_size bytes; each_blob), or one blob's

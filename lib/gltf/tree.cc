@@ -62,7 +62,7 @@ int attribute(Writer &w, int view, size_t first, size_t count, int type, int qua
 
 // The TRIANGLES primitive of one chunk: its accessors into the part's views.
 tinygltf::Primitive chunk_triangles(Writer &w, const mer_mesh_part &p, const PartViews &v,
-                                    const mer_mesh_chunk &ch, int material)
+                                    const mer_mesh_chunk &ch, const Box &box, int material)
 {
     const size_t first = ch.first_vertex, count = ch.vertex_count;
     const bool q = w.quantized;
@@ -71,7 +71,7 @@ tinygltf::Primitive chunk_triangles(Writer &w, const mer_mesh_part &p, const Par
     prim.material = material;
     if (ch.twig)
         prim.extras = tinygltf::Value(tinygltf::Value::Object{{"twig", tinygltf::Value(true)}});
-    prim.attributes["POSITION"] = w.positions(v.pos, p.positions, first, count, q);
+    prim.attributes["POSITION"] = w.positions(v.pos, box, first, count, q);
     // Node ids as FLOAT: UNSIGNED_INT is for indices only.
     const struct {
         const char *name;
@@ -95,15 +95,15 @@ tinygltf::Primitive chunk_triangles(Writer &w, const mer_mesh_part &p, const Par
 // A chunk of twigs' prisms (mesh.h, Twig lines) is marked {"twig": true} in its
 // extras, and followed by a LINES primitive of its twig lines, in `line_material`,
 // on the same POSITION (and COLOR_0) accessors, with {"twig_diameter_max": d}.
-void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, int material,
-                   int line_material = -1, double twig_diameter_max = 0)
+void add_triangles(Writer &w, tinygltf::Mesh &mesh, const mer_mesh_part &p, const std::vector<Box> &boxes,
+                   int material, int line_material = -1, double twig_diameter_max = 0)
 {
     if (p.vertex_count == 0)
         return;
     const PartViews v = part_views(w, p);
     for (uint32_t c = 0; c < p.chunk_count; c++) {
         const mer_mesh_chunk &ch = p.chunks[c];
-        tinygltf::Primitive prim = chunk_triangles(w, p, v, ch, material);
+        tinygltf::Primitive prim = chunk_triangles(w, p, v, ch, boxes[c], material);
         mesh.primitives.push_back(prim);
         if (ch.line_index_count == 0 || line_material < 0)
             continue;
@@ -165,17 +165,28 @@ void add_extras(tinygltf::Model &model, const mer_gltf_meta *meta)
     model.asset.extras = tinygltf::Value(o);
 }
 
-// The quantization grid: centred on the bounding box of bark and leaves, one
-// uniform step so that the largest half-extent spans ±32767.
-Grid grid_for(const mer_mesh &mesh)
+// Each chunk's bounding box (its POSITION's min and max; the chunks tile
+// the part's vertices, check_part says so).
+std::vector<Box> chunk_boxes(const mer_mesh_part &p)
+{
+    std::vector<Box> boxes;
+    if (p.vertex_count > 0)
+        for (uint32_t c = 0; c < p.chunk_count; c++)
+            boxes.push_back(box_of(p.positions, p.chunks[c].first_vertex, p.chunks[c].vertex_count));
+    return boxes;
+}
+
+// The quantization grid: centred on the bounding box of bark and leaves (of
+// their chunks' boxes), one uniform step so that the largest half-extent
+// spans ±32767.
+Grid grid_for(const std::vector<Box> &bark, const std::vector<Box> &leaves)
 {
     double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
-    for (const mer_mesh_part *p : {&mesh.bark, &mesh.leaves})
-        for (size_t i = 0; i < p->vertex_count; i++)
+    for (const std::vector<Box> *boxes : {&bark, &leaves})
+        for (const Box &b : *boxes)
             for (size_t k = 0; k < 3; k++) {
-                double x = static_cast<double>(p->positions[3 * i + k]);
-                lo[k] = std::min(lo[k], x);
-                hi[k] = std::max(hi[k], x);
+                lo[k] = std::min(lo[k], static_cast<double>(b.lo[k]));
+                hi[k] = std::max(hi[k], static_cast<double>(b.hi[k]));
             }
     Grid g;
     double half = 0;
@@ -191,7 +202,8 @@ Grid grid_for(const mer_mesh &mesh)
 }
 
 // Node "tree": bark (and its twig lines) and leaves, placed on the grid when quantized.
-void add_tree(Writer &w, const mer_mesh &mesh, tinygltf::Scene &scene)
+void add_tree(Writer &w, const mer_mesh &mesh, const std::vector<Box> &bark_boxes,
+              const std::vector<Box> &leaf_boxes, tinygltf::Scene &scene)
 {
     tinygltf::Model &model = w.model;
     const bool colored = mesh.bark.colors != nullptr || mesh.leaves.colors != nullptr;
@@ -204,10 +216,10 @@ void add_tree(Writer &w, const mer_mesh &mesh, tinygltf::Scene &scene)
         int twig = mesh.bark.line_index_count > 0
                        ? add_material(model, "twig", colored ? white : bark_rgba, 0.9, false)
                        : -1;
-        add_triangles(w, tree, mesh.bark, bark, twig, static_cast<double>(mesh.twig_diameter_max));
+        add_triangles(w, tree, mesh.bark, bark_boxes, bark, twig, static_cast<double>(mesh.twig_diameter_max));
     }
     if (mesh.leaves.vertex_count > 0)
-        add_triangles(w, tree, mesh.leaves,
+        add_triangles(w, tree, mesh.leaves, leaf_boxes,
                       add_material(model, "leaf", colored ? white : leaf_rgba, 0.6, true));
     if (tree.primitives.empty())
         return;
@@ -236,20 +248,22 @@ void add_tree(Writer &w, const mer_mesh &mesh, tinygltf::Scene &scene)
 
 void build_tree(Writer &w, const mer_mesh &mesh, const mer_gltf_meta *meta)
 {
+    const std::vector<Box> bark_boxes = chunk_boxes(mesh.bark), leaf_boxes = chunk_boxes(mesh.leaves);
     if (w.quantized)
-        w.grid = grid_for(mesh);
+        w.grid = grid_for(bark_boxes, leaf_boxes);
     tinygltf::Model &model = w.model;
     add_extras(model, meta);
     tinygltf::Scene scene;
     scene.name = "meristem";
-    add_tree(w, mesh, scene);
+    add_tree(w, mesh, bark_boxes, leaf_boxes, scene);
     if (mesh.point_count > 0) {
         const double marker_rgba[4] = {0.55, 0.55, 0.55, 1.0};
         tinygltf::Primitive points;
         points.mode = TINYGLTF_MODE_POINTS;
         points.material = add_material(model, "marker", marker_rgba, 1.0, false);
         int view = w.vertex_view(mesh.points, mesh.point_count, 3);
-        points.attributes["POSITION"] = w.positions(view, mesh.points, 0, mesh.point_count, false);
+        points.attributes["POSITION"] =
+            w.positions(view, box_of(mesh.points, 0, mesh.point_count), 0, mesh.point_count, false);
         tinygltf::Mesh markers;
         markers.primitives.push_back(points);
         scene.nodes.push_back(add_node(model, "markers", std::move(markers)));

@@ -81,27 +81,33 @@ int Writer::vertex_view(const void *src, size_t vertices, int components, Fill f
                 TINYGLTF_TARGET_ARRAY_BUFFER, 4 * components);
 }
 
+Box box_of(const float *p, size_t first, size_t count)
+{
+    Box b = {{FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}};
+    for (size_t i = first; i < first + count; i++)
+        for (size_t k = 0; k < 3; k++) {
+            const float x = p[3 * i + k];
+            b.lo[k] = x < b.lo[k] ? x : b.lo[k];
+            b.hi[k] = x > b.hi[k] ? x : b.hi[k];
+        }
+    return b;
+}
+
 // POSITION needs min and max (glTF 2.0 §3.7.2.1), in the stored values: grid
 // integers when quantized.
-int Writer::positions(int view_index, const float *p, size_t first, size_t count, bool quantize)
+int Writer::positions(int view_index, const Box &box, size_t first, size_t count, bool quantize)
 {
     int a = quantize ? accessor(view_index, first * 8, TINYGLTF_COMPONENT_TYPE_SHORT,
                                 TINYGLTF_TYPE_VEC3, count)
                      : accessor(view_index, first * 12, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                 TINYGLTF_TYPE_VEC3, count);
-    float lo_f[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi_f[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
-    for (size_t i = first; i < first + count; i++)
-        for (size_t k = 0; k < 3; k++) {
-            lo_f[k] = std::min(lo_f[k], p[3 * i + k]);
-            hi_f[k] = std::max(hi_f[k], p[3 * i + k]);
-        }
     // Quantization is monotonic, so the bounds of the stored integers are the
     // quantized float bounds.
     std::vector<double> lo(3), hi(3);
     for (int k = 0; k < 3; k++) {
         size_t kk = static_cast<size_t>(k);
-        lo[kk] = quantize ? quantize_position(lo_f[kk], grid, k) : static_cast<double>(lo_f[kk]);
-        hi[kk] = quantize ? quantize_position(hi_f[kk], grid, k) : static_cast<double>(hi_f[kk]);
+        lo[kk] = quantize ? quantize_position(box.lo[kk], grid, k) : static_cast<double>(box.lo[kk]);
+        hi[kk] = quantize ? quantize_position(box.hi[kk], grid, k) : static_cast<double>(box.hi[kk]);
     }
     model.accessors[static_cast<size_t>(a)].minValues = lo;
     model.accessors[static_cast<size_t>(a)].maxValues = hi;
