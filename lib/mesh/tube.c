@@ -200,12 +200,18 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
     }
     merp_mesh_color(b, part, first, stride, owner);
     if (join) {
-        uint32_t below_ring = tb->prev_ring, this_ring = first;
-        for (uint32_t j = 0; j < sides; j++) {
+        /* The band's 2 × sides triangles, as merp_put_triangle writes them,
+         * in one run (the cursor's counts bumped once, not per triangle). */
+        mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
+        const uint32_t below = tb->prev_ring - chunk->first_vertex, here = first - chunk->first_vertex;
+        uint32_t *out = part->indices + c->i;
+        for (uint32_t j = 0; j < sides; j++, out += 6) {
             uint32_t k = next_on_ring(j, stride);
-            merp_put_triangle(c, below_ring + j, below_ring + k, this_ring + k);
-            merp_put_triangle(c, below_ring + j, this_ring + k, this_ring + j);
+            out[0] = below + j, out[1] = below + k, out[2] = here + k;
+            out[3] = below + j, out[4] = here + k, out[5] = here + j;
         }
+        c->i += 6 * sides;
+        chunk->index_count += 6 * sides;
     }
     tb->prev_ring = first;
     tb->prev_joined = join;
