@@ -3,6 +3,8 @@
 
 #include "server/export.h"
 
+#include "server/cpu_quota.h"
+
 #include <sched.h>
 #include <unistd.h>
 
@@ -11,11 +13,15 @@
 /* Implicit junction patches are independent and their bytes do not depend on
  * the thread count (mer_mesh_options.threads), so they may take every core
  * the process may run on: its CPU affinity's (a container's or taskset's
- * share), where the system tells it, rather than every core online. */
+ * share), where the system tells it, rather than every core online, and no
+ * more than its control groups' CPU quota pays for (cpu_quota.h). */
 uint32_t merd_export_cores(void)
 {
     cpu_set_t set;
     long n = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : sysconf(_SC_NPROCESSORS_ONLN);
+    uint32_t quota = merd_cpu_quota_cores();
+    if (quota > 0 && quota < n)
+        n = quota;
     return n < 1 ? 1u : n > MAX_PATCH_THREADS ? MAX_PATCH_THREADS : (uint32_t)n;
 }
 

@@ -19,9 +19,10 @@ typedef struct merd_origin {
 } merd_origin;
 
 /* The cores this process may run on (its CPU affinity's, else the online
- * ones), at least 1 and at most the library's 64 threads: all of them for
- * one mesh's implicit junction patches, or the pool meristemd lends its
- * snapshots (cores.h). Cost: a system call. */
+ * ones; no more than its control groups' CPU quota allows, cpu_quota.h), at
+ * least 1 and at most the library's 64 threads: all of them for one mesh's
+ * implicit junction patches, or the pool meristemd lends its snapshots
+ * (cores.h). Cost: a system call and a few small file reads. */
 uint32_t merd_export_cores(void);
 
 /* What a mesh held, for a summary: triangles, and its implicit junctions

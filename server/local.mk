@@ -25,6 +25,7 @@ server_meristemd_SOURCES = \
 	server/session_history.c server/revisions.c server/revisions.h \
 	server/snapshot.c server/snapshot.h \
 	server/export.c server/export.h server/cores.c server/cores.h \
+	server/cpu_quota.c server/cpu_quota.h \
 	server/clock.h \
 	server/registry.c server/registry.h \
 	server/quarantine.c server/quarantine.h \
@@ -40,6 +41,7 @@ server_meristemd_LDADD = lib/libmeristem.la $(MHD_LIBS) $(JANSSON_LIBS) $(ZLIB_L
 
 # meristem: the offline command line (grow from a preset, write a GLB).
 bin_PROGRAMS += server/meristem
-server_meristem_SOURCES = server/cli.c server/codec.c server/codec.h server/export.c server/export.h
+server_meristem_SOURCES = server/cli.c server/codec.c server/codec.h server/export.c server/export.h \
+	server/cpu_quota.c server/cpu_quota.h
 server_meristem_CPPFLAGS = $(AM_CPPFLAGS) $(JANSSON_CFLAGS)
 server_meristem_LDADD = lib/libmeristem.la $(JANSSON_LIBS)

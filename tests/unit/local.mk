@@ -122,6 +122,11 @@ tests_unit_test_cores_SOURCES = tests/unit/test_cores.c server/cores.c server/co
 tests_unit_test_cores_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_cores_LDADD = $(CMOCKA_LIBS) -lpthread
 
+check_PROGRAMS += tests/unit/test_cpu_quota
+tests_unit_test_cpu_quota_SOURCES = tests/unit/test_cpu_quota.c server/cpu_quota.c server/cpu_quota.h
+tests_unit_test_cpu_quota_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_cpu_quota_LDADD = $(CMOCKA_LIBS)
+
 check_PROGRAMS += tests/unit/test_head
 tests_unit_test_head_SOURCES = tests/unit/test_head.c server/head.c server/head.h
 tests_unit_test_head_CPPFLAGS = $(UNIT_CPPFLAGS)
