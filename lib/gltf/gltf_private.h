@@ -50,13 +50,13 @@ Box box_of(const float *p, size_t first, size_t count);
 struct Grid {
     double center[3] = {0, 0, 0};
     double scale = 1;
-    double inv_scale = 1; // 1 / scale: a multiplication per component, not a division
 };
 
 // Round half away from zero, clamped: inline and without a branch on the
 // sign (a normal's components change sign at random, and a mispredicted
 // branch per component made quantizing the normals the GLB's slowest step).
-// x − 0.5 is −(0.5 − |x|) exactly, and the conversion truncates towards zero.
+// For x < 0, x − 0.5 is −(0.5 − x) exactly, and the conversion truncates
+// towards zero, as the branch's −(int)(0.5 − x) did.
 inline int round_clamped(double x, int limit)
 {
     x = std::max(-static_cast<double>(limit), std::min(static_cast<double>(limit), x));
@@ -65,7 +65,7 @@ inline int round_clamped(double x, int limit)
 
 inline int16_t quantize_position(float p, const Grid &g, int k)
 {
-    return static_cast<int16_t>(round_clamped((static_cast<double>(p) - g.center[k]) * g.inv_scale, 32767));
+    return static_cast<int16_t>(round_clamped((static_cast<double>(p) - g.center[k]) / g.scale, 32767));
 }
 
 inline int8_t quantize_normal(float n)
@@ -111,11 +111,12 @@ struct Writer {
     // at its offset.
     void fill(uint8_t *bin) const;
     void fill(const Blob &b, uint8_t *bin) const;
-    // Calls fn(i) once for every blob i, the biggest first, each to whichever
-    // of this thread and one more has less work so far (a split fixed by the
-    // sizes; fn(i) must write only blob i's own bytes, so they are the same
-    // every time). All on this thread when there is one blob, the BIN chunk
-    // is under `two_threads_from` bytes, or a thread cannot be started.
+    // Calls fn(i) once for every blob i: on two threads, the biggest first,
+    // each to whichever of this thread and one more has less work so far (a
+    // split fixed by the sizes; fn(i) must write only blob i's own bytes, so
+    // they are the same every time); in blob order on this thread alone when
+    // there is one blob, the BIN chunk is under `two_threads_from` bytes, or
+    // a thread cannot be started.
     void each_blob(const std::function<void(size_t)> &fn, size_t two_threads_from = 0) const;
 };
 

@@ -197,7 +197,6 @@ Grid grid_for(const std::vector<Box> &bark, const std::vector<Box> &leaves)
         half = std::max(half, 0.5 * (hi[k] - lo[k]));
     }
     g.scale = half > 0 ? half / 32767.0 : 1.0;
-    g.inv_scale = 1.0 / g.scale;
     return g;
 }
 

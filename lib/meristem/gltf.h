@@ -4,14 +4,16 @@
  * image loading compiled out) and meshoptimizer. Nothing C++ crosses this
  * header: every entry point catches all exceptions and maps them to a mer_result.
  *
- * Threads and process state. meristem/scene.h says the library has no global
- * mutable state; mer_gltf_write_tree with MER_GLTF_MESHOPT is the exception,
- * in two ways: it encodes on one extra thread that it starts and joins within
- * the call (all on the caller's thread when none can be started), and the
- * first such call sets meshoptimizer's encoder versions process-wide (index
- * codec 1, vertex codec 0, as EXT_meshopt_compression requires), once and
- * thread-safely. A program that also calls meshoptimizer's encoders itself
- * shares those settings.
+ * Threads and process state. mer_gltf_write_tree may use one extra thread,
+ * started and joined within the call (all on the caller's thread when none
+ * can be started): with MER_GLTF_MESHOPT always, to encode, and otherwise
+ * when the BIN chunk is 1 MiB or more, to fill it (copying and quantizing
+ * the attributes). The bytes are the same either way. meristem/scene.h says
+ * the library has no global mutable state; MER_GLTF_MESHOPT is the exception:
+ * the first such call sets meshoptimizer's encoder versions process-wide
+ * (index codec 1, vertex codec 0, as EXT_meshopt_compression requires), once
+ * and thread-safely. A program that also calls meshoptimizer's encoders
+ * itself shares those settings.
  */
 #ifndef MERISTEM_GLTF_H
 #define MERISTEM_GLTF_H

@@ -200,6 +200,58 @@ void test_wide_indices(void **)
         assert_int_equal(static_cast<uint32_t>(id[i]), ids[i]);
 }
 
+// Quantized positions are (p − centre) / step rounded half away from zero,
+// the quotient rounded once: these three vertices' box puts the third's z at
+// an exact half-step, which a multiplication by 1 / step (rounded twice)
+// takes to the other integer (-16383, not -16384).
+void test_quantized_positions_round_once(void **)
+{
+    const float p[9] = {-16.9476681f, 11.1967506f, -2.46363068f, -10.05023f, 20.8340206f, 26.8852348f,
+                        -12.0f, 15.0f, 4.8735857f};
+    uint32_t idx[3] = {0, 1, 2}, ids[3] = {0, 1, 2};
+    mer_mesh mesh{};
+    mesh.bark.vertex_count = 3;
+    mesh.bark.index_count = 3;
+    mesh.bark.positions = const_cast<float *>(p);
+    mesh.bark.node_ids = ids;
+    mesh.bark.indices = idx;
+    mer_mesh_chunk whole{0, 3, 0, 3, 0, 0, 0};
+    mesh.bark.chunks = &whole;
+    mesh.bark.chunk_count = 1;
+    uint8_t *glb = nullptr;
+    size_t size = 0;
+    mer_error err{};
+    assert_int_equal(mer_gltf_write_tree(&mesh, nullptr, nullptr, &glb, &size, &err), MER_OK);
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string error, warning;
+    assert_true(loader.LoadBinaryFromMemory(&model, &error, &warning, glb, static_cast<unsigned>(size)));
+    mer_gltf_free(glb);
+    const tinygltf::Primitive &prim = model.meshes.at(0).primitives.at(0);
+    const tinygltf::Accessor &a = model.accessors.at(static_cast<size_t>(prim.attributes.at("POSITION")));
+    const tinygltf::BufferView &v = model.bufferViews.at(static_cast<size_t>(a.bufferView));
+    assert_int_equal(a.componentType, TINYGLTF_COMPONENT_TYPE_SHORT);
+    double lo[3], hi[3], centre[3], half = 0;
+    for (int k = 0; k < 3; k++) {
+        lo[k] = std::fmin(std::fmin(p[k], p[3 + k]), p[6 + k]);
+        hi[k] = std::fmax(std::fmax(p[k], p[3 + k]), p[6 + k]);
+        centre[k] = 0.5 * (lo[k] + hi[k]);
+        half = std::fmax(half, 0.5 * (hi[k] - lo[k]));
+    }
+    const double step = half / 32767.0;
+    for (size_t i = 0; i < 3; i++)
+        for (size_t k = 0; k < 3; k++) {
+            int16_t q;
+            std::memcpy(&q, model.buffers[0].data.data() + v.byteOffset + a.byteOffset + 8 * i + 2 * k, 2);
+            const double x = (static_cast<double>(p[3 * i + k]) - centre[k]) / step;
+            const double r = x >= 0 ? std::floor(x + 0.5) : -std::floor(0.5 - x);
+            assert_int_equal(q, static_cast<int>(r));
+        }
+    int16_t z;
+    std::memcpy(&z, model.buffers[0].data.data() + v.byteOffset + a.byteOffset + 8 * 2 + 4, 2);
+    assert_int_equal(z, -16384);
+}
+
 void test_same_mesh_same_bytes(void **)
 {
     cube c = make_cube();
@@ -256,6 +308,7 @@ int main()
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_wide_indices),
+        cmocka_unit_test(test_quantized_positions_round_once),
         cmocka_unit_test(test_same_mesh_same_bytes),
         cmocka_unit_test(test_refuses_bad_meshes),
     };
