@@ -5,16 +5,17 @@
 
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
 
 #define PATH_MAX_LEN 4096
-#define TEXT_MAX 8192 /* /proc/self/cgroup is a line per hierarchy */
 
 uint32_t merd_quota_cores(long long quota, long long period)
 {
     if (quota <= 0 || period <= 0)
         return 0;
-    long long cores = (quota + period - 1) / period;
+    long long cores = quota / period + (quota % period != 0); /* no overflow near LLONG_MAX */
     return cores > UINT32_MAX ? UINT32_MAX : (uint32_t)cores;
 }
 
@@ -73,6 +74,20 @@ static uint32_t hierarchy_cores(const char *mount, const char *group, bool v2)
     }
 }
 
+/* Whether `path` (NUL-terminated) is a group below the hierarchy's root:
+ * absolute and with no ".." part. The kernel shows a group outside the
+ * process's cgroup namespace as "/../..", whose files are not under the
+ * mount this process sees: read there, they would be another group's. */
+static bool inside_root(const char *path)
+{
+    if (path[0] != '/')
+        return false;
+    for (const char *p = path; (p = strstr(p, "..")) != NULL; p += 2)
+        if (p[-1] == '/' && (p[2] == '/' || p[2] == '\0'))
+            return false;
+    return true;
+}
+
 /* Whether the comma-separated controller list `list` (length n) names "cpu". */
 static bool names_cpu(const char *list, size_t n)
 {
@@ -87,33 +102,45 @@ static bool names_cpu(const char *list, size_t n)
     return false;
 }
 
+/* The cores one line of /proc/self/cgroup ("ID:CONTROLLERS:PATH", length
+ * len) allows, for the cpu controller's hierarchy (v1) or the unified one
+ * (v2: ID 0, no controllers); 0 for others and for none. */
+static uint32_t line_cores(const char *root, const char *line, size_t len)
+{
+    char mount[PATH_MAX_LEN], group[PATH_MAX_LEN];
+    const char *c1 = memchr(line, ':', len);
+    const char *c2 = c1 != NULL ? memchr(c1 + 1, ':', len - (size_t)(c1 + 1 - line)) : NULL;
+    if (c2 == NULL)
+        return 0;
+    size_t path_len = len - (size_t)(c2 + 1 - line), controllers = (size_t)(c2 - c1 - 1);
+    bool v2 = controllers == 0 && c1 - line == 1 && line[0] == '0';
+    if (!(v2 || names_cpu(c1 + 1, controllers)) || path_len >= sizeof group)
+        return 0;
+    memcpy(group, c2 + 1, path_len);
+    group[path_len] = '\0';
+    if (!inside_root(group))
+        return 0;
+    if (v2)
+        return snprintf(mount, sizeof mount, "%s", root) < (int)sizeof mount ? hierarchy_cores(mount, group, true) : 0;
+    /* v1's cpu hierarchy is mounted by its joint name ("cpu,cpuacct"), often
+     * with a "cpu" link beside it, or as "cpu" alone */
+    int n = snprintf(mount, sizeof mount, "%s/%.*s", root, (int)controllers, c1 + 1);
+    uint32_t c = n > 0 && n < (int)sizeof mount ? hierarchy_cores(mount, group, false) : 0;
+    if (c == 0 && !(controllers == 3 && strncmp(c1 + 1, "cpu", 3) == 0) &&
+        snprintf(mount, sizeof mount, "%s/cpu", root) < (int)sizeof mount)
+        c = hierarchy_cores(mount, group, false);
+    return c;
+}
+
 uint32_t merd_cgroup_cores(const char *root, const char *self_cgroup)
 {
     uint32_t least = 0;
-    char mount[PATH_MAX_LEN], group[PATH_MAX_LEN];
     for (const char *line = self_cgroup; line != NULL && *line != '\0';) {
         const char *end = strchr(line, '\n');
         size_t len = end != NULL ? (size_t)(end - line) : strlen(line);
-        /* "ID:CONTROLLERS:PATH": v2's ID is 0 and its controller list empty */
-        const char *c1 = memchr(line, ':', len);
-        const char *c2 = c1 != NULL ? memchr(c1 + 1, ':', len - (size_t)(c1 + 1 - line)) : NULL;
-        if (c2 != NULL) {
-            size_t path_len = len - (size_t)(c2 + 1 - line), controllers = (size_t)(c2 - c1 - 1);
-            bool v2 = controllers == 0 && c1 - line == 1 && line[0] == '0';
-            bool v1 = !v2 && names_cpu(c1 + 1, controllers);
-            if ((v1 || v2) && path_len < sizeof group) {
-                memcpy(group, c2 + 1, path_len);
-                group[path_len] = '\0';
-                /* v1's cpu hierarchy is mounted as "cpu" or as its joint name ("cpu,cpuacct") */
-                int n = v2 ? snprintf(mount, sizeof mount, "%s", root)
-                           : snprintf(mount, sizeof mount, "%s/%.*s", root, (int)controllers, c1 + 1);
-                uint32_t c = n > 0 && (size_t)n < sizeof mount ? hierarchy_cores(mount, group, v2) : 0;
-                if (c == 0 && v1 && snprintf(mount, sizeof mount, "%s/cpu", root) < (int)sizeof mount)
-                    c = hierarchy_cores(mount, group, false);
-                if (c > 0 && (least == 0 || c < least))
-                    least = c;
-            }
-        }
+        uint32_t c = line_cores(root, line, len);
+        if (c > 0 && (least == 0 || c < least))
+            least = c;
         line = end != NULL ? end + 1 : NULL;
     }
     return least;
@@ -121,12 +148,19 @@ uint32_t merd_cgroup_cores(const char *root, const char *self_cgroup)
 
 uint32_t merd_cpu_quota_cores(void)
 {
-    char text[TEXT_MAX];
     FILE *f = fopen("/proc/self/cgroup", "r");
     if (f == NULL)
         return 0;
-    size_t n = fread(text, 1, sizeof text - 1, f);
+    uint32_t least = 0;
+    char *line = NULL;
+    size_t cap = 0;
+    ssize_t n;
+    while ((n = getline(&line, &cap, f)) > 0) { /* a line at a time: none is cut short */
+        uint32_t c = line_cores("/sys/fs/cgroup", line, line[n - 1] == '\n' ? (size_t)n - 1 : (size_t)n);
+        if (c > 0 && (least == 0 || c < least))
+            least = c;
+    }
+    free(line);
     fclose(f);
-    text[n] = '\0';
-    return merd_cgroup_cores("/sys/fs/cgroup", text);
+    return least;
 }

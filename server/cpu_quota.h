@@ -25,7 +25,9 @@ uint32_t merd_quota_cores(long long quota, long long period);
  * smallest quota of its group and those above it), read from the cgroup
  * file systems mounted at `root` (normally "/sys/fs/cgroup") for the groups
  * `self_cgroup` names (the text of /proc/self/cgroup); 0 when no quota
- * applies or none can be read. Cost: a file read per group level. */
+ * applies or none can be read. A group path that is not absolute or has a
+ * ".." part (outside this cgroup namespace) is passed over. Cost: one or two
+ * small file reads per group level. */
 uint32_t merd_cgroup_cores(const char *root, const char *self_cgroup);
 
 /* merd_cgroup_cores for this process: /proc/self/cgroup, /sys/fs/cgroup. */

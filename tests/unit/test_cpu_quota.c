@@ -5,6 +5,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <limits.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -60,21 +61,32 @@ static void quota_arithmetic(void **state)
     assert_int_equal(merd_quota_cores(400000, 100000), 4);
     assert_int_equal(merd_quota_cores(-1, 100000), 0);
     assert_int_equal(merd_quota_cores(100000, 0), 0);
+    assert_int_equal(merd_quota_cores(LLONG_MAX, 2), UINT32_MAX); /* no overflow on the way */
+    assert_int_equal(merd_quota_cores(LLONG_MAX, LLONG_MAX), 1);
 }
 
-/* cgroup v2: the group's cpu.max and its ancestors', the smallest. */
+/* cgroup v2: the group's cpu.max and its ancestors', the smallest; a group
+ * outside the namespace ("/../..") or a path that is not absolute is not
+ * read (its files would be another group's). */
 static void v2_smallest_up_the_tree(void **state)
 {
     (void)state;
-    put("cpu.max", "junk that the root does not have\n");
-    put("a/cpu.max", "max 100000\n");
-    put("a/b/cpu.max", "150000 100000\n");
-    assert_int_equal(merd_cgroup_cores(root, "0::/a/b\n"), 2);
-    assert_int_equal(merd_cgroup_cores(root, "0::/a\n"), 0); /* "max": none */
-    put("a/cpu.max", "100000 100000\n");
-    assert_int_equal(merd_cgroup_cores(root, "0::/a/b\n"), 1);
-    assert_int_equal(merd_cgroup_cores(root, "0::/a/b/\n"), 1);
-    assert_int_equal(merd_cgroup_cores(root, "0::/nowhere\n"), 0);
+    char v2[300];
+    snprintf(v2, sizeof v2, "%s/v2", root);
+    put("v2/cpu.max", "junk that the root does not have\n");
+    put("v2/a/cpu.max", "max 100000\n");
+    put("v2/a/b/cpu.max", "150000 100000\n");
+    assert_int_equal(merd_cgroup_cores(v2, "0::/a/b\n"), 2);
+    assert_int_equal(merd_cgroup_cores(v2, "0::/a\n"), 0); /* "max": none */
+    put("v2/a/cpu.max", "100000 100000\n");
+    assert_int_equal(merd_cgroup_cores(v2, "0::/a/b\n"), 1);
+    assert_int_equal(merd_cgroup_cores(v2, "0::/a/b/\n"), 1);
+    assert_int_equal(merd_cgroup_cores(v2, "0::/nowhere\n"), 0);
+    put("cpu.max", "200000 100000\n"); /* the directory above the mount */
+    assert_int_equal(merd_cgroup_cores(v2, "0::/..\n"), 0);
+    assert_int_equal(merd_cgroup_cores(v2, "0::/a/../..\n"), 0);
+    assert_int_equal(merd_cgroup_cores(v2, "0::a/b\n"), 0);
+    assert_int_equal(merd_cgroup_cores(v2, "0::/a/b..c\n"), 1); /* a name, not "..": /a above it counts */
 }
 
 /* cgroup v1: the cpu hierarchy by its joint name, or "cpu"; -1 is none;
@@ -82,17 +94,20 @@ static void v2_smallest_up_the_tree(void **state)
 static void v1_cpu_hierarchy(void **state)
 {
     (void)state;
-    put("cpu,cpuacct/docker/x/cpu.cfs_quota_us", "250000\n");
-    put("cpu,cpuacct/docker/x/cpu.cfs_period_us", "100000\n");
-    put("cpu,cpuacct/cpu.cfs_quota_us", "-1\n");
-    put("cpu,cpuacct/cpu.cfs_period_us", "100000\n");
-    assert_int_equal(merd_cgroup_cores(root, "12:memory:/docker/x\n4:cpu,cpuacct:/docker/x\n0::/\n"), 3);
-    put("cpu/k/cpu.cfs_quota_us", "-1\n");
-    put("cpu/k/cpu.cfs_period_us", "100000\n");
-    assert_int_equal(merd_cgroup_cores(root, "1:cpu:/k\n"), 0);
-    put("cpu/k/cpu.cfs_quota_us", "50000\n");
-    assert_int_equal(merd_cgroup_cores(root, "1:cpu:/k\n2:cpuacct:/k"), 1);
-    assert_int_equal(merd_cgroup_cores(root, "3:cpuset:/k\n"), 0); /* not the cpu controller */
+    char v1[300];
+    snprintf(v1, sizeof v1, "%s/v1", root);
+    put("v1/cpu,cpuacct/docker/x/cpu.cfs_quota_us", "250000\n");
+    put("v1/cpu,cpuacct/docker/x/cpu.cfs_period_us", "100000\n");
+    put("v1/cpu,cpuacct/cpu.cfs_quota_us", "-1\n");
+    put("v1/cpu,cpuacct/cpu.cfs_period_us", "100000\n");
+    assert_int_equal(merd_cgroup_cores(v1, "12:memory:/docker/x\n4:cpu,cpuacct:/docker/x\n0::/\n"), 3);
+    put("v1/cpu/k/cpu.cfs_quota_us", "-1\n");
+    put("v1/cpu/k/cpu.cfs_period_us", "100000\n");
+    assert_int_equal(merd_cgroup_cores(v1, "1:cpu:/k\n"), 0);
+    put("v1/cpu/k/cpu.cfs_quota_us", "50000\n");
+    assert_int_equal(merd_cgroup_cores(v1, "1:cpu:/k\n2:cpuacct:/k"), 1);
+    assert_int_equal(merd_cgroup_cores(v1, "4:cpu,cpuacct:/k\n"), 1); /* no joint mount: "cpu" */
+    assert_int_equal(merd_cgroup_cores(v1, "3:cpuset:/k\n"), 0); /* not the cpu controller */
 }
 
 /* Nothing readable, or text that is no cgroup list: no quota. */
@@ -102,7 +117,6 @@ static void nothing_to_read(void **state)
     assert_int_equal(merd_cgroup_cores(root, ""), 0);
     assert_int_equal(merd_cgroup_cores(root, "no colons here\n::\n0:\n"), 0);
     assert_int_equal(merd_cgroup_cores("/nonexistent-root", "0::/\n1:cpu:/\n"), 0);
-    (void)merd_cpu_quota_cores(); /* this machine's: any answer, but no crash */
 }
 
 int main(void)
