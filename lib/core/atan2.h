@@ -17,8 +17,9 @@
 #include <math.h>
 
 /* The angle of (x, y) in (−π, π], as atan2f(y, x) within 4·10⁻⁷ rad, for
- * finite x and y. At the origin it is 0 (atan2f's ±0 or ±π there: an angle
- * with no direction, which callers never rely on). */
+ * finite x and y. Where atan2f tells zeros' signs apart it may not: on the
+ * negative x axis it is +π for y = −0 too (atan2f: −π), and at the origin
+ * it is 0 (atan2f: ±0 or ±π), angles a texture's u wraps to the same place. */
 static inline float merp_atan2f(float y, float x)
 {
     static const float pi = 3.14159265358979f, half_pi = 1.57079632679490f;
