@@ -151,16 +151,12 @@ uint32_t merd_cpu_quota_cores(void)
     FILE *f = fopen("/proc/self/cgroup", "r");
     if (f == NULL)
         return 0;
-    uint32_t least = 0;
-    char *line = NULL;
+    char *text = NULL;
     size_t cap = 0;
-    ssize_t n;
-    while ((n = getline(&line, &cap, f)) > 0) { /* a line at a time: none is cut short */
-        uint32_t c = line_cores("/sys/fs/cgroup", line, line[n - 1] == '\n' ? (size_t)n - 1 : (size_t)n);
-        if (c > 0 && (least == 0 || c < least))
-            least = c;
-    }
-    free(line);
+    /* the whole file (it holds no NUL), however long: no line cut short */
+    ssize_t n = getdelim(&text, &cap, '\0', f);
     fclose(f);
-    return least;
+    uint32_t cores = n > 0 ? merd_cgroup_cores("/sys/fs/cgroup", text) : 0;
+    free(text);
+    return cores;
 }

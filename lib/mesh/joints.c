@@ -537,13 +537,10 @@ mer_result merp_mesh_joints_write(merp_builder *b, mer_error *err)
                 for (int k = 0; k < 3; k++)
                     part->colors[4 * (size_t)(first + v) + k] *= 1.0f - (1.0f - RIDGE_DARKEN) * jt->ridge[v];
             }
-        mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
-        const uint32_t shift = first - chunk->first_vertex, count = 3 * m->triangle_count;
-        uint32_t *out = part->indices + c->i;
+        const uint32_t count = 3 * m->triangle_count;
+        uint32_t base, *out = merp_take_indices(c, count, &base);
         for (uint32_t k = 0; k < count; k++)
-            out[k] = m->triangles[k] + shift;
-        c->i += count;
-        chunk->index_count += count;
+            out[k] = m->triangles[k] + (first - base);
     }
     return MER_OK;
 }

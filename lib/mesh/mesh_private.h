@@ -389,17 +389,27 @@ static inline uint32_t merp_put_vertex(merp_cursor *c, const float p[3], const f
     return k;
 }
 
+/* Takes the next `n` indices into the current chunk and returns where they
+ * go, for a loop that writes them relative to the chunk's first vertex
+ * (*base): the counts bumped once for a run of triangles, not per triangle
+ * (an index store may alias the chunk's count, so each would reload it). */
+static inline uint32_t *merp_take_indices(merp_cursor *c, uint32_t n, uint32_t *base)
+{
+    mer_mesh_chunk *chunk = &c->part->chunks[c->part->chunk_count - 1];
+    uint32_t *t = c->part->indices + c->i;
+    *base = chunk->first_vertex;
+    c->i += n;
+    chunk->index_count += n;
+    return t;
+}
+
 /* A triangle of absolute vertex numbers, stored relative to its chunk. */
 static inline void merp_put_triangle(merp_cursor *c, uint32_t a, uint32_t a1, uint32_t a2)
 {
-    mer_mesh_part *part = c->part;
-    mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
-    uint32_t *t = part->indices + c->i;
-    t[0] = a - chunk->first_vertex;
-    t[1] = a1 - chunk->first_vertex;
-    t[2] = a2 - chunk->first_vertex;
-    c->i += 3;
-    chunk->index_count += 3;
+    uint32_t base, *t = merp_take_indices(c, 3, &base);
+    t[0] = a - base;
+    t[1] = a1 - base;
+    t[2] = a2 - base;
 }
 
 /* A twig line segment of absolute vertex numbers, stored relative to its chunk. */

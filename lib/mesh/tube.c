@@ -200,18 +200,13 @@ static void emit_ring(merp_builder *b, tube *tb, const float center[3], const fl
     }
     merp_mesh_color(b, part, first, stride, owner);
     if (join) {
-        /* The band's 2 × sides triangles, as merp_put_triangle writes them,
-         * in one run (the cursor's counts bumped once, not per triangle). */
-        mer_mesh_chunk *chunk = &part->chunks[part->chunk_count - 1];
-        const uint32_t below = tb->prev_ring - chunk->first_vertex, here = first - chunk->first_vertex;
-        uint32_t *out = part->indices + c->i;
+        uint32_t base, *out = merp_take_indices(c, 6 * sides, &base); /* the band's 2 × sides triangles */
+        const uint32_t below = tb->prev_ring - base, here = first - base;
         for (uint32_t j = 0; j < sides; j++, out += 6) {
             uint32_t k = next_on_ring(j, stride);
             out[0] = below + j, out[1] = below + k, out[2] = here + k;
             out[3] = below + j, out[4] = here + k, out[5] = here + j;
         }
-        c->i += 6 * sides;
-        chunk->index_count += 6 * sides;
     }
     tb->prev_ring = first;
     tb->prev_joined = join;
