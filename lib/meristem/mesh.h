@@ -80,9 +80,10 @@
  * stays nearly straight, and the tube and the patch share each ring vertex's
  * normal and b; a continuation or lateral may be cut in a growing tip's last
  * internode, whose cone then runs from the cut ring to the apex, and one whose
- * axis ends before its cut would clear the fork (a bush's short axes), with
- * no lateral on the way, ends inside a single fork's patch, closed by its
- * field's round end, with no ring and no tube. The internodes of one axis
+ * axis ends before its cut would clear the fork (a bush's short axes) ends
+ * inside the patch, closed by its field's round end, with no ring and no
+ * tube: where laterals leave it on the way, the forks they leave are taken
+ * into a run (below), however thin, each short axis ending inside it. The internodes of one axis
  * whose tips are one J (an L-system string that branches at one point more
  * often than an internode holds laterals leaves internodes of no length)
  * are one fork, whose patch takes the laterals of all of them. A fork with
@@ -96,13 +97,13 @@
  * the patch's laterals (a sylleptic shoot's forks). Forks a few radii
  * apart, whose cuts would fall in each other's patches (a thick axis's
  * short internodes; a fork near the base of another fork's lateral), are
- * patched together as a run: one patch for up to eight forks, each axis
+ * patched together as a run: one patch for up to sixteen forks, each axis
  * through them one solid (with each fork's bud scale scar), every fork's
  * laterals blending in with their ridges, and a lateral that a fork of the
  * run goes on up blending in with all of that fork's surface. A fork
  * whose axes bend too much there, whose cuts would fall in another fork's
  * patch that no run takes in (thickest laterals are served first; a run
- * of more than eight forks, or whose grid would be too large) or past a
+ * of more than sixteen forks, or whose grid would be too large) or past a
  * growing tip's apex,
  * whose cut ring would be under 0.4 of its grid's cell in radius even on
  * cells four times finer than the fork's own, or whose
@@ -224,7 +225,8 @@ typedef struct mer_mesh {
     uint32_t axes;          /* generalized cylinders in `bark` */
     uint32_t internodes;    /* living internodes meshed */
     uint32_t junctions;     /* forks meshed as implicit patches (a run's
-                               patch serves several) */
+                               patch serves several, thin forks up a
+                               short axis among them) */
     uint32_t *junction_forks; /* `junctions` node ids, ascending: the
                                  internodes whose tip is such a fork's J
                                  (a client's way to tell a patched fork

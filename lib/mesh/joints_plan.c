@@ -1,6 +1,7 @@
 /* meristem — implicit junctions in the bark (meristem/mesh.h, Junctions; G04
  * §3, issue 18): which forks get a patch (a fork of its own, or a run of
- * forks a few radii apart, up one axis or up a lateral) and where their
+ * forks a few radii apart, up one axis or up a lateral, or up a short axis
+ * that ends inside the patch with the thin forks on it) and where their
  * shafts are cut, each shaft across as many short internodes as its cut
  * needs; the field each patch polygonizes (joints.c builds and writes the
  * patches). */
@@ -127,6 +128,8 @@ typedef struct claims {
     float *lo, *hi;
     uint32_t *own_lo, *own_hi;
     uint32_t blocker;
+    uint32_t stopper; /* the fork whose lateral kept the last failed shaft
+                         from ending inside its patch (MER_NO_NODE: none) */
     uint8_t *tried; /* by node id: 1 once the planner has come to that fork */
 } claims;
 
@@ -174,7 +177,7 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
                    merp_joint *jt, uint32_t s)
 {
     float arc = 0.0f;
-    uint32_t id = first;
+    uint32_t id = first, forked = MER_NO_NODE; /* the first internode passed that a lateral leaves */
     bool bare = true; /* no living lateral leaves the internodes passed so far */
     jt->capped[s] = 0;
     for (uint32_t passed = 0;; passed++) {
@@ -201,6 +204,8 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
                     cl->blocker = cl->own_hi[id];
                     return false;
                 }
+                if (jt->cap && !(bare && bare_internode(b, id)))
+                    cl->stopper = bare ? id : forked;
                 if (!cap_end(b, id, bare && bare_internode(b, id), jt, s))
                     return false;
                 if (mark)
@@ -221,12 +226,17 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
         if (mark)
             cl->lo[id] = len, cl->hi[id] = 0.0f;
         arc += len;
+        if (bare && !bare_internode(b, id))
+            forked = id;
         bare = bare && bare_internode(b, id);
         uint32_t next = back ? n->parent : n->main_child;
         if (back && (next == MER_NO_NODE || b->nodes[next].main_child != id))
             return false;
-        if (!back && (next == MER_NO_NODE || !b->nodes[next].alive))
-            return cap_end(b, id, bare, jt, s); /* the axis ends before its cut */
+        if (!back && (next == MER_NO_NODE || !b->nodes[next].alive)) { /* the axis ends before its cut */
+            if (jt->cap && !bare)
+                cl->stopper = forked; /* a run with that fork may end it inside */
+            return cap_end(b, id, bare, jt, s);
+        }
         id = next;
     }
 }
@@ -425,8 +435,11 @@ static float clear_distance(const merp_builder *b, const merp_joint *jt, const c
                             float rho, float h, const float (*dir)[3])
 {
     float d = merp_node_radius(b, jt->start[s]);
-    if (c->prim != NULL)
-        return clear_of_run(c->prim, c->prims, s, d, rho, h, b->nodes[jt->start[s]].length);
+    if (c->prim != NULL) {
+        float x = clear_of_run(c->prim, c->prims, s, d, rho, h, b->nodes[jt->start[s]].length);
+        /* a short axis that clears nowhere ends inside the patch (follow) */
+        return x < 0.0f && s != MERP_CUT_IN && isfinite(c->prim[s].len) ? c->prim[s].len : x;
+    }
     for (uint32_t o = 0; o < jt->cuts; o++) {
         if (o == s || (s < 2 && o < 2)) /* in and out are one solid (max) */
             continue;
@@ -821,6 +834,21 @@ static bool run_middle(const merp_builder *b, claims *cl, uint32_t C, uint32_t P
     }
 }
 
+/* How far the axis from internode id up its continuations reaches: its
+ * length there, INFINITY past MAX_SPAN internodes. A shaft on a short axis
+ * (a bush's few internodes) ends inside its patch (follow), so the run's
+ * other cuts need clear only that much of it. */
+static float axis_reach(const merp_builder *b, uint32_t id)
+{
+    float arc = 0.0f;
+    for (uint32_t passed = 0; id != MER_NO_NODE && b->nodes[id].alive; id = b->nodes[id].main_child, passed++) {
+        if (passed > MAX_SPAN)
+            return INFINITY;
+        arc += b->nodes[id].length;
+    }
+    return arc;
+}
+
 /* Internode id wholly claimed by `owner` (UINT32_MAX: freed). */
 static void claim_whole(const merp_builder *b, claims *cl, uint32_t id, uint32_t owner)
 {
@@ -893,7 +921,7 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     for (uint32_t i = 0; i < K; i++)
         for (uint32_t j = i + 1; j < K; j++)
             assert(P[i] != P[j]);
-    *jt = (merp_joint){.forks = K, .start = {P[0]}, .cuts = 2, .cut_slot = {MERP_SLOT_IN, MERP_LINK_OUT}};
+    *jt = (merp_joint){.forks = K, .start = {P[0]}, .cuts = 2, .cap = true, .cut_slot = {MERP_SLOT_IN, MERP_LINK_OUT}};
     float J[MERP_RUN_FORKS][3];
     int group[MERP_RUN_FORKS], groups = 0;
     bool goes_on[MERP_RUN_FORKS] = {false}; /* a fork goes on from it up its continuation */
@@ -982,7 +1010,8 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
         const merp_seg *g = merp_joint_shaft(jt, s, NULL, &l);
         const float *dir = b->nodes[jt->start[s]].dir;
         run_prim *q = &prim[s];
-        *q = (run_prim){.len = INFINITY, .R = SUPPORT_SEEN * merp_seg_support(g), .axis = k < MERP_SLOT_IN ? -1 : group[i]};
+        *q = (run_prim){.len = s == MERP_CUT_IN ? INFINITY : axis_reach(b, jt->start[s]) + EXTEND * h,
+                        .R = SUPPORT_SEEN * merp_seg_support(g), .axis = k < MERP_SLOT_IN ? -1 : group[i]};
         memcpy(q->o, J[i], sizeof q->o);
         for (int a = 0; a < 3; a++)
             q->m[a] = s == MERP_CUT_IN ? -dir[a] : dir[a];
@@ -1280,22 +1309,30 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
  * the way, as a run (plan_run) with X's forks and every fork on the ways
  * between them, taking in the joints planned for any of them (released,
  * into taken[0 .. *nt)); while the run meets another joint, it grows to
- * take that in too, up to MERP_RUN_FORKS forks. A relayed fork it takes in
+ * take that in too, up to MERP_RUN_FORKS forks. Where a shaft's axis ends
+ * before its cut but past laterals of its own (a bush's short lateral with
+ * its twigs, which no shaft may end inside past), `stop` is the first fork
+ * up it (MER_NO_NODE: none): the run takes that fork in, and each fork
+ * that stops it next, however thin (the gathering's threshold drops to 0),
+ * so the short axis ends inside the run's patch with all its forks. A
+ * relayed fork it takes in
  * is planned as plan_run has it: relayed where it has no living
  * continuation, else as it grew (a swap's continuation, which did not fit a
  * patch of its own, may fit the run's). False when it does not fit (X's
  * forks on no way from P, too many forks, plan_run's refusals) or would
  * leave as many forks tubes as it patches (swallows): the claims are then
  * as they were. */
-static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, merp_joint *jt,
-                        uint32_t *taken, uint32_t *nt)
+static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, uint32_t stop,
+                        merp_joint *jt, uint32_t *taken, uint32_t *nt)
 {
-    gathered g = {.fork = {P}, .n = 1, .threshold = threshold};
+    gathered g = {.fork = {P}, .n = 1, .threshold = stop != MER_NO_NODE ? 0.0f : threshold};
     bool ok = false, stuck = in_chain(b, P);
     *nt = 0;
-    while (!ok && !stuck && X != UINT32_MAX) {
-        for (uint32_t i = 0; i < b->joints[X].forks && !stuck; i++)
+    while (!ok && !stuck && (X != UINT32_MAX || stop != MER_NO_NODE)) {
+        for (uint32_t i = 0; X != UINT32_MAX && i < b->joints[X].forks && !stuck; i++)
             stuck = !gather(b, &g, b->joints[X].fork_node[i]);
+        if (stop != MER_NO_NODE && !stuck)
+            stuck = !gather(b, &g, stop);
         /* every joint planned for a fork of the run joins it */
         for (bool grown = true; grown && !stuck;) {
             grown = false;
@@ -1315,9 +1352,11 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
         uint32_t R[MERP_RUN_FORKS], start[MERP_RUN_FORKS];
         merp_link link[MERP_RUN_FORKS];
         stuck = stuck || !order_run(b, &g, R, link, start);
-        cl->blocker = UINT32_MAX;
+        cl->blocker = UINT32_MAX, cl->stopper = MER_NO_NODE;
         ok = !stuck && plan_run(b, cl, R, link, start, g.n, jt);
-        X = cl->blocker;
+        X = cl->blocker, stop = cl->stopper;
+        if (stop != MER_NO_NODE)
+            g.threshold = 0.0f; /* the forks up a short axis, however thin */
     }
     /* Greedy as the planner is, a run may take in a fork or two at the
      * price of more that come later: its shafts reach far, clear of every
@@ -1328,7 +1367,7 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
     for (uint32_t t = 0; t < *nt; t++)
         claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
     if (ok) { /* jt holds the run only when plan_run planned it */
-        uint32_t gained = jt->forks;
+        uint32_t gained = jt->forks; /* every fork it patches, a short axis's thin ones too */
         for (uint32_t t = 0; t < *nt; t++)
             gained -= b->joints[taken[t]].forks;
         ok = swallows(b, cl, jt, threshold) < gained;
@@ -1348,10 +1387,10 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
     b->cut_begin = merp_malloc(m * sizeof *b->cut_begin);
     claims cl = {merp_malloc(m * sizeof *cl.lo), merp_malloc(m * sizeof *cl.hi),
                  merp_malloc(m * sizeof *cl.own_lo), merp_malloc(m * sizeof *cl.own_hi), UINT32_MAX,
-                 merp_calloc(m, 1)};
+                 MER_NO_NODE, merp_calloc(m, 1)};
     float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
                                                       : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
-    uint32_t cap = 0, count = 0, patched = 0;
+    uint32_t cap = 0, count = 0;
     candidate *c = candidates(b, threshold, &count);
     mer_result rc = MER_OK;
     if (!b->joint_at || !b->lateral_in || !b->cut_end || !b->cut_begin || !cl.lo || !cl.hi || !cl.own_lo ||
@@ -1367,11 +1406,11 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         uint32_t id = c[i].id, taken[MERP_RUN_FORKS], nt = 0;
         if (b->joint_at[id] != UINT32_MAX)
             continue; /* a fork of a run planned before */
-        cl.blocker = UINT32_MAX;
+        cl.blocker = UINT32_MAX, cl.stopper = MER_NO_NODE;
         cl.tried[id] = 1;
         bool fits = plan_one(b, &cl, id, false, true, &jt);
-        uint32_t X = cl.blocker; /* what kept it from a patch of its own as it grew */
-        fits = fits || plan_one(b, &cl, id, true, true, &jt) || plan_merged(b, &cl, id, threshold, X, &jt, taken, &nt);
+        uint32_t X = cl.blocker, stop = cl.stopper; /* what kept it from a patch of its own as it grew */
+        fits = fits || plan_one(b, &cl, id, true, true, &jt) || plan_merged(b, &cl, id, threshold, X, stop, &jt, taken, &nt);
         if (!fits)
             continue;
         if (b->joint_count == cap) {
@@ -1383,17 +1422,18 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
             }
             b->joints = grown;
         }
-        for (uint32_t k = 0; k < nt; k++) { /* a run took these forks' patches in */
-            patched -= b->joints[taken[k]].forks;
+        for (uint32_t k = 0; k < nt; k++) /* a run took these forks' patches in */
             merp_joint_forget(b, &b->joints[taken[k]]);
-        }
-        patched += jt.forks;
         jt.ok = true;
         b->joints[b->joint_count] = jt;
         remember(b, &cl, &b->joints[b->joint_count], b->joint_count);
         b->joint_count++;
     }
-    b->joints_unfit = count - patched;
+    /* A run planned from a stopper (plan_merged) may hold forks under the
+     * threshold, which are no candidates: unfit counts candidates alone. */
+    b->joints_unfit = 0;
+    for (uint32_t i = 0; i < count && rc == MER_OK; i++)
+        b->joints_unfit += b->joint_at[c[i].id] == UINT32_MAX;
     merp_free(c), merp_free(cl.lo), merp_free(cl.hi), merp_free(cl.own_lo), merp_free(cl.own_hi), merp_free(cl.tried);
     return rc;
 }

@@ -426,6 +426,46 @@ static void shafts_that_end_inside_a_patch(void **state)
     }
 }
 
+/* A bush's laterals are a few internodes of a stem thicker than they are
+ * long, each with twigs of its own (ABOP's Figs. 1.24a and 1.27: F[+F]F[-F]F
+ * and its kin, 25.7° apart): such a lateral's axis ends before its cut could
+ * clear the fork, and a shaft that laterals leave may not end inside a single
+ * fork's patch. The fork is then patched as a run with the forks up that
+ * short axis, however thin (their laterals capped in turn), so the whole
+ * short axis ends inside one patch. Seed 1: abop-1.24a 88 forks unfit before,
+ * 61 now; abop-1.27 101, 60. Each bark stays closed, and some patched forks
+ * are thinner than the junction threshold. */
+static void short_axes_end_inside_one_run(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *preset;
+        uint32_t unfit; /* at most, seed 1 */
+    } trees[] = {{"abop-1.24a", 61}, {"abop-1.27", 60}};
+    for (size_t t = 0; t < sizeof trees / sizeof *trees; t++) {
+        mer_scene *s = grown14(trees[t].preset, 1);
+        mer_mesh *m = implicit_mesh(s);
+        mer_error err;
+        mer_node n;
+        float thickest = 0.0f;
+        for (uint32_t id = 0; mer_scene_node(s, id, &n, &err) == MER_OK; id++)
+            thickest = n.alive && n.diameter > thickest ? n.diameter : thickest;
+        uint32_t thin = 0; /* patched forks under the default threshold, a fifth of the thickest */
+        for (uint32_t i = 0; i < m->junctions; i++) {
+            assert_int_equal(mer_scene_node(s, m->junction_forks[i], &n, &err), MER_OK);
+            thin += n.diameter < 0.2f * thickest;
+        }
+        print_message("%s seed 1: %u patched (%u under the threshold), %u open, %u unfit\n", trees[t].preset,
+                      m->junctions, thin, m->junctions_open, m->junctions_unfit);
+        assert_true(m->junctions_unfit <= trees[t].unfit);
+        assert_true(thin > 0);
+        assert_int_equal(m->junctions_open, 0);
+        assert_int_equal(closed_with_junctions(s), m->junctions);
+        mer_mesh_free(m);
+        mer_scene_free(s);
+    }
+}
+
 /* Where tubes meet at one point, the bark stays a closed 2-manifold: at a
  * fork left as tubes, the laterals' base disks and the parent's end disk
  * all lie at J, and where two of them lie in one vertical plane (every
@@ -1204,7 +1244,9 @@ static void cut_clearance_is_exact(void **state)
  * continuation half a parent radius further up at 45°, and every patch was
  * longer than its fork needs). Measured as what a patch adds to the bark:
  * its vertices less those of the tubes it replaces, per patched fork, on
- * fig7-bh-0.54 (seeds 1-2, 14 steps): 890 with the ball, 774 with the disk. */
+ * fig7-bh-0.54 (seeds 1-2, 14 steps): 890 with the ball, 774 with the disk;
+ * 841 with the disk since runs hold up to sixteen forks (the lower trunk's
+ * clusters, each run on cells as fine as its thinnest shaft's). */
 static void cuts_lie_where_the_shafts_clear(void **state)
 {
     (void)state;
@@ -1223,7 +1265,7 @@ static void cuts_lie_where_the_shafts_clear(void **state)
         mer_scene_free(s);
     }
     print_message("fig7-bh-0.54, seeds 1-2: %.0f bark vertices a patched fork\n", (double)added / (double)forks);
-    assert_true((double)added / (double)forks < 830.0);
+    assert_true((double)added / (double)forks < 860.0);
 }
 
 /* The bark's vertices whose normal points against the triangles round its
@@ -1480,6 +1522,7 @@ int main(void)
         cmocka_unit_test(every_growth_model_gets_patches),
         cmocka_unit_test(forks_atop_internodes_of_no_length_get_patches),
         cmocka_unit_test(shafts_that_end_inside_a_patch),
+        cmocka_unit_test(short_axes_end_inside_one_run),
         cmocka_unit_test(disks_meeting_at_a_point_keep_the_bark_closed),
         cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(close_forks_get_one_patch),
