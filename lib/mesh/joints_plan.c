@@ -187,8 +187,18 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
             return false;
         const mer_node *n = &b->nodes[id];
         float len = n->length, gap = CUT_GAP * merp_node_radius(b, id);
+        float at = back ? len - (need - arc) : need - arc;
+        /* An in cut within a gap of its internode's base, which no patch
+         * claims, moves out past the base, a gap into the internode below
+         * (as far from the ring between them): there is no other cut to
+         * keep it from (a bush's short internodes, seed 1 of abop-1.24a:
+         * fork 139's in cut fell 0.01 above a base, and the fork stayed
+         * tubes). */
+        const uint32_t below_id = n->parent;
+        if (back && arc + len > need && at <= gap && cl->lo[id] == 0.0f && !(cl->hi[id] < len) &&
+            below_id != MER_NO_NODE && b->nodes[below_id].main_child == id)
+            need = arc + len + CUT_GAP * merp_node_radius(b, below_id);
         if (arc + len > need) {
-            float at = back ? len - (need - arc) : need - arc;
             /* below a tree's root internode is its base disk, no patch's cut */
             float below = back && n->parent == MER_NO_NODE && cl->lo[id] == 0.0f ? BASE_GAP * merp_node_radius(b, id) : gap;
             bool by_lo = back ? at <= cl->lo[id] + below : cl->lo[id] > 0.0f;
