@@ -97,10 +97,11 @@
  * the patch's laterals (a sylleptic shoot's forks). Forks a few radii
  * apart, whose cuts would fall in each other's patches (a thick axis's
  * short internodes; a fork near the base of another fork's lateral), are
- * patched together as a run: one patch for up to sixteen forks, each axis
- * through them one solid (with each fork's bud scale scar), every fork's
- * laterals blending in with their ridges, and a lateral that a fork of the
- * run goes on up blending in with all of that fork's surface. A fork
+ * patched together as a run: one patch for up to sixteen forks (more than
+ * eight only on a grid of at most 600,000 cells), each axis through them
+ * one solid (with each fork's bud scale scar), every fork's laterals
+ * blending in with their ridges, and a lateral that a fork of the run goes
+ * on up blending in with all of that fork's surface. A fork
  * whose axes bend too much there, whose cuts would fall in another fork's
  * patch that no run takes in (thickest laterals are served first; a run
  * of more than sixteen forks, or whose grid would be too large) or past a

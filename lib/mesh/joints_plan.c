@@ -40,6 +40,16 @@
 #define TILT 0.44f           /* sin 26°: a cut plane leans at most this far off its shaft (STRAIGHT_COS) */
 #define RUN_FINEST 12.0f     /* a run's cells: at most this many per its in shaft's radius */
 #define RUN_CLEAR 40.0f      /* a run's cut: within this × its shaft's radius of its J */
+/* A run of more than RUN_FORKS forks is planned on a grid of at most
+ * RUN_MANY_CELLS cells (build_patch may try it on finer ones if that grid
+ * fails): its cells are its thinnest shaft's all along it, and up the bench
+ * tree's trunk (fig7-bh-0.54, seed 1, 16 steps) a run grew to eleven forks
+ * and a million cells, 33 ms of the tree's 84 (with this bound a run of
+ * nine there takes 3 ms more than runs of at most eight); a bush's short
+ * axis with its twigs takes up to sixteen forks in far fewer (abop-1.24a's
+ * runs of 13-16 forks: 56,000-172,000 cells). */
+#define RUN_FORKS 8u
+#define RUN_MANY_CELLS 600000u
 
 /* Whether internode id (living) is a living tip's last, which tube.c
  * meshes as a cone. */
@@ -191,9 +201,9 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
         /* An in cut within a gap of its internode's base, which no patch
          * claims, moves out past the base, a gap into the internode below
          * (as far from the ring between them): there is no other cut to
-         * keep it from (a bush's short internodes, seed 1 of abop-1.24a:
-         * fork 139's in cut fell 0.01 above a base, and the fork stayed
-         * tubes). */
+         * keep it from (a bush's short internodes: in abop-1.24a, seed 1,
+         * fork 139's in cut fell within a tenth of a radius of a base, and
+         * the fork stayed tubes). */
         const uint32_t below_id = n->parent;
         if (back && arc + len > need && at <= gap && cl->lo[id] == 0.0f && !(cl->hi[id] < len) &&
             below_id != MER_NO_NODE && b->nodes[below_id].main_child == id)
@@ -369,7 +379,8 @@ static bool place_cuts(const merp_builder *b, claims *cl, const float *need, flo
 }
 
 /* A primitive of a run's field as its cuts' clearance sees it: from o along
- * unit m for len (INFINITY: a shaft, whose far end the cut decides), its
+ * unit m for len (a shaft: its axis's reach past the patch, INFINITY for
+ * the in shaft or an axis longer than MAX_SPAN internodes), its
  * support R; `axis` the group whose axis it is part of (its in and out
  * shafts and the segments between its forks, one solid), or -1 (a
  * lateral). */
@@ -440,7 +451,9 @@ typedef struct clearance {
 } clearance;
 
 /* How far from its J cut s of jt must lie, its reach rho, with the shafts
- * along dir (a single fork's); -1 when no distance clears the others. */
+ * along dir (a single fork's); -1 when no distance clears the others (a
+ * run's shaft on an axis shorter than that: the axis's length, to end
+ * inside the patch). */
 static float clear_distance(const merp_builder *b, const merp_joint *jt, const clearance *c, uint32_t s,
                             float rho, float h, const float (*dir)[3])
 {
@@ -921,7 +934,8 @@ static uint32_t patch_lateral_at(const merp_builder *b, uint32_t P, uint32_t k)
  * relayed as plan_one relays it: its thickest lateral is its axis's out
  * shaft, its tip inside the patch. Its cuts
  * are placed as plan_one's, clear of every primitive of the run. False when
- * it does not fit (cl->blocker: the joint in the way, if one is) or would
+ * it does not fit (cl->blocker: the joint in the way, if one is;
+ * cl->stopper: the fork up a shaft's short axis, if that stopped it) or would
  * need cells finer than RUN_FINEST per its in shaft's radius. Claims
  * nothing: the caller does (claim_joint). */
 static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_link *link, const uint32_t *start,
@@ -1044,7 +1058,8 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
      * cost as much as forty single forks; such a run is not planned. */
     merp_grid grid;
     if (!settle_cuts(b, cl, jt, &c, &h, need) || !merp_joint_grid(b, jt, h, 0.0f, &grid) ||
-        merp_node_radius(b, P[0]) > RUN_FINEST * h)
+        merp_node_radius(b, P[0]) > RUN_FINEST * h ||
+        (K > RUN_FORKS && (uint64_t)grid.n[0] * grid.n[1] * grid.n[2] > RUN_MANY_CELLS))
         return false;
     /* Each fork's bark ages as a single fork's (plan_one). */
     for (uint32_t i = 0; i < K; i++) {

@@ -77,7 +77,7 @@ typedef struct merp_joint {
                                        have no living continuation) */
     bool cap;                       /* its out and lateral shafts may end
                                        inside it (joints_plan.c: a single
-                                       fork's, not a run's) */
+                                       fork's and a run's) */
     uint8_t capped[MERP_PATCH_CUTS]; /* shaft s ends inside the patch: its
                                        axis ends within the patch's reach of
                                        J, its field segment's round end closes
@@ -272,7 +272,7 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err);
 /* A patch's grid spacing (joints_plan.c). */
 float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
 #define MERP_JOINT_SHELL 1.6f /* the surface stays within this × a shaft's radius of its axis */
-/* A patch's grid at most: a run of sixteen forks up a thick trunk, or one
+/* A patch's grid at most: a run of eight forks up a thick trunk, or one
  * with a thin continuation, may need several million (the walk touches
  * only the cells the surface crosses: its per-cell and per-sample arrays,
  * some 50 bytes a cell, are reserved but cleared only for a bit a sample
