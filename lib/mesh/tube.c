@@ -63,24 +63,44 @@ static inline uint32_t next_on_ring(uint32_t j, uint32_t stride)
     return j + 1 < stride ? j + 1 : 0;
 }
 
+/* The direction of the axis's internode k, or of the nearest one with a
+ * length from k on, up (step 1) or down (step -1) the chain; k's own where
+ * all have none. An internode of no length (an L-system string that
+ * branches twice at one point) has a direction but no extent. */
+static const float *axis_dir_from(const merp_builder *b, const tube *tb, uint32_t k, int step)
+{
+    const uint32_t count = tb->a->count;
+    for (uint32_t j = k; j < count; j += (uint32_t)step) /* down past 0 wraps past count */
+        if (b->nodes[b->chain[j]].length > 0.0f)
+            return b->nodes[b->chain[j]].dir;
+    return b->nodes[b->chain[k]].dir;
+}
+
 /* Ring i's centre and tangent (the miter of the internodes it joins), and the
- * UV v advanced over the internode below it. */
+ * UV v advanced over the internode below it. Internodes of no length are
+ * passed over for the miter: the rings where they begin and end lie at one
+ * point, and with the miter of the nearest internodes with a length either
+ * side, all lie in one plane, one ring (emit_ring's repeats_last), where
+ * tangents turning at that point tilted them apart and the band of no
+ * length between two of them turned inside out on one side (abop-1.24c:
+ * four bark vertices whose faces looked inwards). */
 static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center[3], float t[3])
 {
     const uint32_t count = tb->a->count;
-    const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
     if (i == 0) {
         const mer_node *first = &b->nodes[b->chain[0]];
         memcpy(center, first->base, 3 * sizeof(float));
-        memcpy(t, first->dir, 3 * sizeof(float));
+        memcpy(t, axis_dir_from(b, tb, 0, 1), 3 * sizeof(float));
         return;
     }
     const mer_node *below = &b->nodes[b->chain[i - 1]];
     merp_tip_of(below, center);
+    const float *down = axis_dir_from(b, tb, i - 1, -1),
+                *up = axis_dir_from(b, tb, i < count ? i : count - 1, 1);
     for (int k = 0; k < 3; k++)
-        t[k] = below->dir[k] + owner->dir[k];
+        t[k] = down[k] + up[k];
     if (!v3_normalize(t))
-        memcpy(t, owner->dir, 3 * sizeof(float));
+        memcpy(t, up, 3 * sizeof(float));
     const float *r = b->radii;
     float circumference = MERP_TWO_PI * 0.5f * (r[i - 1] + r[i]);
     tb->v += circumference > 0.0f ? below->length / circumference : 0.0f;

@@ -1386,6 +1386,27 @@ static void cut_rings_do_not_fold(void **state)
     }
 }
 
+/* Where an axis passes internodes of no length (an L-system string that
+ * branches twice at one point) and turns there, the rings at that point
+ * were mitred by the internodes each joins: tilted apart, the band of no
+ * length between two of them turned inside out on one side (abop-1.24c,
+ * seeds 1-3, tubes alone: 4 bark vertices whose faces looked inwards). The
+ * miter passes over internodes of no length (tube.c, ring_place). */
+static void tubes_turn_at_internodes_of_no_length(void **state)
+{
+    (void)state;
+    mer_scene *s = grown14("abop-1.24c", 1);
+    mer_mesh *m = NULL;
+    mer_error err;
+    const mer_mesh_options o = {.junctions = MER_JUNCTIONS_TUBES};
+    assert_int_equal(mer_mesh_build(s, &o, &m, &err), MER_OK);
+    uint32_t inwards = normals_inwards(&m->bark);
+    print_message("abop-1.24c seed 1, tubes: %u bark vertices with a normal against their faces\n", inwards);
+    assert_int_equal(inwards, 0);
+    mer_mesh_free(m);
+    mer_scene_free(s);
+}
+
 /* A fork whose parent thickens sharply below it, as below a dense whorl
  * (the pipe model adds each lateral's d^n): P's internode is shorter than
  * its radius, so the in cut lies below it, where the axis is twice as thick
@@ -1573,6 +1594,7 @@ int main(void)
         cmocka_unit_test(cuts_lie_where_the_shafts_clear),
         cmocka_unit_test(normals_face_outwards),
         cmocka_unit_test(cut_rings_do_not_fold),
+        cmocka_unit_test(tubes_turn_at_internodes_of_no_length),
         cmocka_unit_test(thick_below_the_fork_is_patched),
         cmocka_unit_test(same_bytes_whatever_the_threads),
         cmocka_unit_test(a_failed_patch_leaves_tubes),
