@@ -86,7 +86,9 @@
  * into a run (below), however thin, each short axis ending inside it. The internodes of one axis
  * whose tips are one J (an L-system string that branches at one point more
  * often than an internode holds laterals leaves internodes of no length)
- * are one fork, whose patch takes the laterals of all of them. A fork with
+ * are one fork, whose patch takes the laterals of all of them, and so do
+ * the laterals of a lateral of no length leaving that J (a guiding-vector
+ * shoot's first hop): its fork is the parent's. A fork with
  * no living continuation (its parent ends in its terminal bud, dormant or
  * flowered, or in a cut: a sympodium's forks) is relayed: its thickest
  * lateral goes on from the parent as one solid with it, with the bud scale

@@ -658,25 +658,58 @@ static bool owned_above(const merp_builder *b, uint32_t P)
     return C != MER_NO_NODE && b->nodes[C].alive && b->nodes[C].length == 0.0f;
 }
 
+/* Whether internode q is a lateral hop: a lateral of no length (a
+ * guiding-vector shoot begins with a hop of none, and so may a string's
+ * branch), whose own continuation and laterals leave its parent's J. Its
+ * fork is its parent's: the laterals it holds join that fork's
+ * (fork_laterals). Planned as a fork of its own, its in shaft had no
+ * length before its parent's axis (gv-fig2-small-2, seeds 1-5: 100 of 108
+ * forks left tubes, each but a few beside a patched parent fork). */
+static bool lateral_hop(const merp_builder *b, uint32_t q)
+{
+    const mer_node *n = &b->nodes[q];
+    return n->alive && n->length == 0.0f && n->parent != MER_NO_NODE && b->nodes[n->parent].main_child != q;
+}
+
+/* Whether P's fork is another internode's: one further up its axis
+ * (owned_above) or, P a lateral hop, its parent's chain's. */
+static bool owned_elsewhere(const merp_builder *b, uint32_t P)
+{
+    return owned_above(b, P) || lateral_hop(b, P);
+}
+
 /* Whether P's tip is shared with another internode of its axis (a chain of
- * more than one; runs do not take such forks in). */
+ * more than one) or P is a lateral hop: runs do not take such forks in. */
 static bool in_chain(const merp_builder *b, uint32_t P)
 {
-    return owned_above(b, P) || chain_up(b, P) != MER_NO_NODE;
+    return owned_elsewhere(b, P) || chain_up(b, P) != MER_NO_NODE;
 }
 
 #define CHAIN_LATERALS 8 /* fork_laterals gathers at most this many */
 
 /* The laterals that may be shafts of the patch of the fork owned by P
  * (patch_lateral): P's, then its chain's up from P, each internode's in
- * its own order; at most CHAIN_LATERALS. The count. */
-static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3], uint32_t *lat)
+ * its own order, each lateral hop's own laterals after it (as thick beside
+ * the internode it leaves); at most CHAIN_LATERALS. *shared: whether P is
+ * in a chain or holds a hop's laterals (chain_laterals then chooses). The
+ * count. */
+static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3], uint32_t *lat, bool *shared)
 {
     uint32_t n = 0;
-    for (uint32_t q = P, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++)
-        for (int k = 0; k < 2 && n < CHAIN_LATERALS; k++)
-            if (patch_lateral(b, &b->nodes[q], J, b->nodes[q].lateral_child[k]))
-                lat[n++] = b->nodes[q].lateral_child[k];
+    *shared = chain_up(b, P) != MER_NO_NODE;
+    for (uint32_t q = P, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++) {
+        const mer_node *at = &b->nodes[q];
+        for (int k = 0; k < 2 && n < CHAIN_LATERALS; k++) {
+            uint32_t L = at->lateral_child[k];
+            if (patch_lateral(b, at, J, L))
+                lat[n++] = L;
+            if (L == MER_NO_NODE || !lateral_hop(b, L))
+                continue;
+            for (int h = 0; h < 2 && n < CHAIN_LATERALS; h++)
+                if (patch_lateral(b, at, J, b->nodes[L].lateral_child[h]))
+                    lat[n++] = b->nodes[L].lateral_child[h], *shared = true;
+        }
+    }
     return n;
 }
 
@@ -751,9 +784,10 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool cl
     const bool none = C == MER_NO_NODE || !b->nodes[C].alive, relay = none || swap;
     float J[3];
     merp_tip_of(p, J);
-    if (owned_above(b, P))
+    if (owned_elsewhere(b, P))
         return false; /* the fork's owner plans it */
-    uint32_t lat[CHAIN_LATERALS], nl = fork_laterals(b, P, J, lat);
+    bool shared;
+    uint32_t lat[CHAIN_LATERALS], nl = fork_laterals(b, P, J, lat, &shared);
     if (relay) { /* the thickest lateral relays the axis (the first of equals) */
         if (nl == 0)
             return false;
@@ -773,7 +807,7 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool cl
         }
         C = L;
     }
-    if (chain_up(b, P) != MER_NO_NODE) /* (P's own laterals are at most two) */
+    if (shared) /* (P's own laterals are at most two) */
         nl = chain_laterals(b, lat, nl, C);
     if (!usable(b, P, none) || !usable(b, C, true) || (nl == 0 && !relay))
         return false;
@@ -1096,7 +1130,7 @@ static candidate *candidates(const merp_builder *b, float threshold, uint32_t *c
         return NULL;
     for (uint32_t id = 0; id < b->node_count; id++) {
         const mer_node *p = &b->nodes[id];
-        if (!p->alive || owned_above(b, id))
+        if (!p->alive || owned_elsewhere(b, id))
             continue;
         float key = 0.0f, thick = 0.0f; /* over the fork's chain (fork_laterals) */
         for (uint32_t q = id, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++) {
