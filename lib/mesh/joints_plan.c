@@ -658,10 +658,11 @@ static bool owned_above(const merp_builder *b, uint32_t P)
     return C != MER_NO_NODE && b->nodes[C].alive && b->nodes[C].length == 0.0f;
 }
 
-/* Whether internode q is a lateral hop: a lateral of no length (a
- * guiding-vector shoot begins with a hop of none, and so may a string's
- * branch), whose own continuation and laterals leave its parent's J. Its
- * fork is its parent's: the laterals it holds join that fork's
+/* Whether internode q is a lateral hop: a lateral of no length, whose own
+ * branches leave its parent's J (a guiding-vector node with more children
+ * than slots holds the rest on a hop of none, and that hop the rest on
+ * another; a string's branch may begin with one). Its fork is its
+ * parent's: the laterals it holds, and its hops' in turn, join that fork's
  * (fork_laterals). Planned as a fork of its own, its in shaft had no
  * length before its parent's axis (gv-fig2-small-2, seeds 1-5: 100 of 108
  * forks left tubes, each but a few beside a patched parent fork). */
@@ -703,11 +704,18 @@ static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3
             uint32_t L = at->lateral_child[k];
             if (patch_lateral(b, at, J, L))
                 lat[n++] = L;
-            if (L == MER_NO_NODE || !lateral_hop(b, L))
-                continue;
-            for (int h = 0; h < 2 && n < CHAIN_LATERALS; h++)
-                if (patch_lateral(b, at, J, b->nodes[L].lateral_child[h]))
-                    lat[n++] = b->nodes[L].lateral_child[h], *shared = true;
+            /* down a hop's hops (each holds its parent's further laterals) */
+            for (uint32_t H = L, next, depth = 0; H != MER_NO_NODE && lateral_hop(b, H) && depth <= MAX_SPAN;
+                 H = next, depth++) {
+                next = MER_NO_NODE;
+                for (int h = 0; h < 2; h++) {
+                    uint32_t G = b->nodes[H].lateral_child[h];
+                    if (n < CHAIN_LATERALS && patch_lateral(b, at, J, G))
+                        lat[n++] = G, *shared = true;
+                    if (G != MER_NO_NODE && lateral_hop(b, G))
+                        next = G;
+                }
+            }
         }
     }
     return n;
