@@ -64,16 +64,24 @@ static inline uint32_t next_on_ring(uint32_t j, uint32_t stride)
 }
 
 /* The direction of the axis's internode k, or of the nearest one with a
- * length from k on, up (step 1) or down (step -1) the chain; k's own where
- * all have none. An internode of no length (an L-system string that
- * branches twice at one point) has a direction but no extent. */
-static const float *axis_dir_from(const merp_builder *b, const tube *tb, uint32_t k, int step)
+ * length from k on, up (step 1) or down (step -1) the chain; NULL where
+ * none has one. An internode of no length (an L-system string that
+ * branches twice at one point, a guiding-vector shoot's first hop) has a
+ * direction but no extent. */
+static const float *axis_dir_from(const merp_builder *b, const merp_axis *a, uint32_t k, int step)
 {
-    const uint32_t count = tb->a->count;
-    for (uint32_t j = k; j < count; j += (uint32_t)step) /* down past 0 wraps past count */
+    for (uint32_t j = k; j < a->count; j += (uint32_t)step) /* down past 0 wraps past count */
         if (b->nodes[b->chain[j]].length > 0.0f)
             return b->nodes[b->chain[j]].dir;
-    return b->nodes[b->chain[k]].dir;
+    return NULL;
+}
+
+/* The axis's direction at its base: its first internode with a length's
+ * (ring 0's tangent, the base disk's normal reversed). */
+static const float *axis_base_dir(const merp_builder *b, const merp_axis *a)
+{
+    const float *d = axis_dir_from(b, a, 0, 1);
+    return d != NULL ? d : b->nodes[b->chain[0]].dir;
 }
 
 /* Ring i's centre and tangent (the miter of the internodes it joins), and the
@@ -88,15 +96,18 @@ static void ring_place(const merp_builder *b, tube *tb, uint32_t i, float center
 {
     const uint32_t count = tb->a->count;
     if (i == 0) {
-        const mer_node *first = &b->nodes[b->chain[0]];
-        memcpy(center, first->base, 3 * sizeof(float));
-        memcpy(t, axis_dir_from(b, tb, 0, 1), 3 * sizeof(float));
+        memcpy(center, b->nodes[b->chain[0]].base, 3 * sizeof(float));
+        memcpy(t, axis_base_dir(b, tb->a), 3 * sizeof(float));
         return;
     }
     const mer_node *below = &b->nodes[b->chain[i - 1]];
     merp_tip_of(below, center);
-    const float *down = axis_dir_from(b, tb, i - 1, -1),
-                *up = axis_dir_from(b, tb, i < count ? i : count - 1, 1);
+    const mer_node *owner = &b->nodes[b->chain[i < count ? i : count - 1]];
+    const float *down = axis_dir_from(b, tb->a, i - 1, -1), *up = axis_dir_from(b, tb->a, i < count ? i : count - 1, 1);
+    /* one side with no length: the other's direction alone (at an axis's
+     * base hop, ring 0's) */
+    down = down != NULL ? down : up != NULL ? up : owner->dir;
+    up = up != NULL ? up : down;
     for (int k = 0; k < 3; k++)
         t[k] = down[k] + up[k];
     if (!v3_normalize(t))
@@ -485,8 +496,7 @@ static void tube_start(merp_builder *b, const merp_axis *a, const float *cos_t, 
     *tb = (tube){.a = a, .cos_t = cos_t, .sin_t = sin_t, .sides = a->sides,
                  .stride = seam ? a->sides + 1 : a->sides,
                  .rings = a->end == MERP_END_TIP ? a->count : a->count + 1, .ring0 = b->bark.v};
-    const mer_node *first = &b->nodes[b->chain[0]];
-    memcpy(tb->t_prev, first->dir, sizeof tb->t_prev);
+    memcpy(tb->t_prev, axis_base_dir(b, a), sizeof tb->t_prev);
     const float up[3] = {0.0f, 1.0f, 0.0f};
     v3_cross(up, tb->t_prev, tb->normal);
     if (!v3_normalize(tb->normal))
@@ -523,7 +533,8 @@ static mer_result mesh_axis(merp_builder *b, const merp_axis *a, const float *co
     tip(b, &tb);
     if (a->base_cap) {
         // Seen from below the ring runs clockwise: the disk reverses it to face outwards.
-        const float down[3] = {-first->dir[0], -first->dir[1], -first->dir[2]};
+        const float *d = axis_base_dir(b, a);
+        const float down[3] = {-d[0], -d[1], -d[2]};
         disk(b, &tb, tb.ring0, first->base, down, -1.0f, true, first);
     }
     return MER_OK;
