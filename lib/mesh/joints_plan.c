@@ -688,12 +688,30 @@ static bool in_chain(const merp_builder *b, uint32_t P)
 
 #define CHAIN_LATERALS 8 /* fork_laterals gathers at most this many */
 
+/* Adds to lat (n so far, at most CHAIN_LATERALS) the laterals held down the
+ * hops from H (lateral_hop: each holds its parent's further laterals) that
+ * may be shafts at J (patch_lateral, as thick beside internode `at`). */
+static void hop_laterals(const merp_builder *b, const mer_node *at, const float J[3], uint32_t H, uint32_t *lat,
+                         uint32_t *n)
+{
+    for (uint32_t depth = 0; H != MER_NO_NODE && lateral_hop(b, H) && depth <= MAX_SPAN; depth++) {
+        uint32_t next = MER_NO_NODE;
+        for (int h = 0; h < 2; h++) {
+            uint32_t G = b->nodes[H].lateral_child[h];
+            if (*n < CHAIN_LATERALS && patch_lateral(b, at, J, G))
+                lat[(*n)++] = G;
+            if (G != MER_NO_NODE && lateral_hop(b, G))
+                next = G;
+        }
+        H = next;
+    }
+}
+
 /* The laterals that may be shafts of the patch of the fork owned by P
  * (patch_lateral): P's, then its chain's up from P, each internode's in
- * its own order, each lateral hop's own laterals after it (as thick beside
- * the internode it leaves); at most CHAIN_LATERALS. *shared: whether P is
- * in a chain or holds a hop's laterals (chain_laterals then chooses). The
- * count. */
+ * its own order, each lateral hop's own laterals after it (hop_laterals);
+ * at most CHAIN_LATERALS. *shared: whether P is in a chain or holds a
+ * hop's laterals (chain_laterals then chooses). The count. */
 static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3], uint32_t *lat, bool *shared)
 {
     uint32_t n = 0;
@@ -704,18 +722,9 @@ static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3
             uint32_t L = at->lateral_child[k];
             if (patch_lateral(b, at, J, L))
                 lat[n++] = L;
-            /* down a hop's hops (each holds its parent's further laterals) */
-            for (uint32_t H = L, next, depth = 0; H != MER_NO_NODE && lateral_hop(b, H) && depth <= MAX_SPAN;
-                 H = next, depth++) {
-                next = MER_NO_NODE;
-                for (int h = 0; h < 2; h++) {
-                    uint32_t G = b->nodes[H].lateral_child[h];
-                    if (n < CHAIN_LATERALS && patch_lateral(b, at, J, G))
-                        lat[n++] = G, *shared = true;
-                    if (G != MER_NO_NODE && lateral_hop(b, G))
-                        next = G;
-                }
-            }
+            uint32_t before = n;
+            hop_laterals(b, at, J, L, lat, &n);
+            *shared = *shared || n > before;
         }
     }
     return n;
