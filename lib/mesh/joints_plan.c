@@ -771,6 +771,48 @@ static uint32_t chain_laterals(const merp_builder *b, uint32_t *lat, uint32_t n,
     return m;
 }
 
+/* The shafts beside its in shaft of the patch of the fork owned by P:
+ * *C, the one that goes on, and lat[0..n), its laterals in the order of
+ * its field's lateral slots (a run's links name them); n, or -1 when the
+ * fork has none to go on. Where P has no living continuation, or with
+ * `swap` (plan_one), the thickest of fork_laterals (the first of equals)
+ * relays the axis: it goes on, and with `swap` the continuation takes its
+ * place among the laterals (-1 unless that is usable and thinner). Where
+ * P's fork is a chain's or holds a hop's laterals, chain_laterals chooses
+ * which of them it keeps. */
+static int fork_shafts(const merp_builder *b, uint32_t P, bool swap, uint32_t lat[CHAIN_LATERALS], uint32_t *C)
+{
+    const mer_node *p = &b->nodes[P];
+    float J[3];
+    merp_tip_of(p, J);
+    *C = p->main_child;
+    const bool none = *C == MER_NO_NODE || !b->nodes[*C].alive;
+    bool shared;
+    uint32_t nl = fork_laterals(b, P, J, lat, &shared);
+    if (none || swap) {
+        if (nl == 0)
+            return -1;
+        uint32_t t = 0;
+        for (uint32_t k = 1; k < nl; k++)
+            if (b->nodes[lat[k]].diameter > b->nodes[lat[t]].diameter)
+                t = k;
+        uint32_t L = lat[t];
+        if (swap) { /* the continuation, thinner, in the relay's place among the laterals */
+            if (none || !usable(b, *C, true) || !(b->nodes[*C].diameter < b->nodes[L].diameter))
+                return -1;
+            lat[t] = *C;
+        } else {
+            for (uint32_t k = t; k + 1 < nl; k++)
+                lat[k] = lat[k + 1];
+            nl--;
+        }
+        *C = L;
+    }
+    if (shared) /* (P's own laterals are at most two) */
+        nl = chain_laterals(b, lat, nl, *C);
+    return (int)nl;
+}
+
 /* Plans the fork at P's tip into jt (cuts, field) and, with `claim`,
  * claims what its patch covers; false when it does not fit between the
  * patches planned so far.
@@ -803,29 +845,11 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool cl
     merp_tip_of(p, J);
     if (owned_elsewhere(b, P))
         return false; /* the fork's owner plans it */
-    bool shared;
-    uint32_t lat[CHAIN_LATERALS], nl = fork_laterals(b, P, J, lat, &shared);
-    if (relay) { /* the thickest lateral relays the axis (the first of equals) */
-        if (nl == 0)
-            return false;
-        uint32_t t = 0;
-        for (uint32_t k = 1; k < nl; k++)
-            if (b->nodes[lat[k]].diameter > b->nodes[lat[t]].diameter)
-                t = k;
-        uint32_t L = lat[t];
-        if (swap) { /* the continuation, thinner, in the relay's place among the laterals */
-            if (none || !usable(b, C, true) || !(b->nodes[C].diameter < b->nodes[L].diameter))
-                return false;
-            lat[t] = C;
-        } else {
-            for (uint32_t k = t; k + 1 < nl; k++)
-                lat[k] = lat[k + 1];
-            nl--;
-        }
-        C = L;
-    }
-    if (shared) /* (P's own laterals are at most two) */
-        nl = chain_laterals(b, lat, nl, C);
+    uint32_t lat[CHAIN_LATERALS];
+    int got = fork_shafts(b, P, swap, lat, &C);
+    if (got < 0)
+        return false;
+    uint32_t nl = (uint32_t)got;
     if (!usable(b, P, none) || !usable(b, C, true) || (nl == 0 && !relay))
         return false;
     *jt = (merp_joint){.start = {P, C},
@@ -957,17 +981,16 @@ static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt,
         }
 }
 
-/* Fork i's lateral k's internode (in patch_lateral's order), or
- * MER_NO_NODE. */
-static uint32_t patch_lateral_at(const merp_builder *b, uint32_t P, uint32_t k)
+/* Which of the lateral slots of the patch of the fork owned by P holds
+ * internode L (fork_shafts): its index, or -1. */
+static int lateral_slot(const merp_builder *b, uint32_t P, uint32_t L)
 {
-    const mer_node *p = &b->nodes[P];
-    float J[3];
-    merp_tip_of(p, J);
-    for (int c = 0; c < 2; c++)
-        if (patch_lateral(b, p, J, p->lateral_child[c]) && k-- == 0)
-            return p->lateral_child[c];
-    return MER_NO_NODE;
+    uint32_t lat[CHAIN_LATERALS], C;
+    int n = fork_shafts(b, P, false, lat, &C);
+    for (int k = 0; k < n; k++)
+        if (lat[k] == L)
+            return k;
+    return -1;
 }
 
 /* Plans a run of K forks (the internodes P[0..K), each ending at its fork's
@@ -1007,25 +1030,21 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
         goes_on[link[i].from] |= link[i].slot == MERP_LINK_OUT;
         leaf[link[i].from] = false;
     }
-    /* Each fork's continuation (out[i]) and laterals (lat[i]): a fork with no
-     * living continuation that no fork of the run goes on from is relayed, as
-     * plan_one relays it: its thickest lateral goes on, its tip in the patch. */
+    /* Each fork's continuation (out[i]) and laterals (lat[i]), as plan_one
+     * has them (fork_shafts: its hops' laterals too): a fork with no living
+     * continuation that no fork of the run goes on from is relayed, its
+     * thickest lateral going on, its tip in the patch. */
     uint32_t out[MERP_RUN_FORKS], lat[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS];
     for (uint32_t i = 0; i < K; i++) {
         const mer_node *p = &b->nodes[P[i]];
-        uint32_t C = p->main_child, nl = 0;
-        for (uint32_t L; nl < MERP_JUNCTION_LATERALS && (L = patch_lateral_at(b, P[i], nl)) != MER_NO_NODE;)
-            lat[i][nl++] = L;
+        uint32_t C = p->main_child, shafts[CHAIN_LATERALS];
         relayed[i] = C == MER_NO_NODE || !b->nodes[C].alive;
-        if (relayed[i]) {
-            if (!leaf[i] || nl == 0)
-                return false;
-            uint32_t t = nl == 2 && b->nodes[lat[i][1]].diameter > b->nodes[lat[i][0]].diameter;
-            C = lat[i][t];
-            if (nl == 2 && t == 0)
-                lat[i][0] = lat[i][1];
-            nl--;
-        }
+        int got = fork_shafts(b, P[i], false, shafts, &C);
+        if (got < 0 || (relayed[i] && !leaf[i]))
+            return false;
+        uint32_t nl = (uint32_t)got;
+        assert(nl <= MERP_JUNCTION_LATERALS); /* (chain_laterals keeps so many) */
+        memcpy(lat[i], shafts, nl * sizeof *shafts);
         /* (an axis a fork goes on up is run_middle's to check) */
         if (!usable(b, P[i], relayed[i]) || !usable(b, C, true) || (nl == 0 && !relayed[i]))
             return false;
@@ -1173,7 +1192,11 @@ static bool is_fork(const merp_builder *b, uint32_t P, float threshold)
     const mer_node *p = &b->nodes[P];
     if (!p->alive || p->diameter < threshold)
         return false;
-    return patch_lateral_at(b, P, 0) != MER_NO_NODE;
+    float J[3];
+    merp_tip_of(p, J);
+    uint32_t lat[CHAIN_LATERALS];
+    bool shared;
+    return fork_laterals(b, P, J, lat, &shared) > 0;
 }
 
 /* The forks a run is being gathered from (plan_merged), in no order. */
@@ -1195,6 +1218,7 @@ static int gathered_index(const gathered *g, uint32_t id)
  * the index reached (0 with a target), how the walk arrived (*link: up
  * that fork's continuation or its patch lateral, *start: the axis's first
  * internode), and the forks passed on the way (between, at most `room`).
+ * A hop's lateral is crossed as a lateral of the fork that owns the hop.
  * -1 when the walk leaves the tree, crosses a lateral no patch holds, or
  * passes more forks than there is room for. */
 static int walk_down(const merp_builder *b, uint32_t f, const gathered *to, uint32_t target, float threshold,
@@ -1207,13 +1231,12 @@ static int walk_down(const merp_builder *b, uint32_t f, const gathered *to, uint
             return -1;
         uint8_t slot = MERP_LINK_OUT;
         if (b->nodes[p].main_child != id) { /* a lateral: the run crosses only a patch's */
-            for (uint32_t k = 0; slot == MERP_LINK_OUT; k++) {
-                uint32_t L = patch_lateral_at(b, p, k);
-                if (L == MER_NO_NODE)
-                    return -1;
-                if (L == id)
-                    slot = (uint8_t)k;
-            }
+            for (uint32_t hops = 0; lateral_hop(b, p) && hops <= MAX_SPAN; hops++)
+                p = b->nodes[p].parent; /* a hop's laterals are its parent fork's */
+            int k = lateral_slot(b, p, id);
+            if (k < 0)
+                return -1;
+            slot = (uint8_t)k;
         }
         if (in_chain(b, p) && is_fork(b, p, threshold))
             return -1; /* a chain's fork: runs do not take one in (fork_laterals) */
