@@ -679,11 +679,16 @@ static bool owned_elsewhere(const merp_builder *b, uint32_t P)
     return owned_above(b, P) || lateral_hop(b, P);
 }
 
-/* Whether P's tip is shared with another internode of its axis (a chain of
- * more than one) or P is a lateral hop: runs do not take such forks in. */
-static bool in_chain(const merp_builder *b, uint32_t P)
+/* The internode that owns the fork at id's tip (its chain's last, up its
+ * continuations of no length) or, id a lateral hop, at its parent's: id
+ * where its fork is its own. */
+static uint32_t fork_owner(const merp_builder *b, uint32_t id)
 {
-    return owned_elsewhere(b, P) || chain_up(b, P) != MER_NO_NODE;
+    for (uint32_t hops = 0; lateral_hop(b, id) && hops <= MAX_SPAN; hops++)
+        id = b->nodes[id].parent;
+    for (uint32_t hops = 0; owned_above(b, id) && hops <= MAX_SPAN; hops++)
+        id = b->nodes[id].main_child;
+    return id;
 }
 
 #define CHAIN_LATERALS 8 /* fork_laterals gathers at most this many */
@@ -981,12 +986,16 @@ static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt,
         }
 }
 
-/* Which of the lateral slots of the patch of the fork owned by P holds
- * internode L (fork_shafts): its index, or -1. */
-static int lateral_slot(const merp_builder *b, uint32_t P, uint32_t L)
+/* Which shaft of the patch of the fork owned by P begins with internode
+ * L, another than P's continuation (fork_shafts): its lateral slot,
+ * MERP_LINK_OUT where L relays the axis, or -1 when the patch holds none
+ * that begins with L. */
+static int shaft_slot(const merp_builder *b, uint32_t P, uint32_t L)
 {
     uint32_t lat[CHAIN_LATERALS], C;
     int n = fork_shafts(b, P, false, lat, &C);
+    if (n >= 0 && C == L)
+        return MERP_LINK_OUT;
     for (int k = 0; k < n; k++)
         if (lat[k] == L)
             return k;
@@ -1003,10 +1012,12 @@ static int lateral_slot(const merp_builder *b, uint32_t P, uint32_t L)
  * inside the other's. The patch holds the first fork's in shaft, each
  * axis's out shaft above its last fork, every lateral no fork goes on up,
  * and the axes between the forks (straight, inside the patch). A fork with
- * no living continuation that no fork of the run goes on from (a
- * sympodium's flowered tip an internode above the fork it goes on from) is
- * relayed as plan_one relays it: its thickest lateral is its axis's out
- * shaft, its tip inside the patch. Its cuts
+ * no living continuation (a sympodium's flowered tip an internode above the
+ * fork it goes on from; a string's axis that ends in branches, as
+ * abop-1.24b's in [-F][F]) is relayed as plan_one relays it: its thickest
+ * lateral goes on as its axis, up to the run's next fork on it (link slot
+ * MERP_LINK_OUT) or to its out shaft, its tip inside the patch. A fork's
+ * laterals are fork_shafts', a chain's or a hop's among them. Its cuts
  * are placed as plan_one's, clear of every primitive of the run. False when
  * it does not fit (cl->blocker: the joint in the way, if one is;
  * cl->stopper: the fork up a shaft's short axis, if that stopped it) or would
@@ -1022,32 +1033,33 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     *jt = (merp_joint){.forks = K, .start = {P[0]}, .cuts = 2, .cap = true, .cut_slot = {MERP_SLOT_IN, MERP_LINK_OUT}};
     float J[MERP_RUN_FORKS][3];
     int group[MERP_RUN_FORKS], groups = 0;
-    bool goes_on[MERP_RUN_FORKS] = {false}; /* a fork goes on from it up its continuation */
-    bool leaf[MERP_RUN_FORKS], relayed[MERP_RUN_FORKS];
-    for (uint32_t i = 0; i < K; i++)
-        leaf[i] = true;
-    for (uint32_t i = 1; i < K; i++) {
+    bool goes_on[MERP_RUN_FORKS] = {false}; /* a fork goes on from it up its continuation (or relay) */
+    bool relayed[MERP_RUN_FORKS];
+    for (uint32_t i = 1; i < K; i++)
         goes_on[link[i].from] |= link[i].slot == MERP_LINK_OUT;
-        leaf[link[i].from] = false;
-    }
     /* Each fork's continuation (out[i]) and laterals (lat[i]), as plan_one
      * has them (fork_shafts: its hops' laterals too): a fork with no living
      * continuation that no fork of the run goes on from is relayed, its
      * thickest lateral going on, its tip in the patch. */
-    uint32_t out[MERP_RUN_FORKS], lat[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS];
+    uint32_t out[MERP_RUN_FORKS], lat[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS], laterals = 0;
     for (uint32_t i = 0; i < K; i++) {
         const mer_node *p = &b->nodes[P[i]];
         uint32_t C = p->main_child, shafts[CHAIN_LATERALS];
         relayed[i] = C == MER_NO_NODE || !b->nodes[C].alive;
         int got = fork_shafts(b, P[i], false, shafts, &C);
-        if (got < 0 || (relayed[i] && !leaf[i]))
+        if (got < 0)
             return false;
         uint32_t nl = (uint32_t)got;
         assert(nl <= MERP_JUNCTION_LATERALS); /* (chain_laterals keeps so many) */
         memcpy(lat[i], shafts, nl * sizeof *shafts);
-        /* (an axis a fork goes on up is run_middle's to check) */
-        if (!usable(b, P[i], relayed[i]) || !usable(b, C, true) || (nl == 0 && !relayed[i]))
+        /* (an axis a fork goes on up is run_middle's to check). A fork of
+         * the run may hold no lateral: one up a short axis whose laterals are
+         * twigs or too thin for a shaft (merp_mesh_joints_plan's stoppers),
+         * or whose one is alongside its continuation (chain_laterals). Its
+         * laterals are tubes from J, as at a fork no patch serves. */
+        if (!usable(b, P[i], relayed[i]) || !usable(b, C, true))
             return false;
+        laterals += nl + relayed[i];
         out[i] = C;
         merp_tip_of(p, J[i]);
         jt->fork_node[i] = P[i], jt->link[i] = link[i], jt->link_start[i] = start[i];
@@ -1057,6 +1069,8 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
         for (uint32_t k = 0; k < nl; k++)
             segment_of(b, lat[i][k], &f->lateral[f->laterals++]);
     }
+    if (laterals == 0)
+        return false; /* no branch to blend */
     segment_of(b, P[0], &jt->field[0].in);
     jt->field[0].in.rb = in_radius(b, jt);
     for (uint32_t i = 1; i < K; i++) { /* the straight axis from the fork it goes on from */
@@ -1216,9 +1230,11 @@ static int gathered_index(const gathered *g, uint32_t id)
 /* From fork f down its axis (and down the axis it is a lateral of, and so
  * on) to the first fork of `to` (or, with `to` NULL, to fork `target`):
  * the index reached (0 with a target), how the walk arrived (*link: up
- * that fork's continuation or its patch lateral, *start: the axis's first
- * internode), and the forks passed on the way (between, at most `room`).
- * A hop's lateral is crossed as a lateral of the fork that owns the hop.
+ * that fork's continuation, or relay, or its patch lateral (shaft_slot),
+ * *start: the axis's first internode), and the forks passed on the way
+ * (between, at most `room`). A chain's or a hop's lateral is crossed as a
+ * lateral of the fork that owns it (fork_owner), and the chain's
+ * internodes below its owner as that fork's J.
  * -1 when the walk leaves the tree, crosses a lateral no patch holds, or
  * passes more forks than there is room for. */
 static int walk_down(const merp_builder *b, uint32_t f, const gathered *to, uint32_t target, float threshold,
@@ -1231,15 +1247,15 @@ static int walk_down(const merp_builder *b, uint32_t f, const gathered *to, uint
             return -1;
         uint8_t slot = MERP_LINK_OUT;
         if (b->nodes[p].main_child != id) { /* a lateral: the run crosses only a patch's */
-            for (uint32_t hops = 0; lateral_hop(b, p) && hops <= MAX_SPAN; hops++)
-                p = b->nodes[p].parent; /* a hop's laterals are its parent fork's */
-            int k = lateral_slot(b, p, id);
+            p = fork_owner(b, p); /* a hop's or a chain's laterals are its owner's */
+            int k = shaft_slot(b, p, id);
             if (k < 0)
                 return -1;
             slot = (uint8_t)k;
+        } else if (owned_above(b, p)) { /* down a chain: the same J as id's fork */
+            id = p;
+            continue;
         }
-        if (in_chain(b, p) && is_fork(b, p, threshold))
-            return -1; /* a chain's fork: runs do not take one in (fork_laterals) */
         int at = to != NULL ? gathered_index(to, p) : p == target ? 0 : -1;
         if (at >= 0) {
             *link = (merp_link){0, slot}, *start = id;
@@ -1260,11 +1276,12 @@ static int walk_down(const merp_builder *b, uint32_t f, const gathered *to, uint
  * no such way, or the run would have more than MERP_RUN_FORKS forks. */
 static bool gather(const merp_builder *b, gathered *g, uint32_t F)
 {
+    F = fork_owner(b, F); /* (a stopper may be a chain's or a hop's) */
     if (gathered_index(g, F) >= 0)
         return true;
     uint32_t between[MERP_RUN_FORKS], nb, start, room = MERP_RUN_FORKS - 1 - g->n;
     merp_link link;
-    if (g->n == MERP_RUN_FORKS || in_chain(b, F))
+    if (g->n == MERP_RUN_FORKS)
         return false;
     bool found = walk_down(b, F, g, 0, g->threshold, room, between, &nb, &link, &start) >= 0;
     for (uint32_t i = 0; i < g->n && !found; i++)
@@ -1352,8 +1369,9 @@ static void remember(merp_builder *b, claims *cl, const merp_joint *jt, uint32_t
     claim_joint(b, cl, jt, at);
     for (uint32_t i = 0; i < jt->forks; i++) {
         b->joint_at[jt->fork_node[i]] = at;
-        if (i > 0 && jt->link[i].slot != MERP_LINK_OUT) /* an axis that begins in the patch, uncut */
-            b->lateral_in[jt->link_start[i]] = at * MERP_PATCH_CUTS;
+        uint32_t L = jt->link_start[i];
+        if (i > 0 && b->nodes[b->nodes[L].parent].main_child != L) /* an axis that begins in the patch, uncut: a lateral or a relay */
+            b->lateral_in[L] = at * MERP_PATCH_CUTS;
     }
     b->cut_begin[jt->node[MERP_CUT_IN]] = at;
     for (uint32_t s = 1; s < jt->cuts; s++) {
@@ -1425,7 +1443,7 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
                         merp_joint *jt, uint32_t *taken, uint32_t *nt)
 {
     gathered g = {.fork = {P}, .n = 1, .threshold = stop != MER_NO_NODE ? 0.0f : threshold};
-    bool ok = false, stuck = in_chain(b, P);
+    bool ok = false, stuck = false;
     *nt = 0;
     while (!ok && !stuck && (X != UINT32_MAX || stop != MER_NO_NODE)) {
         for (uint32_t i = 0; X != UINT32_MAX && i < b->joints[X].forks && !stuck; i++)

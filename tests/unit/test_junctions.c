@@ -1477,6 +1477,31 @@ static void runs_take_their_forks_hop_laterals(void **state)
     assert_true(held >= 86);
 }
 
+/* Forks where a string branches at one point more often than an internode
+ * holds laterals (a chain's) and forks whose axis ends in them (relayed)
+ * join runs: abop-1.24b (F → F[+F]F[-F][F]) ends each axis in [-F][F] at
+ * a chain's J, and its thick forks' shafts end in those within a radius or
+ * two. With runs refusing chains' forks, one of its 76 forks was patched;
+ * with chains, 46; with relayed forks that a run goes on from, 82. Its
+ * string draws [F] over its parent's line, so its tubes share edges
+ * (disks_meeting_at_a_point_keep_the_bark_closed): no edge is open. */
+static void chain_and_relayed_forks_join_runs(void **state)
+{
+    (void)state;
+    mer_scene *s = grown14("abop-1.24b", 1);
+    mer_mesh *m = implicit_mesh(s);
+    print_message("abop-1.24b seed 1: %u patched, %u open, %u unfit\n", m->junctions, m->junctions_open,
+                  m->junctions_unfit);
+    assert_true(m->junctions >= 82);
+    assert_int_equal(m->junctions_open, 0);
+    uint32_t *tri = welded_triangles(&m->bark);
+    size_t twice, edges;
+    assert_int_equal(tm_open_edges(tri, m->bark.index_count / 3, &twice, &edges), 0);
+    free(tri);
+    mer_mesh_free(m);
+    mer_scene_free(s);
+}
+
 /* Where an axis passes internodes of no length (an L-system string that
  * branches twice at one point) and turns there, the rings at that point
  * were mitred by the internodes each joins: tilted apart, the band of no
@@ -1688,6 +1713,7 @@ int main(void)
         cmocka_unit_test(tubes_turn_at_internodes_of_no_length),
         cmocka_unit_test(lateral_hops_join_their_parents_fork),
         cmocka_unit_test(runs_take_their_forks_hop_laterals),
+        cmocka_unit_test(chain_and_relayed_forks_join_runs),
         cmocka_unit_test(thick_below_the_fork_is_patched),
         cmocka_unit_test(same_bytes_whatever_the_threads),
         cmocka_unit_test(a_failed_patch_leaves_tubes),

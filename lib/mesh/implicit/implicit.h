@@ -384,7 +384,7 @@ float merp_junction_scar_weight(float years);
  * out and laterals: 3 K + 1) and for its bounds (each fork's scar and
  * laterals' bounds: 3 K): 4 K lanes hold either. */
 #define MERP_JROWS MERP_RUN_FORKS
-#define MERP_LINK_OUT 0xff /* merp_link.slot: up the continuation */
+#define MERP_LINK_OUT 0xff /* merp_link.slot: up the continuation (or the relay, where it has none living) */
 
 typedef struct merp_link {
     uint8_t from, slot; /* the fork it goes on from, and up which: MERP_LINK_OUT or a lateral */
