@@ -140,8 +140,9 @@ static void mesh_bound(const merp_builder *b, mesh_size *out)
         out->bark_indices += i;
         for (uint32_t k = 0; k < b->joint_count; k++) {
             /* forks: a run's patch serves several */
-            out->junctions += b->joints[k].ok ? b->joints[k].forks : 0;
-            out->smooth += b->joints[k].ok && b->joints[k].smooth ? b->joints[k].forks : 0;
+            uint32_t forks = merp_joint_forks(&b->joints[k]);
+            out->junctions += b->joints[k].ok ? forks : 0;
+            out->smooth += b->joints[k].ok && b->joints[k].smooth ? forks : 0;
         }
     }
 }
@@ -194,7 +195,7 @@ static mer_result allocate_mesh(merp_builder *b, mer_error *err)
             return mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory for the junctions' forks");
         uint32_t n = 0;
         for (uint32_t id = 0; id < b->node_count; id++) /* ascending */
-            if (merp_joint_at(b, id) != NULL)
+            if (merp_joint_at(b, id) != NULL && !merp_joint_elbow(merp_joint_at(b, id), id))
                 m->junction_forks[n++] = id;
         assert(n == m->junctions);
     }

@@ -470,7 +470,7 @@ static mer_result build_patches(merp_builder *b, uint32_t *failed, mer_error *er
     for (uint32_t i = 0; i < b->joint_count && rc == MER_OK; i++) {
         if (r.rc[i] == MER_ERR_INVALID) {
             merp_joint_forget(b, &b->joints[i]); /* this fork (or run) stays tubes */
-            b->joints_open += b->joints[i].forks;
+            b->joints_open += merp_joint_forks(&b->joints[i]);
             ++*failed;
         } else if (r.rc[i] != MER_OK) {
             rc = mer_error_set(err, r.rc[i], NULL, "out of memory for a junction");

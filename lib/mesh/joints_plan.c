@@ -140,6 +140,8 @@ typedef struct claims {
     uint32_t blocker;
     uint32_t stopper; /* the fork whose lateral kept the last failed shaft
                          from ending inside its patch (MER_NO_NODE: none) */
+    uint32_t bend;    /* the internode at whose tip the last failed shaft's
+                         axis bends most (straight; MER_NO_NODE: none) */
     uint8_t *tried; /* by node id: 1 once the planner has come to that fork */
 } claims;
 
@@ -264,29 +266,39 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
 /* Whether the axis from J to cut s is straight enough to be one segment of
  * the field: every internode boundary between them within STRAIGHT × r of
  * the line from J to the cut's centre (inside the shaft's tube), and the
- * cut's internode, whose tube goes on from the cut ring, along it. */
+ * cut's internode, whose tube goes on from the cut ring, along it. Where
+ * it is not, *bend is the internode whose tip is the boundary farthest off
+ * that line (or, every boundary within it, the cut's internode's base):
+ * an elbow there (a fork of a run with no lateral, plan_merged) makes two
+ * segments of the shaft; MER_NO_NODE where no boundary lies between. */
 static bool straight(const merp_builder *b, const merp_joint *jt, uint32_t first, uint32_t s,
-                     const float J[3], float r)
+                     const float J[3], float r, uint32_t *bend)
 {
+    const bool back = s == MERP_CUT_IN;
     const float *dir = b->nodes[jt->node[s]].dir, *u = jt->n[s];
-    float D = jt->d[s];
-    if (D <= 0.0f || fabsf(v3_dot(u, dir)) < STRAIGHT_COS)
-        return false;
+    float D = jt->d[s], farthest = 0.0f;
+    *bend = MER_NO_NODE;
     for (uint32_t id = first; id != jt->node[s];) {
         const mer_node *n = &b->nodes[id];
         float q[3], e[3];
-        if (s == MERP_CUT_IN)
+        if (back)
             memcpy(q, n->base, sizeof q);
         else
             merp_tip_of(n, q);
         for (int k = 0; k < 3; k++)
             q[k] -= J[k];
         v3_cross(q, u, e);
-        if (v3_len(e) > STRAIGHT * r)
-            return false;
-        id = s == MERP_CUT_IN ? n->parent : n->main_child;
+        if (v3_len(e) > STRAIGHT * r && v3_len(e) > farthest)
+            farthest = v3_len(e), *bend = back ? n->parent : id;
+        id = back ? n->parent : n->main_child;
     }
-    return true;
+    if (*bend != MER_NO_NODE)
+        return false;
+    if (D > 0.0f && fabsf(v3_dot(u, dir)) >= STRAIGHT_COS)
+        return true;
+    if (jt->node[s] != first)
+        *bend = back ? jt->node[s] : b->nodes[jt->node[s]].parent;
+    return false;
 }
 
 /* The parent's radius at J in jt's field: its tube's there (the next ring's,
@@ -359,7 +371,7 @@ static bool place_cuts(const merp_builder *b, claims *cl, const float *need, flo
         jt->d[s] = v3_len(jt->n[s]);
         if (!v3_normalize(jt->n[s]))
             return false;
-        if (!mark && !straight(b, jt, first[s], s, from, merp_node_radius(b, first[s])))
+        if (!mark && !straight(b, jt, first[s], s, from, merp_node_radius(b, first[s]), &cl->bend))
             return false;
     }
     if (!mark) {
@@ -909,15 +921,17 @@ static bool plan_one(merp_builder *b, claims *cl, uint32_t P, bool swap, bool cl
  * lie inside a run's patch: living internodes, no tip's cone (but P's, with
  * `cone`: a relayed fork's, whose tip the patch covers), claimed by no
  * patch, every boundary between them within STRAIGHT × r of the line from
- * J0 to J1 (the run's segment there). */
+ * J0 to J1 (the run's segment there). Where a boundary is not, cl->bend is
+ * the internode whose tip is the one farthest off (straight's elbow). */
 static bool run_middle(const merp_builder *b, claims *cl, uint32_t C, uint32_t P, bool cone, const float J0[3],
                        const float J1[3], float r)
 {
-    float u[3];
+    float u[3], farthest = 0.0f;
     for (int a = 0; a < 3; a++)
         u[a] = J1[a] - J0[a];
     if (!v3_normalize(u))
         return false;
+    uint32_t bend = MER_NO_NODE;
     for (uint32_t id = C, passed = 0;; id = b->nodes[id].main_child, passed++) {
         if (!usable(b, id, cone && id == P) || passed > MAX_SPAN)
             return false;
@@ -925,15 +939,17 @@ static bool run_middle(const merp_builder *b, claims *cl, uint32_t C, uint32_t P
             cl->blocker = cl->lo[id] > 0.0f ? cl->own_lo[id] : cl->own_hi[id];
             return false;
         }
-        if (id == P)
-            return true;
+        if (id == P) {
+            cl->bend = bend;
+            return bend == MER_NO_NODE;
+        }
         float q[3], e[3];
         merp_tip_of(&b->nodes[id], q);
         for (int a = 0; a < 3; a++)
             q[a] -= J0[a];
         v3_cross(q, u, e);
-        if (v3_len(e) > STRAIGHT * r)
-            return false;
+        if (v3_len(e) > STRAIGHT * r && v3_len(e) > farthest)
+            farthest = v3_len(e), bend = id;
     }
 }
 
@@ -1000,6 +1016,15 @@ static int shaft_slot(const merp_builder *b, uint32_t P, uint32_t L)
         if (lat[k] == L)
             return k;
     return -1;
+}
+
+/* Whether a run's fork at internode id's tip is an elbow: no living
+ * lateral leaves it (bare_internode) and its axis goes on (a shaft's bend,
+ * plan_merged's `bend`); no fork a run gains. */
+static bool elbow(const merp_builder *b, uint32_t id)
+{
+    uint32_t C = b->nodes[id].main_child;
+    return bare_internode(b, id) && C != MER_NO_NODE && b->nodes[C].alive;
 }
 
 /* Plans a run of K forks (the internodes P[0..K), each ending at its fork's
@@ -1145,15 +1170,19 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
         merp_node_radius(b, P[0]) > RUN_FINEST * h ||
         (K > RUN_FORKS && (uint64_t)grid.n[0] * grid.n[1] * grid.n[2] > RUN_MANY_CELLS))
         return false;
-    /* Each fork's bark ages as a single fork's (plan_one). */
+    /* Each fork's bark ages as a single fork's (plan_one). An elbow is no
+     * fork, and draws no bud scale scar: neither do the tubes round it. */
     for (uint32_t i = 0; i < K; i++) {
+        const bool bend = elbow(b, P[i]);
+        jt->elbows |= (uint32_t)bend << i;
         merp_junction *f = &jt->field[i];
         const mer_node *C = &b->nodes[out[i]];
         uint32_t born = C->born; /* a relay's own, where it has no lateral */
         for (uint32_t k = 0; k < f->laterals; k++)
             born = k == 0 || b->nodes[lat[i][k]].born < born ? b->nodes[lat[i][k]].born : born;
         merp_junction_age(f, C->dir, years_since(b, born));
-        f->scar_weight = C->born == b->nodes[P[i]].born ? 0.0f : merp_junction_scar_weight(years_since(b, C->born));
+        f->scar_weight = bend || C->born == b->nodes[P[i]].born ? 0.0f
+                                                                : merp_junction_scar_weight(years_since(b, C->born));
     }
     return true;
 }
@@ -1431,8 +1460,13 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
  * its twigs, which no shaft may end inside past), `stop` is the first fork
  * up it (MER_NO_NODE: none): the run takes that fork in, and each fork
  * that stops it next, however thin (the gathering's threshold drops to 0),
- * so the short axis ends inside the run's patch with all its forks. A
- * relayed fork it takes in
+ * so the short axis ends inside the run's patch with all its forks. Where a
+ * shaft's axis (or a run's between two forks) bends off one segment,
+ * `bend` is the internode at whose tip it bends most (straight): the run
+ * takes it in as an elbow (a fork with no lateral, elbow), its shaft two
+ * segments, and each bend that stops it next (a guiding-vector tree's
+ * axes bend at every node: gv-fig4-4000, seed 1, left 40 forks tubes
+ * without elbows, 16 with them). A relayed fork it takes in
  * is planned as plan_run has it: relayed where it has no living
  * continuation, else as it grew (a swap's continuation, which did not fit a
  * patch of its own, may fit the run's). False when it does not fit (X's
@@ -1440,16 +1474,20 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
  * leave as many forks tubes as it patches (swallows): the claims are then
  * as they were. */
 static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, uint32_t stop,
-                        merp_joint *jt, uint32_t *taken, uint32_t *nt)
+                        uint32_t bend, merp_joint *jt, uint32_t *taken, uint32_t *nt)
 {
     gathered g = {.fork = {P}, .n = 1, .threshold = stop != MER_NO_NODE ? 0.0f : threshold};
     bool ok = false, stuck = false;
     *nt = 0;
-    while (!ok && !stuck && (X != UINT32_MAX || stop != MER_NO_NODE)) {
+    while (!ok && !stuck && (X != UINT32_MAX || stop != MER_NO_NODE || bend != MER_NO_NODE)) {
         for (uint32_t i = 0; X != UINT32_MAX && i < b->joints[X].forks && !stuck; i++)
             stuck = !gather(b, &g, b->joints[X].fork_node[i]);
         if (stop != MER_NO_NODE && !stuck)
             stuck = !gather(b, &g, stop);
+        if (bend != MER_NO_NODE && !stuck) { /* an elbow: no way on where it was one already */
+            uint32_t had = g.n;
+            stuck = !gather(b, &g, bend) || (g.n == had && X == UINT32_MAX && stop == MER_NO_NODE);
+        }
         /* every joint planned for a fork of the run joins it */
         for (bool grown = true; grown && !stuck;) {
             grown = false;
@@ -1469,9 +1507,9 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
         uint32_t R[MERP_RUN_FORKS], start[MERP_RUN_FORKS];
         merp_link link[MERP_RUN_FORKS];
         stuck = stuck || !order_run(b, &g, R, link, start);
-        cl->blocker = UINT32_MAX, cl->stopper = MER_NO_NODE;
+        cl->blocker = UINT32_MAX, cl->stopper = MER_NO_NODE, cl->bend = MER_NO_NODE;
         ok = !stuck && plan_run(b, cl, R, link, start, g.n, jt);
-        X = cl->blocker, stop = cl->stopper;
+        X = cl->blocker, stop = cl->stopper, bend = cl->bend;
         if (stop != MER_NO_NODE)
             g.threshold = 0.0f; /* the forks up a short axis, however thin */
     }
@@ -1484,9 +1522,12 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
     for (uint32_t t = 0; t < *nt; t++)
         claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
     if (ok) { /* jt holds the run only when plan_run planned it */
-        uint32_t gained = jt->forks; /* every fork it patches, a short axis's thin ones too */
+        uint32_t gained = 0; /* every fork it patches, a short axis's thin ones too; no elbow */
+        for (uint32_t i = 0; i < jt->forks; i++)
+            gained += !elbow(b, jt->fork_node[i]);
         for (uint32_t t = 0; t < *nt; t++)
-            gained -= b->joints[taken[t]].forks;
+            for (uint32_t i = 0; i < b->joints[taken[t]].forks; i++)
+                gained -= !elbow(b, b->joints[taken[t]].fork_node[i]);
         ok = swallows(b, cl, jt, threshold) < gained;
     }
     if (ok)
@@ -1504,7 +1545,7 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
     b->cut_begin = merp_malloc(m * sizeof *b->cut_begin);
     claims cl = {merp_malloc(m * sizeof *cl.lo), merp_malloc(m * sizeof *cl.hi),
                  merp_malloc(m * sizeof *cl.own_lo), merp_malloc(m * sizeof *cl.own_hi), UINT32_MAX,
-                 MER_NO_NODE, merp_calloc(m, 1)};
+                 MER_NO_NODE, MER_NO_NODE, merp_calloc(m, 1)};
     float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
                                                       : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
     uint32_t cap = 0, count = 0;
@@ -1523,11 +1564,12 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         uint32_t id = c[i].id, taken[MERP_RUN_FORKS], nt = 0;
         if (b->joint_at[id] != UINT32_MAX)
             continue; /* a fork of a run planned before */
-        cl.blocker = UINT32_MAX, cl.stopper = MER_NO_NODE;
+        cl.blocker = UINT32_MAX, cl.stopper = MER_NO_NODE, cl.bend = MER_NO_NODE;
         cl.tried[id] = 1;
         bool fits = plan_one(b, &cl, id, false, true, &jt);
-        uint32_t X = cl.blocker, stop = cl.stopper; /* what kept it from a patch of its own as it grew */
-        fits = fits || plan_one(b, &cl, id, true, true, &jt) || plan_merged(b, &cl, id, threshold, X, stop, &jt, taken, &nt);
+        uint32_t X = cl.blocker, stop = cl.stopper, bend = cl.bend; /* what kept it from a patch of its own as it grew */
+        fits = fits || plan_one(b, &cl, id, true, true, &jt) ||
+               plan_merged(b, &cl, id, threshold, X, stop, bend, &jt, taken, &nt);
         if (!fits)
             continue;
         if (b->joint_count == cap) {

@@ -88,6 +88,9 @@ typedef struct merp_joint {
     merp_junction field[MERP_RUN_FORKS]; /* its forks' fields: field[0] a
                                        single fork's, a run's first */
     uint32_t forks;                 /* 1, or a run's forks (joints_plan.c) */
+    uint32_t elbows;                /* bit i: fork i is a bend of a shaft's
+                                       axis with no lateral (joints_plan.c,
+                                       elbow): no fork, not counted as one */
     uint32_t fork_node[MERP_RUN_FORKS]; /* the internode each fork's J ends */
     merp_link link[MERP_RUN_FORKS]; /* how a run's forks go on from each
                                        other (merp_jprep_init_run) */
@@ -210,6 +213,24 @@ static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id
     if (b->joint_at == NULL || b->joint_at[id] == UINT32_MAX)
         return NULL;
     return &b->joints[b->joint_at[id]];
+}
+
+/* Whether jt's fork at node id's tip is one of its elbows (no fork). */
+static inline bool merp_joint_elbow(const merp_joint *jt, uint32_t id)
+{
+    for (uint32_t i = 0; i < jt->forks; i++)
+        if (jt->fork_node[i] == id)
+            return jt->elbows >> i & 1u;
+    return false;
+}
+
+/* How many forks jt patches: its forks but its elbows. */
+static inline uint32_t merp_joint_forks(const merp_joint *jt)
+{
+    uint32_t n = jt->forks;
+    for (uint32_t i = 0; i < jt->forks; i++)
+        n -= jt->elbows >> i & 1u;
+    return n;
 }
 
 #define MERP_SLOT_IN 0xfe /* merp_joint.cut_slot: the first fork's in */
