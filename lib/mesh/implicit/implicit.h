@@ -379,7 +379,7 @@ float merp_junction_scar_weight(float years);
  * as a single fork's laterals do (B2 = A + Σ L, B1 = max(A', L'), F_b the
  * largest of their bounds), where a lateral that another group goes on up
  * counts as that group's whole field. The run's field is its first group's. */
-#define MERP_RUN_FORKS 16
+#define MERP_RUN_FORKS 24
 /* Rows of four lanes for a run's segments (its first in, and each fork's
  * out and laterals: 3 K + 1) and for its bounds (each fork's scar and
  * laterals' bounds: 3 K): 4 K lanes hold either. */
