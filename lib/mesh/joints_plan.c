@@ -1071,8 +1071,8 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
         goes_on[link[i].from] |= link[i].slot == MERP_LINK_OUT;
     /* Each fork's continuation (out[i]) and laterals (lat[i]), as plan_one
      * has them (fork_shafts: its hops' laterals too): a fork with no living
-     * continuation that no fork of the run goes on from is relayed, its
-     * thickest lateral going on, its tip in the patch. */
+     * continuation is relayed, its thickest lateral going on (to its out
+     * cut, or up to the run's next fork on it), its tip in the patch. */
     uint32_t out[MERP_RUN_FORKS], lat[MERP_RUN_FORKS][MERP_JUNCTION_LATERALS], laterals = 0;
     for (uint32_t i = 0; i < K; i++) {
         const mer_node *p = &b->nodes[P[i]];

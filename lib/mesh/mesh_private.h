@@ -215,6 +215,8 @@ static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id
     return &b->joints[b->joint_at[id]];
 }
 
+_Static_assert(MERP_RUN_FORKS <= 32, "merp_joint.elbows holds a bit per fork of a run");
+
 /* Whether jt's fork at node id's tip is one of its elbows (no fork). */
 static inline bool merp_joint_elbow(const merp_joint *jt, uint32_t id)
 {
