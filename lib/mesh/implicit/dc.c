@@ -145,6 +145,7 @@ typedef struct dc {
     uint32_t *cell_v;      /* per crossed cell: its cell_sheets + 1 (others not set) */
     cell_sheets *sheets; /* per crossed cell, in the walk's order */
     edge_map edges;      /* grid edge → its crossing in x */
+    edge_map faces;      /* cell face with four crossed edges → 1 where its choice is reversed, else 0 */
     crossing *x;         /* the crossings solved so far */
     uint32_t nx, xcap, nsheets;
     merp_trimesh *out;
@@ -230,19 +231,23 @@ static void pair_edges(uint8_t (*partner)[2], uint8_t *links, int a, int b)
  * grouped by the segments the surface draws on each face. A face with four
  * crossed edges (corners alternating in sign) is decided by the asymptotic
  * decider (Nielson & Hamann 1991): the inside corners are joined across the
- * face when the bilinear interpolant's saddle is inside. Both cells of a
- * face see its four values alike, so they agree on its segments and their
- * sheets meet edge to edge: the dual mesh is a manifold (where a sheet does
- * not cross one face twice on both sides). A face has zero, two or four
- * crossed edges, each in one segment, and an edge lies on two faces: so each
- * crossed edge has two partners and each sheet is a cycle of edges, walked
- * round from its lowest edge. Returns the number of sheets; sheet[e] for
- * each crossed edge e, numbered by their lowest edge; *ambiguous when a
- * face has four crossed edges (else the split depends on the mask alone). */
-static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t sheet[12], bool *ambiguous)
+ * face when the bilinear interpolant's saddle is inside, and the other way
+ * on the faces in `flip` (face_choices). Both cells of a face see its four
+ * values and its choice alike, so they agree on its segments and their
+ * sheets meet edge to edge: the dual mesh is a manifold where no sheet
+ * crosses one face twice on both sides (face_choices). A face has zero,
+ * two or four crossed edges, each in one segment, and an edge lies on two
+ * faces: so each crossed edge has two partners and each sheet is a cycle of
+ * edges, walked round from its lowest edge. Returns the number of sheets;
+ * sheet[e] for each crossed edge e (0 for the others), numbered by their
+ * lowest edge; *ambiguous: the faces with four crossed edges, as bits (none:
+ * the split depends on the mask alone). */
+static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t flip, uint8_t sheet[12],
+                            uint8_t *ambiguous)
 {
     uint8_t partner[12][2], links[12] = {0};
-    *ambiguous = false;
+    memset(sheet, 0, 12);
+    *ambiguous = 0;
     for (int face = 0; face < 6; face++) {
         const uint8_t *k = face_corner[face], *fe = face_edge[face];
         int at[4], crossed = 0;
@@ -252,7 +257,7 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
         if (crossed == 2) {
             pair_edges(partner, links, fe[at[0]], fe[at[1]]);
         } else if (crossed == 4) {
-            *ambiguous = true;
+            *ambiguous |= (uint8_t)(1u << face);
             float v[4];
             for (int t = 0; t < 4; t++)
                 v[t] = cf[k[t]] - MERP_ISO;
@@ -260,7 +265,7 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             bool saddle_in = den > 0.0f ? num >= 0.0f : num <= 0.0f;
             /* Cut off each corner of the side that is not joined: corner
              * t's edges are fe[t − 1] and fe[t]. */
-            bool cut_in = !saddle_in;
+            bool cut_in = !saddle_in != (bool)(flip >> face & 1);
             for (int t = 0; t < 4; t++)
                 if ((bool)(mask >> k[t] & 1) == cut_in)
                     pair_edges(partner, links, fe[(t + 3) % 4], fe[t]);
@@ -280,6 +285,103 @@ static int cell_sheet_split(const float cf[8], uint8_t mask, uint16_t x, uint8_t
             prev = at, at = next;
         } while (at != e);
         n++;
+    }
+    return n;
+}
+
+/* Whether one sheet of the cell crosses all four edges of `face` (both of
+ * its segments there). */
+static bool tunnel(const uint8_t sheet[12], int face)
+{
+    const uint8_t *fe = face_edge[face];
+    return sheet[fe[0]] == sheet[fe[1]] && sheet[fe[1]] == sheet[fe[2]] && sheet[fe[2]] == sheet[fe[3]];
+}
+
+/* Face `face` of the cell: its key in d->faces (3 × the index of the cell
+ * on its lower side + its axis), or UINT32_MAX on the grid's boundary (no
+ * cell beyond). */
+static uint32_t face_key(const dc *d, const uint32_t cell[3], int face)
+{
+    int a = face / 2;
+    if (face % 2 ? cell[a] + 1 >= d->w->g->n[a] : cell[a] == 0)
+        return UINT32_MAX;
+    return 3 * (cell_index(d, cell) - (face % 2 ? 0 : d->cell_step[a])) + (uint32_t)a;
+}
+
+/* The faces of `ambiguous` whose choice is recorded reversed, as bits;
+ * *open: those with none recorded yet. */
+static uint8_t recorded_flips(const dc *d, const uint32_t cell[3], uint8_t ambiguous, uint8_t *open)
+{
+    uint8_t flip = 0;
+    *open = 0;
+    for (int face = 0; face < 6; face++) {
+        if (!(ambiguous >> face & 1))
+            continue;
+        uint32_t key = face_key(d, cell, face);
+        if (key == UINT32_MAX)
+            continue; /* no quad crosses it */
+        uint32_t slot = map_find(&d->faces, key);
+        if (d->faces.slot[slot] == 0)
+            *open |= (uint8_t)(1u << face);
+        else
+            flip |= (uint8_t)(d->faces.value[slot] << face);
+    }
+    return flip;
+}
+
+/* The cell's sheets (cell_sheet_split) with each face's choice: where one
+ * sheet crosses a face twice in this cell and one sheet in the cell beyond,
+ * the dual edge between the two cells' vertices would be a side of all four
+ * of the face's edges' quads (a directed edge twice: no manifold, and a
+ * patch does not close). Reversing the decider's choice there pairs each
+ * segment's edges with the other's, which splits both sheets in two (a
+ * sheet is wound one way round, so it crosses the two segments the same
+ * way round the face, and the other pairing closes each half), and the
+ * four quads meet at two dual edges, two each; it merges no sheets, since
+ * a sheet that does not cross the face keeps its edges. Each face is
+ * chosen once, by the first of its two cells the walk reaches, from both
+ * cells' sheets as the choices so far make them, and recorded in d->faces
+ * for the other; the cell's open faces in turn, its sheets split again
+ * after each reversal. So every reversal splits sheets and none merges
+ * them: a face not reversed when chosen never becomes a tunnel on both
+ * sides later. The choices follow the walk's order, which is the patch's
+ * own: the bytes do not depend on the threads. (Such tunnels kept 56 of
+ * the 3,220 junction patches of 56 presets from closing on their first
+ * grid: joints.c, SHIFT.) Returns the number of sheets, as cell_sheet_split;
+ * *ambiguous: whether a face has four crossed edges. Needs room in
+ * d->faces for six more keys. */
+static int cell_sheets_chosen(dc *d, const uint32_t cell[3], const float cf[8], uint8_t mask, uint16_t x,
+                              uint8_t sheet[12], uint8_t *ambiguous)
+{
+    int n = cell_sheet_split(cf, mask, x, 0, sheet, ambiguous);
+    if (*ambiguous == 0)
+        return n;
+    uint8_t open, flip = recorded_flips(d, cell, *ambiguous, &open);
+    if (flip)
+        n = cell_sheet_split(cf, mask, x, flip, sheet, ambiguous);
+    for (int face = 0; face < 6; face++) {
+        if (!(open >> face & 1))
+            continue;
+        uint32_t reverse = 0;
+        if (tunnel(sheet, face)) { /* and the cell beyond, as the choices so far make it? */
+            int a = face / 2;
+            uint32_t q[3] = {cell[0], cell[1], cell[2]};
+            q[a] = face % 2 ? q[a] + 1 : q[a] - 1;
+            float qf[8];
+            uint8_t qmask = merp_walk_corners(d->w, q, qf), qsheet[12], qamb, qopen;
+            uint16_t qx = crossed_edges(qmask);
+            cell_sheet_split(qf, qmask, qx, 0, qsheet, &qamb);
+            uint8_t qflip = recorded_flips(d, q, qamb, &qopen);
+            if (qflip)
+                cell_sheet_split(qf, qmask, qx, qflip, qsheet, &qamb);
+            reverse = tunnel(qsheet, face ^ 1);
+        }
+        uint32_t key = face_key(d, cell, face), slot = map_find(&d->faces, key);
+        d->faces.slot[slot] = key + 1, d->faces.value[slot] = reverse, d->faces.n++;
+        if (reverse) {
+            flip |= (uint8_t)(1u << face);
+            n = cell_sheet_split(cf, mask, x, flip, sheet, ambiguous);
+        }
     }
     return n;
 }
@@ -324,9 +426,10 @@ static mer_result cell_vertices(dc *d, const uint32_t cell[3], const float cf[8]
     if (split->cached) {
         memcpy(cs->sheet, split->sheet, sizeof cs->sheet);
     } else {
-        bool ambiguous;
-        memset(cs->sheet, 0, sizeof cs->sheet);
-        n = cell_sheet_split(cf, mask, crossed, cs->sheet, &ambiguous);
+        uint8_t ambiguous;
+        if (!map_room(&d->faces, 6))
+            return MER_ERR_NOMEM;
+        n = cell_sheets_chosen(d, cell, cf, mask, crossed, cs->sheet, &ambiguous);
         if (!ambiguous) {
             memcpy(split->sheet, cs->sheet, sizeof split->sheet);
             split->n = (uint8_t)n, split->cached = 1;
@@ -450,6 +553,7 @@ static void dc_free(merp_walk *w, dc *d)
     merp_walk_free(w);
     merp_free(d->cell_v), merp_free(d->sheets), merp_free(d->x);
     merp_free(d->edges.slot), merp_free(d->edges.value);
+    merp_free(d->faces.slot), merp_free(d->faces.value);
 }
 
 mer_result merp_dc_polygonize(const merp_grid *g, merp_field_fn f, merp_gradient_fn grad,
