@@ -46,17 +46,12 @@
  * tree's trunk (fig7-bh-0.54, seed 1, 16 steps) a run grew to eleven forks
  * and a million cells, 33 ms of the tree's 84 (with this bound a run of
  * nine there takes 3 ms more than runs of at most eight); a bush's short
- * axis with its twigs takes up to sixteen forks in far fewer (abop-1.24a's
- * runs of 13-16 forks: 56,000-172,000 cells). */
+ * axis with its twigs takes up to MERP_RUN_FORKS forks in far fewer
+ * (abop-1.24a's runs of 13-16 forks: 56,000-172,000 cells; abop-1.24b's
+ * of 19-23, whose twigs lie in one plane: 258,000-575,000, each closing
+ * on its first grid in 18-37 ms). */
 #define RUN_FORKS 8u
 #define RUN_MANY_CELLS 600000u
-/* ... and one of more than RUN_MORE_FORKS on at most RUN_MORE_CELLS: a
- * bush's short axes with all their twig forks (abop-1.24a, 1.24d, 1.27)
- * fit in runs of up to 24 on such grids; abop-1.24b's runs of 23 took
- * 600,000 cells, closed only on grids four times finer or by marching
- * tetrahedra, and its meshing six times as long. */
-#define RUN_MORE_FORKS 16u
-#define RUN_MORE_CELLS 150000u
 
 /* Whether internode id (living) is a living tip's last, which tube.c
  * meshes as a cone. */
@@ -1175,8 +1170,7 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
     merp_grid grid;
     if (!settle_cuts(b, cl, jt, &c, &h, need) || !merp_joint_grid(b, jt, h, 0.0f, &grid) ||
         merp_node_radius(b, P[0]) > RUN_FINEST * h ||
-        (K > RUN_FORKS && (uint64_t)grid.n[0] * grid.n[1] * grid.n[2] > RUN_MANY_CELLS) ||
-        (K > RUN_MORE_FORKS && (uint64_t)grid.n[0] * grid.n[1] * grid.n[2] > RUN_MORE_CELLS))
+        (K > RUN_FORKS && (uint64_t)grid.n[0] * grid.n[1] * grid.n[2] > RUN_MANY_CELLS))
         return false;
     /* Each fork's bark ages as a single fork's (plan_one). An elbow is no
      * fork, and draws no bud scale scar: neither do the tubes round it. */
