@@ -297,6 +297,20 @@ static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float
         memcpy(c->o, jt->o[s], sizeof c->o);
         memcpy(c->n, jt->n[s], sizeof c->n);
         c->reach = MERP_JOINT_REACH * merp_cut_radius(b, jt, s) + h; /* the tube's there (plan_one) */
+        /* Past the far end of the shaft's segment, and its round end, by two
+         * cells: the cut clips all of the shaft beyond it and no more. In a
+         * bush whose axes curl at every node (abop-1.24c, seed 1), a run's
+         * axis crossed a lateral's line further out; clipped away there, it
+         * left that axis's out shaft a piece of surface apart, which no seed
+         * reached: its cut had no loop on any grid (runs of 27 forks, 72
+         * forks open). */
+        uint32_t l;
+        const merp_seg *g = merp_joint_shaft(jt, s, NULL, &l);
+        const float *far = s == MERP_CUT_IN ? g->a : g->b;
+        float beyond[3];
+        for (int k = 0; k < 3; k++)
+            beyond[k] = far[k] - c->o[k];
+        c->depth = v3_dot(beyond, c->n) + (s == MERP_CUT_IN ? g->ra : g->rb) + 2.0f * h;
         c->ring = jt->ring[s];
         c->sides = jt->sides[s];
     }

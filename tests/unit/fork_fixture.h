@@ -64,7 +64,8 @@ static inline void fork_fixture_init(fork_fixture *f, uint32_t sides, float h, c
                                   {f->n[i][0], f->n[i][1], f->n[i][2]},
                                   1.5f * f->r[i],
                                   f->rings[i],
-                                  sides};
+                                  sides,
+                                  INFINITY};
     }
 }
 

@@ -378,8 +378,12 @@ float merp_junction_scar_weight(float years);
  * fork is that fork's field to the bit; every lateral of its forks joins A
  * as a single fork's laterals do (B2 = A + Σ L, B1 = max(A', L'), F_b the
  * largest of their bounds), where a lateral that another group goes on up
- * counts as that group's whole field. The run's field is its first group's. */
-#define MERP_RUN_FORKS 24
+ * counts as that group's whole field. The run's field is its first group's.
+ * Thirty-two forks hold a bush's short axes with all their twig forks
+ * (abop-1.24c's runs of 27, whose axes curl at every node: at seed 1, 21
+ * forks left tubes with runs of at most 24, 11 with these; joints.c, the
+ * cuts' depth). */
+#define MERP_RUN_FORKS 32
 /* Rows of four lanes for a run's segments (its first in, and each fork's
  * out and laterals: 3 K + 1) and for its bounds (each fork's scar and
  * laterals' bounds: 3 K): 4 K lanes hold either. */
@@ -532,12 +536,16 @@ void merp_junction_strength(const merp_junction *j, const float p[3], float *sca
  * n unit, pointing away from the junction) stays a generalized cylinder, whose
  * ring of `sides` vertices `ring` lies in the plane (any rotation, any
  * direction around n). The cut acts only within `reach` of the line through o
- * along n (a few radii of its shaft), so it does not clip another shaft. */
+ * along n (a few radii of its shaft), so it does not clip another shaft, and
+ * at most `depth` beyond the plane (> 0; INFINITY: all the way), so that it
+ * does not clip a primitive further out along that line: a run's axis that
+ * curls back across a lateral's line, past the lateral's own segment. */
 typedef struct merp_cut {
     float o[3], n[3];
     float reach;
     const float *ring; /* 3 floats a vertex */
     uint32_t sides;
+    float depth;
 } merp_cut;
 
 /* The parent in, out, and two laterals a fork (a run's middle segments

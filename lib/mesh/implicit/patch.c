@@ -25,15 +25,15 @@ static float cut_distance(const merp_cut *c, const float p[3])
     return (p[0] - c->o[0]) * c->n[0] + (p[1] - c->o[1]) * c->n[1] + (p[2] - c->o[2]) * c->n[2];
 }
 
-/* Whether p is within the cut's reach of its axis; *dist gets its signed
- * distance to the plane. */
+/* Whether p is within the cut's reach of its axis and its depth beyond the
+ * plane; *dist gets its signed distance to the plane. */
 static bool in_reach(const merp_cut *c, const float p[3], float *dist)
 {
     float q[3];
     *dist = cut_distance(c, p);
     for (int k = 0; k < 3; k++)
         q[k] = p[k] - c->o[k] - *dist * c->n[k];
-    return v3_dot(q, q) <= c->reach * c->reach;
+    return v3_dot(q, q) <= c->reach * c->reach && *dist <= c->depth;
 }
 
 /* F_g ∩ the cuts' half-spaces: min(F_g, c − κ·dist_i). */
@@ -563,6 +563,8 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int8_t *on_c
 mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *err)
 {
     assert(pt->cuts >= 1 && pt->cuts <= MERP_PATCH_CUTS);
+    for (uint32_t i = 0; i < pt->cuts; i++)
+        assert(pt->cut[i].depth > 0.0f);
     clipped cl = {.pt = pt, .kappa = 1.0f / pt->grid.h};
     merp_jprep_init_run(&cl.jp, pt->j, pt->link, pt->forks ? pt->forks : 1);
     cut_slack(&cl);
