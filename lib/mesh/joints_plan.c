@@ -1512,8 +1512,17 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
         cl->blocker = UINT32_MAX, cl->stopper = MER_NO_NODE, cl->bend = MER_NO_NODE;
         ok = !stuck && plan_run(b, cl, R, link, start, g.n, jt);
         X = cl->blocker, stop = cl->stopper, bend = cl->bend;
-        if (stop != MER_NO_NODE)
-            g.threshold = 0.0f; /* the forks up a short axis, however thin */
+        if (stop != MER_NO_NODE && g.threshold > 0.0f && !ok && !stuck) {
+            /* The forks up a short axis, however thin: gathered again, so
+             * that the thin forks the ways between them passed before are
+             * taken in too (else order_run found such a way passing a fork
+             * of the run's no more, and two trees: abop-1.24d, seed 1, 18
+             * forks left tubes for that). */
+            gathered again = {.fork = {g.fork[0]}, .n = 1, .threshold = 0.0f};
+            for (uint32_t i = 1; i < g.n && !stuck; i++)
+                stuck = !gather(b, &again, g.fork[i]);
+            g = again;
+        }
     }
     /* Greedy as the planner is, a run may take in a fork or two at the
      * price of more that come later: its shafts reach far, clear of every
