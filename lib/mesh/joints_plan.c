@@ -729,21 +729,17 @@ static void hop_laterals(const merp_builder *b, const mer_node *at, const float 
 /* The laterals that may be shafts of the patch of the fork owned by P
  * (patch_lateral): P's, then its chain's up from P, each internode's in
  * its own order, each lateral hop's own laterals after it (hop_laterals);
- * at most CHAIN_LATERALS. *shared: whether P is in a chain or holds a
- * hop's laterals (chain_laterals then chooses). The count. */
-static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3], uint32_t *lat, bool *shared)
+ * at most CHAIN_LATERALS (chain_laterals then chooses). The count. */
+static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3], uint32_t *lat)
 {
     uint32_t n = 0;
-    *shared = chain_up(b, P) != MER_NO_NODE;
     for (uint32_t q = P, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++) {
         const mer_node *at = &b->nodes[q];
         for (int k = 0; k < 2 && n < CHAIN_LATERALS; k++) {
             uint32_t L = at->lateral_child[k];
             if (patch_lateral(b, at, J, L))
                 lat[n++] = L;
-            uint32_t before = n;
             hop_laterals(b, at, J, L, lat, &n);
-            *shared = *shared || n > before;
         }
     }
     return n;
@@ -757,14 +753,18 @@ static bool alongside(const float n[3], const float m[3])
     return c > 0.0f && 1.0f - c * c < 0.04f;
 }
 
-/* The laterals of a chain's fork (fork_laterals; lat[0..n), in their
- * order) that its patch holds, in the same order: the thickest first (the
- * first of equals), at most MERP_JUNCTION_LATERALS, none alongside the
- * continuation C or a thicker one kept. A string may draw two branches
- * from one point along one line (abop-1.24c, whose nested brackets start
- * branches of two derivation levels at one J in the same two directions),
- * which no field tells apart; the one left out stays a tube from J, as the
- * laterals past the field's room do. The count kept. */
+/* The laterals of a fork (fork_laterals; lat[0..n), in their order) that
+ * its patch holds, in the same order: the thickest first (the first of
+ * equals), at most MERP_JUNCTION_LATERALS, none alongside the continuation
+ * C or a thicker one kept. A string may draw two branches from one point
+ * along one line (abop-1.24c, whose nested brackets start branches of two
+ * derivation levels at one J in the same two directions; abop-1.24f's
+ * [[X]+X]), which no field tells apart; the one left out stays a tube from
+ * J, as the laterals past the field's room do. That a fork of its own may
+ * leave one out too (not only a chain's, whose laterals may be more than
+ * two) patched 15 of abop-1.24f's 21 unfit forks and 6 of abop-1.24c's 11
+ * (seed 1), where merp_cut_clearance found no cut to clear two shafts so
+ * close. The count kept. */
 static uint32_t chain_laterals(const merp_builder *b, uint32_t *lat, uint32_t n, uint32_t C)
 {
     bool kept[CHAIN_LATERALS] = {false};
@@ -796,18 +796,18 @@ static uint32_t chain_laterals(const merp_builder *b, uint32_t *lat, uint32_t n,
  * fork has none to go on. Where P has no living continuation, or with
  * `swap` (plan_one), the thickest of fork_laterals (the first of equals)
  * relays the axis: it goes on, and with `swap` the continuation takes its
- * place among the laterals (-1 unless that is usable and thinner). Where
- * P's fork is a chain's or holds a hop's laterals, chain_laterals chooses
- * which of them it keeps. */
+ * place among the laterals (-1 unless that is usable and thinner, and
+ * chain_laterals keeps it). chain_laterals chooses which laterals the
+ * patch keeps. */
 static int fork_shafts(const merp_builder *b, uint32_t P, bool swap, uint32_t lat[CHAIN_LATERALS], uint32_t *C)
 {
     const mer_node *p = &b->nodes[P];
     float J[3];
     merp_tip_of(p, J);
     *C = p->main_child;
+    const uint32_t own = *C; /* the continuation */
     const bool none = *C == MER_NO_NODE || !b->nodes[*C].alive;
-    bool shared;
-    uint32_t nl = fork_laterals(b, P, J, lat, &shared);
+    uint32_t nl = fork_laterals(b, P, J, lat);
     if (none || swap) {
         if (nl == 0)
             return -1;
@@ -827,9 +827,13 @@ static int fork_shafts(const merp_builder *b, uint32_t P, bool swap, uint32_t la
         }
         *C = L;
     }
-    if (shared) /* (P's own laterals are at most two) */
-        nl = chain_laterals(b, lat, nl, *C);
-    return (int)nl;
+    nl = chain_laterals(b, lat, nl, *C);
+    /* A swapped continuation left out would leave its axis inside the
+     * patch, with no cut ring to go on from (gv-shrub, seed 1). */
+    bool kept = !swap;
+    for (uint32_t k = 0; k < nl && !kept; k++)
+        kept = lat[k] == own;
+    return kept ? (int)nl : -1;
 }
 
 /* Plans the fork at P's tip into jt (cuts, field) and, with `claim`,
@@ -1240,8 +1244,7 @@ static bool is_fork(const merp_builder *b, uint32_t P, float threshold)
     float J[3];
     merp_tip_of(p, J);
     uint32_t lat[CHAIN_LATERALS];
-    bool shared;
-    return fork_laterals(b, P, J, lat, &shared) > 0;
+    return fork_laterals(b, P, J, lat) > 0;
 }
 
 /* The forks a run is being gathered from (plan_merged), in no order. */
