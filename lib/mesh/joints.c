@@ -298,7 +298,8 @@ static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float
         memcpy(c->n, jt->n[s], sizeof c->n);
         c->reach = MERP_JOINT_REACH * merp_cut_radius(b, jt, s) + h; /* the tube's there (plan_one) */
         /* Past the far end of the shaft's segment, and its round end, by two
-         * cells: the cut clips all of the shaft beyond it and no more. In a
+         * cells: the cut clips all of the shaft beyond it, and nothing past
+         * that (within its reach and this depth it clips any primitive). In a
          * bush whose axes curl at every node (abop-1.24c, seed 1), a run's
          * axis crossed a lateral's line further out; clipped away there, it
          * left that axis's out shaft a piece of surface apart, which no seed

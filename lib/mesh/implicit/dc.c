@@ -232,10 +232,10 @@ static void pair_edges(uint8_t (*partner)[2], uint8_t *links, int a, int b)
  * crossed edges (corners alternating in sign) is decided by the asymptotic
  * decider (Nielson & Hamann 1991): the inside corners are joined across the
  * face when the bilinear interpolant's saddle is inside, and the other way
- * on the faces in `flip` (face_choices). Both cells of a face see its four
+ * on the faces in `flip` (cell_sheets_chosen). Both cells of a face see its four
  * values and its choice alike, so they agree on its segments and their
  * sheets meet edge to edge: the dual mesh is a manifold where no sheet
- * crosses one face twice on both sides (face_choices). A face has zero,
+ * crosses one face twice on both sides (cell_sheets_chosen). A face has zero,
  * two or four crossed edges, each in one segment, and an edge lies on two
  * faces: so each crossed edge has two partners and each sheet is a cycle of
  * edges, walked round from its lowest edge. Returns the number of sheets;
@@ -348,7 +348,7 @@ static uint8_t recorded_flips(const dc *d, const uint32_t cell[3], uint8_t ambig
  * own: the bytes do not depend on the threads. (Such tunnels kept 56 of
  * the 3,220 junction patches of 56 presets from closing on their first
  * grid: joints.c, SHIFT.) Returns the number of sheets, as cell_sheet_split;
- * *ambiguous: whether a face has four crossed edges. Needs room in
+ * *ambiguous: the faces with four crossed edges, as bits. Needs room in
  * d->faces for six more keys. */
 static int cell_sheets_chosen(dc *d, const uint32_t cell[3], const float cf[8], uint8_t mask, uint16_t x,
                               uint8_t sheet[12], uint8_t *ambiguous)

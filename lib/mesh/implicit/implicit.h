@@ -578,7 +578,8 @@ typedef struct merp_patch {
 void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triangles);
 
 /* Polygonizes the junction between its cuts and stitches each cut's boundary
- * loop to that cut's ring: F_g is clipped by the cuts' half-spaces, the flat
+ * loop to that cut's ring: F_g is clipped beyond each cut's plane (within
+ * its reach and depth, merp_cut), the flat
  * caps the clip makes are dropped, and each loop left in a cut plane is
  * zipped to a copy of the ring (appended to `out`, positions exactly the
  * ring's), walking both by angle about n. With dual contouring, the vertex
