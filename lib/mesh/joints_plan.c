@@ -729,7 +729,7 @@ static void hop_laterals(const merp_builder *b, const mer_node *at, const float 
 /* The laterals that may be shafts of the patch of the fork owned by P
  * (patch_lateral): P's, then its chain's up from P, each internode's in
  * its own order, each lateral hop's own laterals after it (hop_laterals);
- * at most CHAIN_LATERALS (chain_laterals then chooses). The count. */
+ * at most CHAIN_LATERALS (kept_laterals then chooses). The count. */
 static uint32_t fork_laterals(const merp_builder *b, uint32_t P, const float J[3], uint32_t *lat)
 {
     uint32_t n = 0;
@@ -765,7 +765,7 @@ static bool alongside(const float n[3], const float m[3])
  * two) patched 15 of abop-1.24f's 21 unfit forks and 6 of abop-1.24c's 11
  * (seed 1), where merp_cut_clearance found no cut to clear two shafts so
  * close. The count kept. */
-static uint32_t chain_laterals(const merp_builder *b, uint32_t *lat, uint32_t n, uint32_t C)
+static uint32_t kept_laterals(const merp_builder *b, uint32_t *lat, uint32_t n, uint32_t C)
 {
     bool kept[CHAIN_LATERALS] = {false};
     for (uint32_t room = MERP_JUNCTION_LATERALS; room > 0; room--) {
@@ -797,7 +797,7 @@ static uint32_t chain_laterals(const merp_builder *b, uint32_t *lat, uint32_t n,
  * `swap` (plan_one), the thickest of fork_laterals (the first of equals)
  * relays the axis: it goes on, and with `swap` the continuation takes its
  * place among the laterals (-1 unless that is usable and thinner, and
- * chain_laterals keeps it). chain_laterals chooses which laterals the
+ * kept_laterals keeps it). kept_laterals chooses which laterals the
  * patch keeps. */
 static int fork_shafts(const merp_builder *b, uint32_t P, bool swap, uint32_t lat[CHAIN_LATERALS], uint32_t *C)
 {
@@ -827,7 +827,7 @@ static int fork_shafts(const merp_builder *b, uint32_t P, bool swap, uint32_t la
         }
         *C = L;
     }
-    nl = chain_laterals(b, lat, nl, *C);
+    nl = kept_laterals(b, lat, nl, *C);
     /* A swapped continuation left out would leave its axis inside the
      * patch, with no cut ring to go on from (gv-shrub, seed 1). */
     bool kept = !swap;
@@ -1081,12 +1081,12 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
         if (got < 0)
             return false;
         uint32_t nl = (uint32_t)got;
-        assert(nl <= MERP_JUNCTION_LATERALS); /* (chain_laterals keeps so many) */
+        assert(nl <= MERP_JUNCTION_LATERALS); /* (kept_laterals keeps so many) */
         memcpy(lat[i], shafts, nl * sizeof *shafts);
         /* (an axis a fork goes on up is run_middle's to check). A fork of
          * the run may hold no lateral: one up a short axis whose laterals are
          * twigs or too thin for a shaft (merp_mesh_joints_plan's stoppers),
-         * or whose one is alongside its continuation (chain_laterals). Its
+         * or whose one is alongside its continuation (kept_laterals). Its
          * laterals are tubes from J, as at a fork no patch serves. */
         if (!usable(b, P[i], relayed[i]) || !usable(b, C, true))
             return false;
