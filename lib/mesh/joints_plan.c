@@ -1204,9 +1204,39 @@ int merp_ranked_cmp(const void *x, const void *y)
     return (a->id > b->id) - (a->id < b->id);
 }
 
+/* The diameter of the thickest living lateral of LATERAL_RATIO at the
+ * fork at id's tip, over its chain (fork_laterals); 0 where it has none.
+ * *thick gets the chain's thickest internode. */
+static float fork_key(const merp_builder *b, uint32_t id, float *thick)
+{
+    float key = 0.0f;
+    *thick = 0.0f;
+    for (uint32_t q = id, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++) {
+        *thick = fmaxf(*thick, b->nodes[q].diameter);
+        for (int k = 0; k < 2; k++) {
+            uint32_t L = b->nodes[q].lateral_child[k];
+            if (L != MER_NO_NODE && b->nodes[L].alive && b->nodes[L].diameter >= LATERAL_RATIO * b->nodes[q].diameter)
+                key = fmaxf(key, b->nodes[L].diameter);
+        }
+    }
+    return key;
+}
+
+/* What a fork's patch is worth where runs and forks compete for shafts
+ * (plan_merged): the bark it reshapes, its thickest lateral's diameter by
+ * its parent's (fork_key). Counted as forks, a trunk's fork lost to two
+ * forks of a branch half as thick (fig7-bh-0.54, seed 1: the trunk's
+ * forks 9, 10, 22 and 51 were tubes). */
+static float fork_weight(const merp_builder *b, uint32_t id)
+{
+    float thick, key = fork_key(b, id, &thick);
+    return key * thick;
+}
+
 /* The forks at least `threshold` thick with a lateral of LATERAL_RATIO,
- * thickest lateral first (ties by id): where patches compete for the short
- * internodes of an axis, the thickest branches get them. *count is set. */
+ * thickest lateral first (fork_key; ties by id): where patches compete for
+ * the short internodes of an axis, the thickest branches get them. *count
+ * is set. */
 static candidate *candidates(const merp_builder *b, float threshold, uint32_t *count)
 {
     uint32_t n = 0;
@@ -1214,18 +1244,9 @@ static candidate *candidates(const merp_builder *b, float threshold, uint32_t *c
     if (c == NULL)
         return NULL;
     for (uint32_t id = 0; id < b->node_count; id++) {
-        const mer_node *p = &b->nodes[id];
-        if (!p->alive || owned_elsewhere(b, id))
+        if (!b->nodes[id].alive || owned_elsewhere(b, id))
             continue;
-        float key = 0.0f, thick = 0.0f; /* over the fork's chain (fork_laterals) */
-        for (uint32_t q = id, hops = 0; q != MER_NO_NODE && hops <= MAX_SPAN; q = chain_up(b, q), hops++) {
-            thick = fmaxf(thick, b->nodes[q].diameter);
-            for (int k = 0; k < 2; k++) {
-                uint32_t L = b->nodes[q].lateral_child[k];
-                if (L != MER_NO_NODE && b->nodes[L].alive && b->nodes[L].diameter >= LATERAL_RATIO * b->nodes[q].diameter)
-                    key = fmaxf(key, b->nodes[L].diameter);
-            }
-        }
+        float thick, key = fork_key(b, id, &thick);
         if (key > 0.0f && thick >= threshold)
             c[n++] = (candidate){key, id};
     }
@@ -1429,13 +1450,13 @@ static uint32_t shaft_next(const merp_builder *b, uint32_t s, uint32_t id)
     return s == MERP_CUT_IN ? b->nodes[id].parent : b->nodes[id].main_child;
 }
 
-/* How many forks jt's patch would leave tubes that could have a patch of
- * their own: forks its shafts pass (not its own), not yet tried, for
- * which plan_one finds room with the claims as they are. Each counted
- * once (cl->tried marks them 2 meanwhile). */
-static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, float threshold)
+/* The forks jt's patch would leave tubes that could have a patch of their
+ * own, weighed (fork_key): forks its shafts pass (not its own), not yet
+ * tried, for which plan_one finds room with the claims as they are. Each
+ * counted once (cl->tried marks them 2 meanwhile). */
+static float swallows(merp_builder *b, claims *cl, const merp_joint *jt, float threshold)
 {
-    uint32_t count = 0;
+    float weight = 0.0f;
     merp_joint alone;
     for (uint32_t s = 0; s < jt->cuts; s++)
         for (uint32_t id = jt->start[s]; id != jt->node[s]; id = shaft_next(b, s, id)) {
@@ -1445,7 +1466,7 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
                 own |= jt->fork_node[i] == F;
             if (!own && F != MER_NO_NODE && !cl->tried[F] && is_fork(b, F, threshold) &&
                 plan_one(b, cl, F, false, false, &alone))
-                cl->tried[F] = 2, count++;
+                cl->tried[F] = 2, weight += fork_weight(b, F);
         }
     for (uint32_t s = 0; s < jt->cuts; s++)
         for (uint32_t id = jt->start[s]; id != jt->node[s]; id = shaft_next(b, s, id)) {
@@ -1453,7 +1474,7 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
             if (F != MER_NO_NODE && cl->tried[F] == 2)
                 cl->tried[F] = 0;
         }
-    return count;
+    return weight;
 }
 
 /* Plans P's fork, which fits no patch of its own because joint X's is in
@@ -1476,8 +1497,8 @@ static uint32_t swallows(merp_builder *b, claims *cl, const merp_joint *jt, floa
  * continuation, else as it grew (a swap's continuation, which did not fit a
  * patch of its own, may fit the run's). False when it does not fit (X's
  * forks on no way from P, too many forks, plan_run's refusals) or would
- * leave as many forks tubes as it patches (swallows): the claims are then
- * as they were. */
+ * leave forks tubes worth as much as those it patches (swallows,
+ * fork_weight): the claims are then as they were. */
 static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, uint32_t stop,
                         uint32_t bend, merp_joint *jt, uint32_t *taken, uint32_t *nt)
 {
@@ -1530,18 +1551,20 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
     /* Greedy as the planner is, a run may take in a fork or two at the
      * price of more that come later: its shafts reach far, clear of every
      * primitive of the run, and pass thinner forks' J (default's root run
-     * took in forks 0-3 and left 4-8 tubes). It is planned only where it
-     * patches more forks than it passes that would fit alone, with the
-     * claims as they are without it. */
+     * took in forks 0-3 and left 4-8 tubes). It is planned only where the
+     * forks it patches outweigh those it passes that would fit alone, with
+     * the claims as they are without it (fork_weight). */
     for (uint32_t t = 0; t < *nt; t++)
         claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
     if (ok) { /* jt holds the run only when plan_run planned it */
-        uint32_t gained = 0; /* every fork it patches, a short axis's thin ones too; no elbow */
+        float gained = 0.0f; /* every fork it patches, a short axis's thin ones too; no elbow */
         for (uint32_t i = 0; i < jt->forks; i++)
-            gained += !elbow(b, jt->fork_node[i]);
+            gained += elbow(b, jt->fork_node[i]) ? 0.0f : fork_weight(b, jt->fork_node[i]);
         for (uint32_t t = 0; t < *nt; t++)
-            for (uint32_t i = 0; i < b->joints[taken[t]].forks; i++)
-                gained -= !elbow(b, b->joints[taken[t]].fork_node[i]);
+            for (uint32_t i = 0; i < b->joints[taken[t]].forks; i++) {
+                uint32_t F = b->joints[taken[t]].fork_node[i];
+                gained -= elbow(b, F) ? 0.0f : fork_weight(b, F);
+            }
         ok = swallows(b, cl, jt, threshold) < gained;
     }
     if (ok)

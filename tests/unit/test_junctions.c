@@ -524,14 +524,16 @@ static void short_axes_end_inside_one_run(void **state)
  * internode below instead of leaving the fork tubes: the gap keeps two
  * patches' cuts apart, and there is no other cut. Short internodes meet it
  * often: seed 1, forks unfit before and after, populus-deltoides 3 and 0,
- * inverse-conifer 2 and 0, abop-1.24e 13 and 5; each bark closed. */
+ * inverse-conifer 2 and 0, abop-1.24e 13 and 5; each bark closed. (6 on
+ * abop-1.24e once runs and forks are weighed, thick_forks_win_their_shafts:
+ * a run of two forks there outweighs the two thinner ones it passes.) */
 static void in_cuts_move_past_an_unclaimed_base(void **state)
 {
     (void)state;
     static const struct {
         const char *preset;
         uint32_t unfit; /* at most, seed 1 */
-    } trees[] = {{"populus-deltoides", 0}, {"inverse-conifer", 0}, {"abop-1.24e", 5}};
+    } trees[] = {{"populus-deltoides", 0}, {"inverse-conifer", 0}, {"abop-1.24e", 6}};
     for (size_t t = 0; t < sizeof trees / sizeof *trees; t++)
         holds_unfit(trees[t].preset, trees[t].unfit, false);
 }
@@ -761,7 +763,9 @@ static void close_forks_get_one_patch(void **state)
  * trunk bases are patched (trunk_bases_get_patches). A run may now take
  * in eight forks on a grid of up to 8 M cells: 37 (seed 1's eight forks up
  * its trunk in one patch, which is no manifold on its own grid and closes
- * on it moved half a cell). */
+ * on it moved half a cell). Runs and forks weighed by the bark their
+ * patches reshape (thick_forks_win_their_shafts): 709 patched and 45
+ * unfit, the thick forks up the trunk patched and more thin ones tubes. */
 static void thick_trunk_runs_get_big_grids(void **state)
 {
     (void)state;
@@ -772,9 +776,61 @@ static void thick_trunk_runs_get_big_grids(void **state)
         mer_scene_free(s);
     }
     print_message("fig7-bh-0.54, seeds 1-5: %u patched, %u open, %u unfit\n", c.patched, c.open, c.unfit);
-    assert_true(c.patched >= 715);
+    assert_true(c.patched >= 705);
     assert_true(c.open == 0);
-    assert_true(c.unfit <= 37);
+    assert_true(c.unfit <= 45);
+}
+
+static int id_cmp(const void *key, const void *elem)
+{
+    uint32_t a = *(const uint32_t *)key, b = *(const uint32_t *)elem;
+    return (a > b) - (a < b);
+}
+
+/* Whether m patches the fork at node id's tip (junction_forks is ascending). */
+static bool patched_fork(const mer_mesh *m, uint32_t id)
+{
+    return m->junctions > 0 && bsearch(&id, m->junction_forks, m->junctions, sizeof id, id_cmp) != NULL;
+}
+
+/* Where a run and the forks its shafts pass compete (plan_merged), each
+ * fork is weighed by the bark its patch reshapes: its thickest lateral's
+ * diameter by its parent's. Counted as forks, a run of a trunk's fork lost
+ * to two forks up a branch half as thick, and up fig7-bh-0.54's trunk the
+ * thickest forks stayed tubes: of the forks of seeds 1-5 whose parent is
+ * at least half the tree's thickest and whose lateral is at least a
+ * quarter of the parent (LATERAL_RATIO), 68 of 88 were patched; weighed,
+ * 85 (while more forks in all are unfit, 35 -> 45, thinner ones). */
+static void thick_forks_win_their_shafts(void **state)
+{
+    (void)state;
+    uint32_t thick_all = 0, patched_all = 0;
+    for (uint64_t seed = 1; seed <= 5; seed++) {
+        mer_scene *s = grown14("fig7-bh-0.54", seed);
+        mer_mesh *m = implicit_mesh(s);
+        uint32_t n, thick = 0, patched = 0;
+        float thickest;
+        mer_node *nodes = all_nodes(s, &n, &thickest);
+        for (uint32_t id = 0; id < n; id++) {
+            const mer_node *p = &nodes[id];
+            bool lateral = false;
+            for (int k = 0; k < 2; k++) {
+                uint32_t L = p->lateral_child[k];
+                lateral |= L != MER_NO_NODE && nodes[L].alive && nodes[L].diameter >= 0.25f * p->diameter;
+            }
+            if (!p->alive || !lateral || p->diameter < 0.5f * thickest)
+                continue;
+            thick++;
+            patched += patched_fork(m, id);
+        }
+        print_message("fig7-bh-0.54 seed %u: %u of %u thick forks patched\n", (unsigned)seed, patched, thick);
+        thick_all += thick, patched_all += patched;
+        free(nodes);
+        mer_mesh_free(m);
+        mer_scene_free(s);
+    }
+    assert_true(thick_all >= 40);
+    assert_true(patched_all * 20 >= thick_all * 19);
 }
 
 /* A tree's lowest fork (fig7-bh-0.54's trunk base): its root internode is
@@ -857,14 +913,16 @@ static void runs_keep_their_cells_coarse(void **state)
  * left 25 forks unfit, against 11 with the cuts that did not. A run is now
  * planned only where it patches more forks than its shafts pass that would
  * fit a patch of their own: 9 (default) and 7 (fig12a, 11 before); 6
- * and 5 once a run may take in eight forks, not four. */
+ * and 5 once a run may take in eight forks, not four; 3 and 2 once forks
+ * are weighed by the bark their patches reshape, not counted
+ * (thick_forks_win_their_shafts). */
 static void runs_leave_room_for_the_forks_they_pass(void **state)
 {
     (void)state;
     static const struct {
         const char *preset;
         uint32_t unfit;
-    } trees[] = {{"default", 6}, {"fig12a", 5}};
+    } trees[] = {{"default", 3}, {"fig12a", 2}};
     for (size_t t = 0; t < sizeof trees / sizeof *trees; t++) {
         junction_counts c = {0};
         for (uint64_t seed = 1; seed <= 5; seed++) {
@@ -1775,6 +1833,7 @@ int main(void)
         cmocka_unit_test(relayed_forks_get_patches),
         cmocka_unit_test(close_forks_get_one_patch),
         cmocka_unit_test(thick_trunk_runs_get_big_grids),
+        cmocka_unit_test(thick_forks_win_their_shafts),
         cmocka_unit_test(runs_leave_room_for_the_forks_they_pass),
         cmocka_unit_test(runs_keep_their_cells_coarse),
         cmocka_unit_test(runs_end_in_relayed_forks),
