@@ -99,14 +99,14 @@
  * the patch's laterals (a sylleptic shoot's forks). Forks a few radii
  * apart, whose cuts would fall in each other's patches (a thick axis's
  * short internodes; a fork near the base of another fork's lateral), are
- * patched together as a run: one patch for up to 32 forks (more than
+ * patched together as a run: one patch for up to 64 forks (more than
  * eight only on a grid of at most 600,000 cells), each axis through them
  * one solid (with each fork's bud scale scar), every fork's laterals
  * blending in with their ridges, and a lateral that a fork of the run goes
  * on up blending in with all of that fork's surface. A fork
  * whose axes bend too much there, whose cuts would fall in another fork's
  * patch that no run takes in (thickest laterals are served first; a run
- * of more than 32 forks, or whose grid would be too large) or past a
+ * of more than 64 forks, or whose grid would be too large) or past a
  * growing tip's apex,
  * whose cut ring would be under 0.4 of its grid's cell in radius even on
  * cells four times finer than the fork's own, or whose

@@ -1180,7 +1180,7 @@ static bool plan_run(merp_builder *b, claims *cl, const uint32_t *P, const merp_
      * fork, and draws no bud scale scar: neither do the tubes round it. */
     for (uint32_t i = 0; i < K; i++) {
         const bool bend = elbow(b, P[i]);
-        jt->elbows |= (uint32_t)bend << i;
+        jt->elbows |= (uint64_t)bend << i;
         merp_junction *f = &jt->field[i];
         const mer_node *C = &b->nodes[out[i]];
         uint32_t born = C->born; /* a relay's own, where it has no lateral */

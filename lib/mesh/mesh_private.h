@@ -88,7 +88,7 @@ typedef struct merp_joint {
     merp_junction field[MERP_RUN_FORKS]; /* its forks' fields: field[0] a
                                        single fork's, a run's first */
     uint32_t forks;                 /* 1, or a run's forks (joints_plan.c) */
-    uint32_t elbows;                /* bit i: fork i is a bend of a shaft's
+    uint64_t elbows;                /* bit i: fork i is a bend of a shaft's
                                        axis with no lateral (joints_plan.c,
                                        elbow): no fork, not counted as one */
     uint32_t fork_node[MERP_RUN_FORKS]; /* the internode each fork's J ends */
@@ -215,7 +215,7 @@ static inline const merp_joint *merp_joint_at(const merp_builder *b, uint32_t id
     return &b->joints[b->joint_at[id]];
 }
 
-_Static_assert(MERP_RUN_FORKS <= 32, "merp_joint.elbows holds a bit per fork of a run");
+_Static_assert(MERP_RUN_FORKS <= 64, "merp_joint.elbows holds a bit per fork of a run");
 
 /* Whether jt's fork at node id's tip is one of its elbows (no fork). */
 static inline bool merp_joint_elbow(const merp_joint *jt, uint32_t id)

@@ -379,15 +379,19 @@ float merp_junction_scar_weight(float years);
  * as a single fork's laterals do (B2 = A + Σ L, B1 = max(A', L'), F_b the
  * largest of their bounds), where a lateral that another group goes on up
  * counts as that group's whole field. The run's field is its first group's.
- * Thirty-two forks hold a bush's short axes with all their twig forks
+ * Thirty-two forks held a bush's short axes with all their twig forks
  * (abop-1.24c's runs of 27, whose axes curl at every node: at seed 1, 21
  * forks left tubes with runs of at most 24, 11 with these; joints.c, the
- * cuts' depth). */
-#define MERP_RUN_FORKS 32
+ * cuts' depth); sixty-four hold the longer ones of abop-1.24d, 1.24a and
+ * 1.27 (seeds 1-5: 110, 185 and 161 forks left tubes with 32; 35, 140 and
+ * 131 with these). */
+#define MERP_RUN_FORKS 64
 /* Rows of four lanes for a run's segments (its first in, and each fork's
  * out and laterals: 3 K + 1) and for its bounds (each fork's scar and
- * laterals' bounds: 3 K): 4 K lanes hold either. */
+ * laterals' bounds: 3 K): 4 K lanes hold either, each lane's index a byte
+ * (merp_jlanes). */
 #define MERP_JROWS MERP_RUN_FORKS
+_Static_assert(MERP_JROWS * MERP_ROW <= 256, "merp_jlanes holds a lane's index in a byte");
 #define MERP_LINK_OUT 0xff /* merp_link.slot: up the continuation (or the relay, where it has none living) */
 
 typedef struct merp_link {
