@@ -145,6 +145,7 @@ typedef struct claims {
     uint32_t bend;    /* the internode at whose tip the last failed shaft's
                          axis bends most (straight; MER_NO_NODE: none) */
     uint8_t *tried; /* by node id: 1 once the planner has come to that fork */
+    merp_joint *probe; /* swallows' trial plans (a joint is 75 KB: off the stack) */
 } claims;
 
 /* The centre of the cut at `at` along internode id. */
@@ -1224,13 +1225,14 @@ static float fork_key(const merp_builder *b, uint32_t id, float *thick)
 
 /* What a fork's patch is worth where runs and forks compete for shafts
  * (plan_merged): the bark it reshapes, its thickest lateral's diameter by
- * its parent's (fork_key). Counted as forks, a trunk's fork lost to two
+ * its parent's (fork_key: the thickest internode of its chain). Counted as
+ * forks, a trunk's fork lost to two
  * forks of a branch half as thick (fig7-bh-0.54, seed 1: the trunk's
  * forks 9, 10, 22 and 51 were tubes). */
-static float fork_weight(const merp_builder *b, uint32_t id)
+static double fork_weight(const merp_builder *b, uint32_t id)
 {
     float thick, key = fork_key(b, id, &thick);
-    return key * thick;
+    return (double)key * (double)thick; /* exact in double; sums of a few round far below a fork's weight */
 }
 
 /* The forks at least `threshold` thick with a lateral of LATERAL_RATIO,
@@ -1451,13 +1453,12 @@ static uint32_t shaft_next(const merp_builder *b, uint32_t s, uint32_t id)
 }
 
 /* The forks jt's patch would leave tubes that could have a patch of their
- * own, weighed (fork_key): forks its shafts pass (not its own), not yet
+ * own, weighed (fork_weight): forks its shafts pass (not its own), not yet
  * tried, for which plan_one finds room with the claims as they are. Each
  * counted once (cl->tried marks them 2 meanwhile). */
-static float swallows(merp_builder *b, claims *cl, const merp_joint *jt, float threshold)
+static double swallows(merp_builder *b, claims *cl, const merp_joint *jt, float threshold)
 {
-    float weight = 0.0f;
-    merp_joint alone;
+    double weight = 0.0;
     for (uint32_t s = 0; s < jt->cuts; s++)
         for (uint32_t id = jt->start[s]; id != jt->node[s]; id = shaft_next(b, s, id)) {
             uint32_t F = passed_fork(b, s, id);
@@ -1465,7 +1466,7 @@ static float swallows(merp_builder *b, claims *cl, const merp_joint *jt, float t
             for (uint32_t i = 0; i < jt->forks; i++)
                 own |= jt->fork_node[i] == F;
             if (!own && F != MER_NO_NODE && !cl->tried[F] && is_fork(b, F, threshold) &&
-                plan_one(b, cl, F, false, false, &alone))
+                plan_one(b, cl, F, false, false, cl->probe))
                 cl->tried[F] = 2, weight += fork_weight(b, F);
         }
     for (uint32_t s = 0; s < jt->cuts; s++)
@@ -1497,8 +1498,9 @@ static float swallows(merp_builder *b, claims *cl, const merp_joint *jt, float t
  * continuation, else as it grew (a swap's continuation, which did not fit a
  * patch of its own, may fit the run's). False when it does not fit (X's
  * forks on no way from P, too many forks, plan_run's refusals) or would
- * leave forks tubes worth as much as those it patches (swallows,
- * fork_weight): the claims are then as they were. */
+ * leave forks tubes worth as much as the forks it patches that the joints
+ * it takes in did not (swallows, fork_weight): the claims are then as they
+ * were. */
 static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, uint32_t stop,
                         uint32_t bend, merp_joint *jt, uint32_t *taken, uint32_t *nt)
 {
@@ -1557,14 +1559,14 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
     for (uint32_t t = 0; t < *nt; t++)
         claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
     if (ok) { /* jt holds the run only when plan_run planned it */
-        float gained = 0.0f; /* every fork it patches, a short axis's thin ones too; no elbow */
-        for (uint32_t i = 0; i < jt->forks; i++)
-            gained += elbow(b, jt->fork_node[i]) ? 0.0f : fork_weight(b, jt->fork_node[i]);
-        for (uint32_t t = 0; t < *nt; t++)
-            for (uint32_t i = 0; i < b->joints[taken[t]].forks; i++) {
-                uint32_t F = b->joints[taken[t]].fork_node[i];
-                gained -= elbow(b, F) ? 0.0f : fork_weight(b, F);
-            }
+        double gained = 0.0; /* each fork it patches that no joint it takes in did, a short axis's thin ones too; no elbow */
+        for (uint32_t i = 0; i < jt->forks; i++) {
+            uint32_t F = jt->fork_node[i];
+            bool had = false;
+            for (uint32_t t = 0; t < *nt; t++)
+                had |= b->joint_at[F] == taken[t];
+            gained += had || elbow(b, F) ? 0.0 : fork_weight(b, F);
+        }
         ok = swallows(b, cl, jt, threshold) < gained;
     }
     if (ok)
@@ -1582,31 +1584,31 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
     b->cut_begin = merp_malloc(m * sizeof *b->cut_begin);
     claims cl = {merp_malloc(m * sizeof *cl.lo), merp_malloc(m * sizeof *cl.hi),
                  merp_malloc(m * sizeof *cl.own_lo), merp_malloc(m * sizeof *cl.own_hi), UINT32_MAX,
-                 MER_NO_NODE, MER_NO_NODE, merp_calloc(m, 1)};
+                 MER_NO_NODE, MER_NO_NODE, merp_calloc(m, 1), merp_malloc(sizeof(merp_joint))};
+    merp_joint *jt = merp_malloc(sizeof *jt); /* the joint being planned (off the stack, as cl.probe) */
     float threshold = b->opt.junction_diameter > 0.0f ? b->opt.junction_diameter
                                                       : JUNCTION_DIAMETER_FRACTION * b->max_diameter;
     uint32_t cap = 0, count = 0;
     candidate *c = candidates(b, threshold, &count);
     mer_result rc = MER_OK;
     if (!b->joint_at || !b->lateral_in || !b->cut_end || !b->cut_begin || !cl.lo || !cl.hi || !cl.own_lo ||
-        !cl.own_hi || !cl.tried || !c)
+        !cl.own_hi || !cl.tried || !cl.probe || !jt || !c)
         rc = mer_error_set(err, MER_ERR_NOMEM, NULL, "out of memory planning junctions");
     for (size_t i = 0; i < n && rc == MER_OK; i++) {
         b->joint_at[i] = b->lateral_in[i] = b->cut_end[i] = b->cut_begin[i] = UINT32_MAX;
         cl.lo[i] = 0.0f, cl.hi[i] = INFINITY;
         cl.own_lo[i] = cl.own_hi[i] = UINT32_MAX;
     }
-    merp_joint jt;
     for (uint32_t i = 0; i < count && rc == MER_OK; i++) {
         uint32_t id = c[i].id, taken[MERP_RUN_FORKS], nt = 0;
         if (b->joint_at[id] != UINT32_MAX)
             continue; /* a fork of a run planned before */
         cl.blocker = UINT32_MAX, cl.stopper = MER_NO_NODE, cl.bend = MER_NO_NODE;
         cl.tried[id] = 1;
-        bool fits = plan_one(b, &cl, id, false, true, &jt);
+        bool fits = plan_one(b, &cl, id, false, true, jt);
         uint32_t X = cl.blocker, stop = cl.stopper, bend = cl.bend; /* what kept it from a patch of its own as it grew */
-        fits = fits || plan_one(b, &cl, id, true, true, &jt) ||
-               plan_merged(b, &cl, id, threshold, X, stop, bend, &jt, taken, &nt);
+        fits = fits || plan_one(b, &cl, id, true, true, jt) ||
+               plan_merged(b, &cl, id, threshold, X, stop, bend, jt, taken, &nt);
         if (!fits)
             continue;
         if (b->joint_count == cap) {
@@ -1620,8 +1622,8 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
         }
         for (uint32_t k = 0; k < nt; k++) /* a run took these forks' patches in */
             merp_joint_forget(b, &b->joints[taken[k]]);
-        jt.ok = true;
-        b->joints[b->joint_count] = jt;
+        jt->ok = true;
+        b->joints[b->joint_count] = *jt;
         remember(b, &cl, &b->joints[b->joint_count], b->joint_count);
         b->joint_count++;
     }
@@ -1631,5 +1633,6 @@ mer_result merp_mesh_joints_plan(merp_builder *b, mer_error *err)
     for (uint32_t i = 0; i < count && rc == MER_OK; i++)
         b->joints_unfit += b->joint_at[c[i].id] == UINT32_MAX;
     merp_free(c), merp_free(cl.lo), merp_free(cl.hi), merp_free(cl.own_lo), merp_free(cl.own_hi), merp_free(cl.tried);
+    merp_free(cl.probe), merp_free(jt);
     return rc;
 }

@@ -443,6 +443,9 @@ typedef struct merp_jprep {
      * holding its support with a margin: see merp_jprep_near_bounds. */
     float reach[MERP_JROWS * MERP_ROW][4];
     uint32_t reaches;
+    /* The box of each bound row's balls: a run's rows beyond it are +0
+     * (merp_jprep_bound_field), as a single fork's row beyond every ball. */
+    float bound_box[MERP_JROWS][2][3];
 } merp_jprep;
 
 /* A single fork's lanes: seg's (in, out, the laterals) and bound's (the
@@ -464,27 +467,41 @@ static inline bool merp_jprep_near_bounds(const merp_jprep *jp, const float p[3]
     return false;
 }
 
+/* Whether p lies within the box of jp's bound row r's balls (beyond it,
+ * each of its lanes is +0 at p, field and gradient). */
+static inline bool merp_jprep_in_bound_row(const merp_jprep *jp, uint32_t r, const float p[3])
+{
+    const float(*b)[3] = jp->bound_box[r];
+    return p[0] >= b[0][0] && p[1] >= b[0][1] && p[2] >= b[0][2] && p[0] <= b[1][0] && p[1] <= b[1][1] &&
+           p[2] <= b[1][2];
+}
+
 /* jp's bound lanes at p, row by row (F: MERP_ROW × jp->rows):
  * merp_row_bound_field (and merp_row_bound_gradient) of jp->bound, or +0 in
  * every lane, field and gradient, where p lies beyond every bound
- * (merp_jprep_near_bounds): the rows are only evaluated near one. */
+ * (merp_jprep_near_bounds): the rows are only evaluated near one, and a
+ * run's only within their boxes (on the 10k bench tree's runs of 8 and 14
+ * forks, a sample near one fork's bounds evaluated every fork's). */
 static inline void merp_jprep_bound_field(const merp_jprep *jp, const float p[3], float *F)
 {
-    if (merp_jprep_near_bounds(jp, p)) {
-        for (uint32_t r = 0; r < jp->rows; r++)
+    bool near = merp_jprep_near_bounds(jp, p);
+    for (uint32_t r = 0; r < jp->rows; r++) {
+        if (near && (jp->rows == 1 || merp_jprep_in_bound_row(jp, r, p)))
             merp_row_bound_field(&jp->bound[r], p, F + MERP_ROW * r);
-        return;
+        else
+            for (int l = 0; l < MERP_ROW; l++)
+                F[MERP_ROW * r + (uint32_t)l] = 0.0f;
     }
-    for (uint32_t l = 0; l < MERP_ROW * jp->rows; l++)
-        F[l] = 0.0f;
 }
 static inline void merp_jprep_bound_gradient(const merp_jprep *jp, const float p[3], merp_row_grad *out)
 {
-    if (merp_jprep_near_bounds(jp, p))
-        for (uint32_t r = 0; r < jp->rows; r++)
+    bool near = merp_jprep_near_bounds(jp, p);
+    for (uint32_t r = 0; r < jp->rows; r++) {
+        if (near && (jp->rows == 1 || merp_jprep_in_bound_row(jp, r, p)))
             merp_row_bound_gradient(&jp->bound[r], p, out + r);
-    else
-        memset(out, 0, jp->rows * sizeof *out); /* +0 */
+        else
+            memset(out + r, 0, sizeof *out); /* +0 */
+    }
 }
 
 /* Whether p lies beyond the box of jp's segment row r (then each of its

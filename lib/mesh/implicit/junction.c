@@ -160,8 +160,9 @@ typedef struct terms {
  * the segment's midpoint, of radius half its length plus r_out, grown by
  * 1e-3 of itself and 1e-4 of the coordinates' magnitude, far above the
  * rounding of a lane's d², so that outside it the lane's d² ≥ r_out²
- * surely. */
-static void add_reach(merp_jprep *jp, const merp_bound *b)
+ * surely; and the box of lane's row grown to hold the ball (its float
+ * bounds' rounding is far below that margin too). */
+static void add_reach(merp_jprep *jp, uint32_t lane, const merp_bound *b)
 {
     float *r = jp->reach[jp->reaches++], half[3], size = 0.0f;
     for (int a = 0; a < 3; a++) {
@@ -172,6 +173,11 @@ static void add_reach(merp_jprep *jp, const merp_bound *b)
     float rho = v3_len(half) + b->r_out;
     rho += 1e-3f * rho + 1e-4f * size;
     r[3] = rho * rho;
+    float (*box)[3] = jp->bound_box[lane / MERP_ROW];
+    for (int a = 0; a < 3; a++) {
+        box[0][a] = fminf(box[0][a], r[a] - rho);
+        box[1][a] = fmaxf(box[1][a], r[a] + rho);
+    }
 }
 
 /* Lane l of a run's rows (seg or bound) into *r, l's lane in it. */
@@ -255,7 +261,8 @@ void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, const merp_link
     }
     for (uint32_t r = 0; r < jp->rows; r++)
         for (int k = 0; k < 3; k++)
-            jp->seg_box[r][0][k] = INFINITY, jp->seg_box[r][1][k] = -INFINITY;
+            jp->seg_box[r][0][k] = jp->bound_box[r][0][k] = INFINITY,
+            jp->seg_box[r][1][k] = jp->bound_box[r][1][k] = -INFINITY;
     const merp_jlanes *L = &jp->lanes;
     int l;
     merp_row *row = lane_row(jp->seg, 0, &l);
@@ -271,7 +278,7 @@ void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, const merp_link
         if (f->scar_weight > 0.0f && f->out.ra > 0.0f) {
             row = lane_row(jp->bound, i, &l);
             merp_row_set(row, l, f->scar.a, f->scar.b, f->scar.r_in, f->scar.r_out);
-            add_reach(jp, &f->scar);
+            add_reach(jp, i, &f->scar);
         }
         for (uint32_t k = 0; k < f->laterals; k++) {
             const merp_seg *s = &f->lateral[k];
@@ -282,7 +289,7 @@ void merp_jprep_init_run(merp_jprep *jp, const merp_junction *j, const merp_link
             if (b->r_out > 1e-5f) { /* merp_junction_ridge's test: a bound of no ridge is 0 */
                 row = lane_row(jp->bound, L->bnd_lane[i][k], &l);
                 merp_row_set(row, l, b->a, b->b, b->r_in, b->r_out);
-                add_reach(jp, b);
+                add_reach(jp, L->bnd_lane[i][k], b);
             }
         }
     }

@@ -6,6 +6,7 @@
 #include <assert.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,7 +113,7 @@ static int edge_cmp(const void *x, const void *y)
 }
 
 /* Drops the triangles of the clip's flat caps: all three corners on one cut. */
-static void drop_caps(merp_trimesh *m, const int8_t *on_cut)
+static void drop_caps(merp_trimesh *m, const int16_t *on_cut)
 {
     uint32_t kept = 0;
     for (uint32_t t = 0; t < m->triangle_count; t++) {
@@ -130,7 +131,7 @@ static void drop_caps(merp_trimesh *m, const int8_t *on_cut)
  * two boundary edges (the loops are not simple). Only edges with both ends
  * on a cut are looked at: the polygonizer's mesh is closed, so the open
  * edges are those the dropped caps had, all in the cut planes. */
-static mer_result boundary_next(const merp_trimesh *m, const int8_t *on_cut, uint32_t *next, mer_error *err)
+static mer_result boundary_next(const merp_trimesh *m, const int16_t *on_cut, uint32_t *next, mer_error *err)
 {
     size_t n = 0;
     edge *e = merp_malloc(((size_t)m->triangle_count * 3 + 1) * sizeof *e);
@@ -255,7 +256,7 @@ static void seat_loop(merp_trimesh *m, const merp_cut *c, const float u[3], cons
  * blend, by a few per cent of the radius). `a0`, `sgn`: stitch's angle
  * measure. */
 static void taper_band(merp_trimesh *m, const merp_cut *c, const float u[3], const float v[3], float a0, float sgn,
-                       const float *phi, const uint32_t *order, const int8_t *on_cut, uint32_t vertices)
+                       const float *phi, const uint32_t *order, const int16_t *on_cut, uint32_t vertices)
 {
     float r = 0.0f; /* the ring's radius: the largest of its vertices' */
     for (uint32_t j = 0; j < c->sides; j++) {
@@ -291,7 +292,7 @@ static void taper_band(merp_trimesh *m, const merp_cut *c, const float u[3], con
  * (L_{i+1}, L_i, R_j) when the loop's next vertex comes first, (R_j, R_{j+1},
  * L_i) when the ring's does, so the band runs each loop edge backwards. */
 static mer_result stitch(merp_trimesh *m, const merp_cut *c, const uint32_t *L, uint32_t m_len,
-                         const int8_t *on_cut, uint32_t vertices, float *scratch, uint32_t *order, mer_error *err)
+                         const int16_t *on_cut, uint32_t vertices, float *scratch, uint32_t *order, mer_error *err)
 {
     float u[3], v[3];
     v3_any_perp(c->n, u);
@@ -382,18 +383,18 @@ static void compact(merp_trimesh *m, uint32_t *remap)
  * vertices used (next[] set to UINT32_MAX − 1). Only the polygonizer's
  * first `vertices` have next[] and on_cut[]: the ring copies appended
  * after them by the cuts stitched so far have neither. */
-static mer_result take_loop(const int8_t *on_cut, uint32_t *next, uint32_t vertices, uint32_t i, uint32_t *L,
+static mer_result take_loop(const int16_t *on_cut, uint32_t *next, uint32_t vertices, uint32_t i, uint32_t *L,
                             uint32_t *len, mer_error *err)
 {
     uint32_t start = UINT32_MAX;
     for (uint32_t v = 0; v < vertices && start == UINT32_MAX; v++)
-        if (next[v] < UINT32_MAX - 1 && on_cut[v] == (int8_t)i)
+        if (next[v] < UINT32_MAX - 1 && on_cut[v] == (int16_t)i)
             start = v;
     if (start == UINT32_MAX)
         return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's cut %u has no loop", i);
     uint32_t n = 0, v = start;
     do {
-        if (next[v] >= UINT32_MAX - 1 || on_cut[v] != (int8_t)i || n == vertices)
+        if (next[v] >= UINT32_MAX - 1 || on_cut[v] != (int16_t)i || n == vertices)
             return mer_error_set(err, MER_ERR_INVALID, NULL, "a junction's loop at cut %u is broken", i);
         L[n++] = v;
         uint32_t w = next[v];
@@ -413,7 +414,7 @@ static mer_result take_loop(const int8_t *on_cut, uint32_t *next, uint32_t verti
  * takes over along the edge (near the rim), and a test by distance to the
  * plane alone left such cap vertices on the side, their cap triangles kept:
  * loops that pinch or miss their cut. */
-static void mark_cuts(merp_trimesh *m, const clipped *cl, int8_t *on_cut)
+static void mark_cuts(merp_trimesh *m, const clipped *cl, int16_t *on_cut)
 {
     const merp_patch *pt = cl->pt;
     for (uint32_t v = 0; v < m->vertex_count; v++) {
@@ -429,7 +430,7 @@ static void mark_cuts(merp_trimesh *m, const clipped *cl, int8_t *on_cut)
         }
         if (by >= 0 && !(clip <= merp_jprep_field(&cl->jp, p)))
             by = -1; /* F_g is the smaller: the side's, near the rim */
-        on_cut[v] = (int8_t)by;
+        on_cut[v] = (int16_t)by;
         if (by < 0)
             continue;
         const merp_cut *c = &pt->cut[by];
@@ -514,11 +515,11 @@ static int cap_of_sheet(const clipped *cl, merp_dc_source src)
 
 /* Moves the vertex of each sheet on a cap onto that cap's plane and marks
  * it with its cut (-1 for the others). */
-static void snap_cuts(merp_trimesh *m, const clipped *cl, const merp_dc_source *src, int8_t *on_cut)
+static void snap_cuts(merp_trimesh *m, const clipped *cl, const merp_dc_source *src, int16_t *on_cut)
 {
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         int i = cap_of_sheet(cl, src[v]);
-        on_cut[v] = (int8_t)i;
+        on_cut[v] = (int16_t)i;
         if (i < 0)
             continue;
         const merp_cut *c = &cl->pt->cut[i];
@@ -529,7 +530,7 @@ static void snap_cuts(merp_trimesh *m, const clipped *cl, const merp_dc_source *
 }
 
 /* Drops the caps marked in on_cut and zips each cut's loop to its ring. */
-static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int8_t *on_cut, mer_error *err)
+static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int16_t *on_cut, mer_error *err)
 {
     size_t all = m->vertex_count + 2;
     for (uint32_t i = 0; i < pt->cuts; i++)
@@ -579,7 +580,9 @@ mer_result merp_patch_build(const merp_patch *pt, merp_trimesh *out, mer_error *
     polygonizer_room(pt, &vmax, &tmax);
     out->vertex_room = (uint32_t)vmax, out->triangle_room = (uint32_t)tmax;
     add_stitches(pt, &vmax, &tmax);
-    int8_t *on_cut = merp_malloc((size_t)vmax);
+    /* Each vertex's cut, -1 for none: a run's cuts pass a byte's 127. */
+    _Static_assert(MERP_PATCH_CUTS <= INT16_MAX, "on_cut holds a cut's index");
+    int16_t *on_cut = merp_malloc((size_t)vmax * sizeof *on_cut);
     merp_dc_source *cells = pt->sharp ? merp_malloc((size_t)vmax * sizeof *cells) : NULL;
     if (on_cut == NULL || (pt->sharp && cells == NULL)) {
         merp_free(on_cut), merp_free(cells);
