@@ -1226,9 +1226,8 @@ static float fork_key(const merp_builder *b, uint32_t id, float *thick)
 /* What a fork's patch is worth where runs and forks compete for shafts
  * (plan_merged): the bark it reshapes, its thickest lateral's diameter by
  * its parent's (fork_key: the thickest internode of its chain). Counted as
- * forks, a trunk's fork lost to two
- * forks of a branch half as thick (fig7-bh-0.54, seed 1: the trunk's
- * forks 9, 10, 22 and 51 were tubes). */
+ * forks, a trunk's fork lost to two forks of a branch half as thick
+ * (fig7-bh-0.54, seed 1: the trunk's forks 9, 10, 22 and 51 were tubes). */
 static double fork_weight(const merp_builder *b, uint32_t id)
 {
     float thick, key = fork_key(b, id, &thick);
@@ -1559,13 +1558,12 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
     for (uint32_t t = 0; t < *nt; t++)
         claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
     if (ok) { /* jt holds the run only when plan_run planned it */
-        double gained = 0.0; /* each fork it patches that no joint it takes in did, a short axis's thin ones too; no elbow */
+        /* each fork it patches that had no joint (a fork's joint is one the
+         * run takes in), a short axis's thin ones too; no elbow */
+        double gained = 0.0;
         for (uint32_t i = 0; i < jt->forks; i++) {
             uint32_t F = jt->fork_node[i];
-            bool had = false;
-            for (uint32_t t = 0; t < *nt; t++)
-                had |= b->joint_at[F] == taken[t];
-            gained += had || elbow(b, F) ? 0.0 : fork_weight(b, F);
+            gained += b->joint_at[F] != UINT32_MAX || elbow(b, F) ? 0.0 : fork_weight(b, F);
         }
         ok = swallows(b, cl, jt, threshold) < gained;
     }
