@@ -134,6 +134,7 @@ lib_libmeristem_core_la_SOURCES = \
 	lib/mesh/implicit/walk.h \
 	lib/mesh/implicit/walk.c \
 	lib/mesh/implicit/dc.c \
+	lib/mesh/implicit/grade.c \
 	lib/scene_private.h \
 	lib/version.c \
 	lib/gltf/gltf_private.h \

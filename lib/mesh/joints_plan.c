@@ -542,6 +542,108 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float
     return cells <= MERP_JOINT_MAX_CELLS;
 }
 
+/* A box along the axes (lo, hi) that needs cells of at most `need`. */
+typedef struct need_box {
+    float lo[3], hi[3], need;
+} need_box;
+
+/* The boxes of jt's shafts and its forks' J, as merp_joint_grid grows its
+ * grid's box from them, each with the cells its shaft needs (merp_joint_cell's
+ * rule, shaft by shaft); at most MERP_PATCH_CUTS + MERP_RUN_FORKS. */
+static uint32_t need_boxes(const merp_builder *b, const merp_joint *jt, float h, need_box *nb)
+{
+    uint32_t count = 0;
+    for (uint32_t s = 0; s < jt->cuts; s++) {
+        const float *J = shaft_origin(jt, s);
+        float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
+        float e = MERP_JOINT_SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
+        bool lateral = s >= MERP_CUT_LATERAL || merp_joint_begins_axis(b->nodes, jt, s);
+        need_box *x = &nb[count++];
+        x->need = merp_node_radius(b, jt->start[s]) / (lateral ? CELLS_PER_LATERAL_RADIUS : CELLS_PER_RADIUS);
+        for (int k = 0; k < 3; k++) {
+            float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
+            x->lo[k] = fminf(J[k], end) - e, x->hi[k] = fmaxf(J[k], end) + e;
+        }
+    }
+    for (uint32_t i = 1; i < jt->forks; i++) {
+        const merp_seg *in = &jt->field[i].in;
+        float e = MERP_JOINT_SHELL * fmaxf(in->ra, in->rb) + 2.0f * h;
+        need_box *x = &nb[count++];
+        x->need = fminf(in->ra, in->rb) / CELLS_PER_RADIUS;
+        for (int k = 0; k < 3; k++)
+            x->lo[k] = fminf(in->a[k], in->b[k]) - e, x->hi[k] = fmaxf(in->a[k], in->b[k]) + e;
+    }
+    return count;
+}
+
+/* The warp and its arrays, in one allocation (merp_joint_grade). */
+typedef struct graded {
+    merp_grid_warp warp;
+    float at[]; /* the levels, then their ratios */
+} graded;
+
+bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g, void **store)
+{
+    *store = NULL;
+    if (jt->cell > 0.0f)
+        return false;
+    int A = 0; /* the grid's longest axis: a run's, up its trunk */
+    for (int a = 1; a < 3; a++)
+        A = g->n[a] > g->n[A] ? a : A;
+    const uint32_t n = g->n[A], room = n + 2;
+    const float h = g->h;
+    need_box *nb = merp_malloc((MERP_PATCH_CUTS + MERP_RUN_FORKS) * sizeof *nb);
+    float *fine = merp_malloc((size_t)n * sizeof *fine), *u = merp_malloc((size_t)room * sizeof *u);
+    graded *gr = merp_malloc(sizeof *gr + 2 * (size_t)room * sizeof(float));
+    bool ok = nb != NULL && fine != NULL && u != NULL && gr != NULL;
+    uint32_t cells = 0;
+    if (ok) {
+        uint32_t boxes = need_boxes(b, jt, h, nb);
+        for (uint32_t i = 0; i < n; i++)
+            fine[i] = MERP_GRADE_WIDEST;
+        for (uint32_t x = 0; x < boxes; x++) {
+            float lo = floorf((nb[x].lo[A] - g->origin[A]) / h), hi = floorf((nb[x].hi[A] - g->origin[A]) / h);
+            uint32_t first = lo < 0.0f ? 0 : lo >= (float)n ? n : (uint32_t)lo;
+            uint32_t last = hi < 0.0f ? 0 : hi >= (float)n ? n - 1 : (uint32_t)hi;
+            float allow = fmaxf(1.0f, nb[x].need / h);
+            for (uint32_t i = first; i <= last && i < n; i++)
+                fine[i] = fminf(fine[i], allow);
+        }
+        /* the first fork's J: the lattice plane below it (J_OFF) */
+        const float *J0 = jt->field[0].in.b;
+        float j = floorf((J0[A] - g->origin[A]) / h);
+        uint32_t anchor = j < 0.0f ? 0 : j >= (float)n ? n - 1 : (uint32_t)j;
+        float *ratio = gr->at + room;
+        cells = merp_grade_levels(fine, n, anchor, room, u, ratio);
+        ok = cells > 0 && cells < n; /* graded, and fewer levels */
+        if (ok) {
+            merp_grid_warp *w = &gr->warp;
+            *w = (merp_grid_warp){.axis = A, .level = gr->at, .ratio = ratio};
+            float widest = 0.0f, lean = 0.0f;
+            for (uint32_t l = 0; l <= cells; l++) {
+                gr->at[l] = g->origin[A] + u[l] * h;
+                widest = fmaxf(widest, ratio[l]);
+                if (l < cells)
+                    lean = fmaxf(lean, fabsf(ratio[l + 1] - ratio[l]));
+            }
+            for (int a = 0; a < 3; a++) {
+                w->center[a] = J0[a];
+                float far = fmaxf(fabsf(g->origin[a] - J0[a]), fabsf(g->origin[a] + (float)g->n[a] * h - J0[a]));
+                w->reach[a] = widest * h + lean * far;
+            }
+            w->reach[A] = 0.0f;
+            for (uint32_t l = 0; l < cells; l++)
+                w->reach[A] = fmaxf(w->reach[A], gr->at[l + 1] - gr->at[l]);
+            g->origin[A] = gr->at[0];
+            g->n[A] = cells;
+            g->warp = w;
+            *store = gr, gr = NULL;
+        }
+    }
+    merp_free(nb), merp_free(fine), merp_free(u), merp_free(gr);
+    return ok;
+}
+
 /* Places jt's cuts (place_cuts, not claimed), each clear of the other
  * primitives by its reach, into need[]. Each cut's reach is sized by the
  * tube's radius at the cut (joints.c), which is known only once the cut is

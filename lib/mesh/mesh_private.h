@@ -310,6 +310,18 @@ float merp_joint_cell(const merp_builder *b, const merp_joint *jt);
  * (0 ≤ shift < 1) on every axis. False when it would have more than
  * MERP_JOINT_MAX_CELLS cells. */
 bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float shift, merp_grid *g);
+/* Grades g, merp_joint_grid's grid of jt with cells of merp_joint_cell's
+ * h (joints_plan.c), along its longest axis (a run's, up its trunk): each
+ * level's cells as wide as the shafts whose boxes (merp_joint_grid's) span
+ * it need — a third of an axis's radius, a lateral's radius over 1.25, the
+ * finest of them where boxes overlap — up to MERP_GRADE_WIDEST × h, scaled
+ * about the first fork's J (merp_grid_warp, merp_grade_levels). A run's
+ * cells are its thinnest shaft's all over a regular grid; graded, only
+ * at the levels about it. g->warp then points into *store (the caller
+ * frees it). False (g unchanged, *store NULL) where a thin cut sets h
+ * (merp_joint_cell's jt->cell), where no level widens, or out of memory. */
+#define MERP_GRADE_WIDEST 4.0f
+bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g, void **store);
 /* How far along n (unit) from J a cut of reach ρ must lie to be clear of a
  * primitive leaving J along m (unit) with support R (joints_plan.c): the
  * cut's disk at d, square to n (as a single fork's cuts are laid), comes

@@ -57,7 +57,8 @@ static inline void fork_fixture_init(fork_fixture *f, uint32_t sides, float h, c
     f->pt = (merp_patch){.j = &f->j, .cuts = 3};
     f->pt.grid = (merp_grid){{-0.8f + shift[0], -1.4f + shift[1], -0.8f + shift[2]},
                              h,
-                             {(uint32_t)ceilf(2.6f / h), (uint32_t)ceilf(3.3f / h), (uint32_t)ceilf(1.6f / h)}};
+                             {(uint32_t)ceilf(2.6f / h), (uint32_t)ceilf(3.3f / h), (uint32_t)ceilf(1.6f / h)},
+                             NULL};
     for (int i = 0; i < 3; i++) {
         fork_ring(f->rings[i], sides, f->o[i], f->n[i], f->r[i], 0.3f * (float)i, i == 1 ? -1 : 1);
         f->pt.cut[i] = (merp_cut){{f->o[i][0], f->o[i][1], f->o[i][2]},

@@ -276,6 +276,11 @@ tests_unit_test_dc_SOURCES = tests/unit/test_dc.c tests/unit/trimesh_check.h
 tests_unit_test_dc_CPPFLAGS = $(UNIT_CPPFLAGS)
 tests_unit_test_dc_LDADD = $(UNIT_LDADD)
 
+check_PROGRAMS += tests/unit/test_grade
+tests_unit_test_grade_SOURCES = tests/unit/test_grade.c tests/unit/trimesh_check.h
+tests_unit_test_grade_CPPFLAGS = $(UNIT_CPPFLAGS)
+tests_unit_test_grade_LDADD = $(UNIT_LDADD)
+
 check_PROGRAMS += tests/unit/test_patch
 tests_unit_test_patch_SOURCES = tests/unit/test_patch.c tests/unit/trimesh_check.h tests/unit/fork_fixture.h
 tests_unit_test_patch_CPPFLAGS = $(UNIT_CPPFLAGS)

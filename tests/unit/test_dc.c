@@ -87,7 +87,7 @@ static void ball(void **state)
 {
     (void)state;
     const merp_seg s = {{0, 0, 0}, {0, 0, 0}, 1, 1};
-    const merp_grid g = {{-1.5f, -1.5f, -1.5f}, 0.1f, {30, 30, 30}};
+    const merp_grid g = {{-1.5f, -1.5f, -1.5f}, 0.1f, {30, 30, 30}, NULL};
     mesh_out o;
     dc(&g, seg_fn, &s, &o);
     assert_closed_genus0(&o);
@@ -113,7 +113,7 @@ static void rooms_are_kept(void **state)
 {
     (void)state;
     const merp_seg s = {{0, 0, 0}, {0, 0, 0}, 1, 1};
-    const merp_grid g = {{-1.5f, -1.5f, -1.5f}, 0.1f, {30, 30, 30}};
+    const merp_grid g = {{-1.5f, -1.5f, -1.5f}, 0.1f, {30, 30, 30}, NULL};
     for (int sharp = 0; sharp < 2; sharp++) {
         mesh_out whole;
         if (sharp)
@@ -151,7 +151,7 @@ static void capsule(void **state)
 {
     (void)state;
     const merp_seg s = {{0, -1, 0}, {0, 1, 0}, 0.6f, 0.3f};
-    const merp_grid g = {{-0.9f, -1.9f, -0.9f}, 0.07f, {26, 54, 26}};
+    const merp_grid g = {{-0.9f, -1.9f, -0.9f}, 0.07f, {26, 54, 26}, NULL};
     mesh_out o;
     dc(&g, seg_fn, &s, &o);
     assert_closed_genus0(&o);
@@ -202,7 +202,7 @@ static void cube_creases(void **state)
     cube c;
     cube_init(&c, 0.6f);
     const float h = 0.1f;
-    const merp_grid g = {{-1.23f, -1.21f, -1.22f}, h, {25, 25, 25}};
+    const merp_grid g = {{-1.23f, -1.21f, -1.22f}, h, {25, 25, 25}, NULL};
     mesh_out d, t;
     dc(&g, cube_fn, &c, &d);
     mtet(&g, cube_fn, &c, &t);
@@ -273,7 +273,7 @@ static float noise_fn(const float p[3], const void *data)
 static void tunnels_are_split(void **state)
 {
     (void)state;
-    const merp_grid g = {{0, 0, 0}, 1.0f, {NOISE_N, NOISE_N, NOISE_N}};
+    const merp_grid g = {{0, 0, 0}, 1.0f, {NOISE_N, NOISE_N, NOISE_N}, NULL};
     noise *z = malloc(sizeof *z);
     uint32_t bad = 0, tangled = 0;
     for (uint32_t seed = 1; seed <= 100; seed++) {

@@ -47,7 +47,7 @@ static void assert_closed_sphere_like(const mesh_out *o, double volume, double t
     assert_true(fabs(v - volume) < tol * volume);
 }
 
-static const merp_grid grid_ball = {{-1.5f, -1.5f, -1.5f}, 0.1f, {30, 30, 30}};
+static const merp_grid grid_ball = {{-1.5f, -1.5f, -1.5f}, 0.1f, {30, 30, 30}, NULL};
 
 static void ball(void **state)
 {
@@ -71,7 +71,7 @@ static void capsule(void **state)
 {
     (void)state;
     const merp_seg s = {{0, -1, 0}, {0, 1, 0}, 0.6f, 0.3f};
-    const merp_grid g = {{-0.9f, -1.9f, -0.9f}, 0.07f, {26, 54, 26}};
+    const merp_grid g = {{-0.9f, -1.9f, -0.9f}, 0.07f, {26, 54, 26}, NULL};
     mesh_out o;
     polygonize(&g, seg_fn, &s, &o);
     for (uint32_t v = 0; v < o.m.vertex_count; v++) {
@@ -91,7 +91,7 @@ static void contact_crease(void **state)
 {
     (void)state;
     const merp_seg s[2] = {{{0, -1, 0}, {0, 1, 0}, 0.5f, 0.5f}, {{0, 0, 0}, {1, 1, 0}, 0.3f, 0.3f}};
-    const merp_grid g = {{-1.2f, -1.8f, -1.2f}, 0.06f, {45, 60, 40}};
+    const merp_grid g = {{-1.2f, -1.8f, -1.2f}, 0.06f, {45, 60, 40}, NULL};
     mesh_out o;
     polygonize(&g, contact_fn, s, &o);
     assert_closed_genus0(&o);
@@ -108,7 +108,7 @@ static void open_when_cut(void **state)
 {
     (void)state;
     const merp_seg s = {{0, -3, 0}, {0, 3, 0}, 0.5f, 0.5f};
-    const merp_grid g = {{-1, -1, -1}, 0.1f, {20, 20, 20}};
+    const merp_grid g = {{-1, -1, -1}, 0.1f, {20, 20, 20}, NULL};
     mesh_out o;
     polygonize(&g, seg_fn, &s, &o);
     size_t twice, edges;
@@ -131,7 +131,7 @@ static void fork(void **state)
     };
     const float up[3] = {0, 1, 0};
     merp_junction_bound(&j, 0, up, 1.0f);
-    const merp_grid g = {{-1.0f, -1.7f, -0.9f}, 0.04f, {60, 90, 45}};
+    const merp_grid g = {{-1.0f, -1.7f, -0.9f}, 0.04f, {60, 90, 45}, NULL};
     mesh_out o;
     polygonize(&g, merp_junction_field, &j, &o);
     assert_closed_genus0(&o);

@@ -186,10 +186,8 @@ static const crossing *edge_crossing(dc *d, const uint32_t cell[3], uint32_t s0,
     assert(d->nx < d->xcap);
     crossing *x = &d->x[d->nx];
     float p1[3], p2[3];
-    for (int k = 0; k < 3; k++) {
-        p1[k] = g->origin[k] + (float)(cell[k] + (c1 >> k & 1)) * g->h;
-        p2[k] = g->origin[k] + (float)(cell[k] + (c2 >> k & 1)) * g->h;
-    }
+    merp_grid_point(g, cell[0] + (c1 & 1), cell[1] + (c1 >> 1 & 1), cell[2] + (c1 >> 2 & 1), p1);
+    merp_grid_point(g, cell[0] + (c2 & 1), cell[1] + (c2 >> 1 & 1), cell[2] + (c2 >> 2 & 1), p2);
     if (cf[c1] >= MERP_ISO)
         merp_walk_crossing(d->w, p1, cf[c1], p2, cf[c2], x->p, x->n);
     else
@@ -396,10 +394,7 @@ static void sheet_vertex(dc *d, const uint32_t cell[3], const crossing *const *x
         qef_add(&q, x[i]->p, x[i]->n);
     float v_[3];
     qef_solve(&q, v_);
-    for (int k = 0; k < 3; k++) {
-        float lo = g->origin[k] + (float)cell[k] * g->h;
-        v_[k] = v_[k] < lo ? lo : v_[k] > lo + g->h ? lo + g->h : v_[k];
-    }
+    merp_grid_clamp(g, cell, v_);
     merp_trimesh *o = d->out;
     uint32_t v = o->vertex_count++;
     memcpy(o->positions + 3 * (size_t)v, v_, sizeof v_);

@@ -207,13 +207,73 @@ typedef float (*merp_field_fn)(const float p[3], const void *data);
  * returns f(p). */
 typedef float (*merp_gradient_fn)(const float p[3], const void *data, float g[3]);
 
-/* A regular grid of (n[0]+1)·(n[1]+1)·(n[2]+1) samples from `origin` with
- * spacing h. */
+/* A graded grid's levels (merp_grid): the samples of level l (index l along
+ * `axis`) lie at level[l] along it, and across it on the regular lattice
+ * scaled about `center` by ratio[l] ≥ 1 (exactly 1: the lattice's own
+ * floats), so the cells of level l are about ratio[l] × h across. The
+ * cells between two levels of different ratios lean (their sides are not
+ * square to the levels); `reach` bounds how far any corner of a cell lies
+ * from its lowest, along each axis. */
+typedef struct merp_grid_warp {
+    int axis;
+    const float *level, *ratio; /* n[axis] + 1 each */
+    float center[3];
+    float reach[3];
+} merp_grid_warp;
+
+/* A grid of (n[0]+1)·(n[1]+1)·(n[2]+1) samples: regular, from `origin` with
+ * spacing h; or graded along one axis (warp), where a patch needs fine
+ * cells only in part of it (a run's thin fork), h then the finest cell's. */
 typedef struct merp_grid {
     float origin[3];
     float h;
-    uint32_t n[3]; /* cells along x, y, z, each ≥ 1 */
+    uint32_t n[3];               /* cells along x, y, z, each ≥ 1 */
+    const merp_grid_warp *warp; /* NULL: regular */
 } merp_grid;
+
+/* Sample (i, j, k)'s position: on a regular grid origin + (i, j, k)·h, the
+ * same floats wherever a graded grid's ratio is 1. */
+static inline void merp_grid_point(const merp_grid *g, uint32_t i, uint32_t j, uint32_t k, float p[3])
+{
+    const uint32_t idx[3] = {i, j, k};
+    for (int a = 0; a < 3; a++)
+        p[a] = g->origin[a] + (float)idx[a] * g->h;
+    const merp_grid_warp *w = g->warp;
+    if (w == NULL)
+        return;
+    uint32_t l = idx[w->axis];
+    float r = w->ratio[l];
+    p[w->axis] = w->level[l];
+    if (r != 1.0f)
+        for (int a = 0; a < 3; a++)
+            if (a != w->axis)
+                p[a] = w->center[a] + (p[a] - w->center[a]) * r;
+}
+
+/* The cell that holds p, clamped into the grid. */
+void merp_grid_locate(const merp_grid *g, const float p[3], uint32_t cell[3]);
+
+/* Moves v into cell `cell` (its box on a regular grid; on a graded one,
+ * between its levels and within its sides at v's height). */
+void merp_grid_clamp(const merp_grid *g, const uint32_t cell[3], float v[3]);
+
+/* How far along axis a any corner of a cell may lie from its lowest (h on
+ * a regular grid, where none lies below it). */
+static inline float merp_grid_reach(const merp_grid *g, int a)
+{
+    return g->warp != NULL ? g->warp->reach[a] : g->h;
+}
+
+/* Grades one axis of a regular lattice of n cells of h into levels:
+ * fine[i] is the ratio (≥ 1) lattice cell i allows (overwritten: limited
+ * to change gently along the axis). From lattice plane `anchor` the levels
+ * step down to 0 or below and up to n or above, each step as wide as the
+ * ratios where it begins and ends allow. Writes the levels' positions u (in
+ * cells of h from the lattice's origin; whole numbers of cells from the
+ * anchor while the ratio stays exactly 1) and each level's ratio (the step
+ * above it), with room for `room` levels; returns the number of cells
+ * (levels − 1), 0 when they do not fit. */
+uint32_t merp_grade_levels(float *fine, uint32_t n, uint32_t anchor, uint32_t room, float *u, float *ratio);
 
 /* A triangle mesh the polygonizer writes: positions and unit normals (3 floats
  * a vertex), triangles (3 indices), counter-clockwise seen from outside.

@@ -41,9 +41,7 @@ void merp_mtet_bound(const merp_grid *g, uint64_t *vertices, uint64_t *triangles
 
 static void sample_pos(const merp_grid *g, uint32_t i, uint32_t j, uint32_t k, float p[3])
 {
-    p[0] = g->origin[0] + (float)i * g->h;
-    p[1] = g->origin[1] + (float)j * g->h;
-    p[2] = g->origin[2] + (float)k * g->h;
+    merp_grid_point(g, i, j, k, p);
 }
 
 /* The vertex on the edge between corners c1 ⊂ c2 (bit masks) of cell (i,j,k),

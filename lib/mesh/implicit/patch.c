@@ -448,8 +448,8 @@ static void mark_cuts(merp_trimesh *m, const clipped *cl, int16_t *on_cut)
 static bool beyond_a_cut(const clipped *cl, const uint32_t ijk[3])
 {
     const merp_grid *g = &cl->pt->grid;
-    const float p[3] = {g->origin[0] + (float)ijk[0] * g->h, g->origin[1] + (float)ijk[1] * g->h,
-                        g->origin[2] + (float)ijk[2] * g->h};
+    float p[3];
+    merp_grid_point(g, ijk[0], ijk[1], ijk[2], p);
     for (uint32_t i = 0; i < cl->pt->cuts; i++)
         if (cut_distance(&cl->pt->cut[i], p) > -cl->slack[i])
             return true;
@@ -457,22 +457,28 @@ static bool beyond_a_cut(const clipped *cl, const uint32_t ijk[3])
 }
 
 /* Cut i's slack: how much further than a cell's lowest corner any of its
- * corners can lie along n (h·Σ max(n_k, 0)), plus a margin far above the
+ * corners can lie along n (h·Σ max(n_k, 0) on a regular grid; on a graded
+ * one, whose cells lean, Σ |n_k| × its reach), plus a margin far above the
  * rounding of the distances in the grid's span (1e-4 of the coordinates'
  * magnitude; float rounding is ~1e-7 of it). */
 static void cut_slack(clipped *cl)
 {
     const merp_grid *g = &cl->pt->grid;
-    float size = g->h;
+    float size = g->h, far[3]; /* far: the grid's far corner */
+    merp_grid_point(g, g->n[0], g->n[1], g->n[2], far);
     for (int a = 0; a < 3; a++) {
-        float lo = fabsf(g->origin[a]), hi = fabsf(g->origin[a] + (float)g->n[a] * g->h);
+        float lo = fabsf(g->origin[a]), hi = fabsf(far[a]);
+        if (g->warp != NULL) /* a graded grid's levels spread about its center */
+            lo = hi = fabsf(g->warp->center[a]) + (float)g->n[a] * merp_grid_reach(g, a) + fmaxf(lo, hi);
         size += lo > hi ? lo : hi;
     }
     for (uint32_t i = 0; i < cl->pt->cuts; i++) {
         const merp_cut *c = &cl->pt->cut[i];
         float up = 0.0f, scale = size;
-        for (int a = 0; a < 3; a++)
-            up += (c->n[a] > 0.0f ? c->n[a] : 0.0f) * g->h, scale += fabsf(c->o[a]);
+        for (int a = 0; a < 3; a++) {
+            float n = g->warp != NULL ? fabsf(c->n[a]) : c->n[a] > 0.0f ? c->n[a] : 0.0f;
+            up += n * merp_grid_reach(g, a), scale += fabsf(c->o[a]);
+        }
         cl->slack[i] = up + 1e-4f * scale;
     }
 }
@@ -493,8 +499,7 @@ static int cap_of_sheet(const clipped *cl, merp_dc_source src)
         if (!(src.corners >> k & 1))
             continue;
         float p[3];
-        for (int a = 0; a < 3; a++)
-            p[a] = g->origin[a] + (float)(ijk[a] + (k >> a & 1)) * g->h;
+        merp_grid_point(g, ijk[0] + (k & 1), ijk[1] + (k >> 1 & 1), ijk[2] + (k >> 2 & 1), p);
         float clip = INFINITY;
         int by = -1;
         for (uint32_t i = 0; i < cl->pt->cuts; i++) {

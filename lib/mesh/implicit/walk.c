@@ -82,8 +82,8 @@ mer_result merp_walk_begin(merp_walk *w, const merp_grid *g, merp_field_fn f, co
 static inline float value_at(merp_walk *w, uint32_t s, uint32_t i, uint32_t j, uint32_t k)
 {
     if (!(w->known[s >> 5] >> (s & 31) & 1u)) {
-        const float p[3] = {w->g->origin[0] + (float)i * w->g->h, w->g->origin[1] + (float)j * w->g->h,
-                            w->g->origin[2] + (float)k * w->g->h};
+        float p[3];
+        merp_grid_point(w->g, i, j, k, p);
         w->value[s] = w->f(p, w->data);
         w->known[s >> 5] |= 1u << (s & 31);
     }
@@ -123,10 +123,7 @@ static void push(merp_walk *w, uint32_t i, uint32_t j, uint32_t k)
 void merp_walk_seed(merp_walk *w, const float p[3])
 {
     uint32_t cell[3];
-    for (int a = 0; a < 3; a++) {
-        float x = floorf((p[a] - w->g->origin[a]) / w->g->h);
-        cell[a] = x < 0.0f ? 0 : x >= (float)w->g->n[a] ? w->g->n[a] - 1 : (uint32_t)x;
-    }
+    merp_grid_locate(w->g, p, cell);
     float cf[8];
     for (; cell[0] < w->g->n[0]; cell[0]++) {
         uint8_t mask = merp_walk_corners(w, cell, cf);
