@@ -284,7 +284,9 @@ static mer_result polygonize_patch(const merp_patch *pt, const merp_joint *jt, m
 /* Builds jt's patch on a grid of cells h (graded: fine only where its
  * shafts need them, merp_joint_grade) by dual contouring (sharp) or
  * marching tetrahedra into exact arrays of its own. MER_ERR_INVALID when the
- * patch does not close on its cuts, or a graded grid has no level wider. */
+ * patch does not close on its cuts, or its grid could not be graded (no
+ * level wider, or no memory for the levels: the regular grid's tries
+ * follow, and report running out themselves). */
 static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float shift, uint32_t sharp,
                                 bool graded, mer_error *err)
 {
@@ -398,8 +400,9 @@ static void free_patch(merp_joint *jt)
  * where the thinnest laterals (a little over a cell per radius) leave a
  * cut's cap so few cells near its rim that the side cuts a piece of it off,
  * a second loop on that cut. A run is tried first by dual contouring on
- * its graded grid (merp_joint_grade: a run's grid is its thinnest shaft's
- * all over, graded only at the levels that shaft spans; the 10k bench
+ * its graded grid (merp_joint_grade: a run's regular grid has its thinnest
+ * shaft's cells all over, a graded one only at the levels that shaft
+ * spans; the 10k bench
  * tree's trunk runs of 14 and 8 forks keep 7,689 and 6,043 vertices on it,
  * 11,637 and 11,416 on the regular one); a single fork's grid, a few of
  * its shafts' radii long, would gain little, and stays regular. The first

@@ -532,7 +532,7 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float
         }
     }
     uint64_t cells = 1;
-    g->h = h;
+    g->h = h, g->warp = NULL;
     for (int k = 0; k < 3; k++) {
         g->origin[k] = J0[k] - h * (ceilf((J0[k] - lo[k]) / h) + J_OFF) - shift * h;
         g->n[k] = (uint32_t)ceilf((hi[k] - g->origin[k]) / h);
@@ -547,8 +547,10 @@ typedef struct need_box {
     float lo[3], hi[3], need;
 } need_box;
 
-/* The boxes of jt's shafts and its forks' J, as merp_joint_grid grows its
- * grid's box from them, each with the cells its shaft needs (merp_joint_cell's
+/* The boxes of jt's shafts, as merp_joint_grid grows its grid's box from
+ * them, and of each later fork's in segment (the axis between its J and the
+ * one before: merp_joint_grid takes its J alone), each with the cells its
+ * shaft needs (merp_joint_cell's
  * rule, shaft by shaft); at most MERP_PATCH_CUTS + MERP_RUN_FORKS. */
 static uint32_t need_boxes(const merp_builder *b, const merp_joint *jt, float h, need_box *nb)
 {
@@ -560,6 +562,8 @@ static uint32_t need_boxes(const merp_builder *b, const merp_joint *jt, float h,
         bool lateral = s >= MERP_CUT_LATERAL || merp_joint_begins_axis(b->nodes, jt, s);
         need_box *x = &nb[count++];
         x->need = merp_node_radius(b, jt->start[s]) / (lateral ? CELLS_PER_LATERAL_RADIUS : CELLS_PER_RADIUS);
+        if (!jt->capped[s]) /* a thin ring, THIN_CELLS cells in radius at least (settle_cuts) */
+            x->need = fminf(x->need, merp_cut_radius(b, jt, s) / THIN_CELLS);
         for (int k = 0; k < 3; k++) {
             float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
             x->lo[k] = fminf(J[k], end) - e, x->hi[k] = fmaxf(J[k], end) + e;
@@ -585,8 +589,6 @@ typedef struct graded {
 bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g, void **store)
 {
     *store = NULL;
-    if (jt->cell > 0.0f)
-        return false;
     int A = 0; /* the grid's longest axis: a run's, up its trunk */
     for (int a = 1; a < 3; a++)
         A = g->n[a] > g->n[A] ? a : A;
@@ -603,10 +605,11 @@ bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g,
             fine[i] = MERP_GRADE_WIDEST;
         for (uint32_t x = 0; x < boxes; x++) {
             float lo = floorf((nb[x].lo[A] - g->origin[A]) / h), hi = floorf((nb[x].hi[A] - g->origin[A]) / h);
-            uint32_t first = lo < 0.0f ? 0 : lo >= (float)n ? n : (uint32_t)lo;
-            uint32_t last = hi < 0.0f ? 0 : hi >= (float)n ? n - 1 : (uint32_t)hi;
+            if (hi < 0.0f || lo >= (float)n)
+                continue; /* wholly beyond the grid */
+            uint32_t first = lo < 0.0f ? 0 : (uint32_t)lo, last = hi >= (float)n ? n - 1 : (uint32_t)hi;
             float allow = fmaxf(1.0f, nb[x].need / h);
-            for (uint32_t i = first; i <= last && i < n; i++)
+            for (uint32_t i = first; i <= last; i++)
                 fine[i] = fminf(fine[i], allow);
         }
         /* the first fork's J: the lattice plane below it (J_OFF) */

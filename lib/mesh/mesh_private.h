@@ -318,8 +318,10 @@ bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float
  * about the first fork's J (merp_grid_warp, merp_grade_levels). A run's
  * cells are its thinnest shaft's all over a regular grid; graded, only
  * at the levels about it. g->warp then points into *store (the caller
- * frees it). False (g unchanged, *store NULL) where a thin cut sets h
- * (merp_joint_cell's jt->cell), where no level widens, or out of memory. */
+ * frees it). A thin cut's shaft (one whose ring sets jt->cell) keeps
+ * cells of THIN_CELLS across its ring at the levels it spans. False (g
+ * unchanged, *store NULL) where no level widens, where the levels outgrow
+ * their room, or out of memory. */
 #define MERP_GRADE_WIDEST 4.0f
 bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g, void **store);
 /* How far along n (unit) from J a cut of reach ρ must lie to be clear of a

@@ -1,5 +1,5 @@
 /* meristem — marching tetrahedra over the Freudenthal triangulation of a
- * regular grid (implicit.h). A polygonizer for smooth fields: no ambiguous
+ * grid, regular or graded (implicit.h). A polygonizer for smooth fields: no ambiguous
  * case (a tetrahedron's sign pattern has one surface piece), so the output is
  * a closed manifold wherever the surface stays inside the grid. */
 #include "config.h"
