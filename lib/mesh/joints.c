@@ -402,12 +402,11 @@ static void free_patch(merp_joint *jt)
  * a second loop on that cut. A run is tried first by dual contouring on
  * its graded grid (merp_joint_grade: a run's regular grid has its thinnest
  * shaft's cells all over, a graded one only at the levels that shaft
- * spans; the 10k bench
- * tree's trunk runs of 14 and 8 forks keep 7,689 and 6,043 vertices on it,
- * 11,637 and 11,416 on the regular one); a single fork's grid, a few of
- * its shafts' radii long, would gain little, and stays regular. The first
- * patch that closes is kept. MER_ERR_INVALID (and the caller unplans the
- * fork) when none does. */
+ * spans; the 10k bench tree's trunk runs of 14 and 8 forks keep 7,689 and
+ * 6,043 vertices on it, 11,637 and 11,416 on the regular one); a single
+ * fork's grid, a few of its shafts' radii long, would gain little, and
+ * stays regular. The first patch that closes is kept. MER_ERR_INVALID (and
+ * the caller unplans the fork) when none does. */
 static mer_result build_patch(merp_builder *b, merp_joint *jt, mer_error *err)
 {
     static const struct {

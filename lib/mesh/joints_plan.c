@@ -505,23 +505,33 @@ static const float *shaft_origin(const merp_joint *jt, uint32_t s)
  * shafts' fields meet on the bud scale scar's contact plane, cost 5 % more
  * vertices (fig7-bh-0.54, seeds 1-2). */
 #define J_OFF 0.2f
+
+/* The box (lo, hi) that shaft s of jt's surface stays in: its segment, from
+ * its radius at J to the tube's at the cut, from J to two cells past the
+ * cut, grown by the shell (merp_joint_grid's and need_boxes'). */
+static void shaft_box(const merp_builder *b, const merp_joint *jt, uint32_t s, float h, float lo[3], float hi[3])
+{
+    const float *J = shaft_origin(jt, s);
+    float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
+    float e = MERP_JOINT_SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
+    for (int k = 0; k < 3; k++) {
+        float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
+        lo[k] = fminf(J[k], end) - e, hi[k] = fmaxf(J[k], end) + e;
+    }
+}
+
 bool merp_joint_grid(const merp_builder *b, const merp_joint *jt, float h, float shift, merp_grid *g)
 {
     assert(shift >= 0.0f && shift < 1.0f);
-    const float *J0 = jt->field[0].in.b, *J = J0;
+    const float *J0 = jt->field[0].in.b;
     float lo[3], hi[3];
     for (int k = 0; k < 3; k++)
-        lo[k] = hi[k] = J[k];
+        lo[k] = hi[k] = J0[k];
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        J = shaft_origin(jt, s);
-        /* The shaft's segment runs from its radius at J to the tube's at the cut. */
-        float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
-        float e = MERP_JOINT_SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
-        for (int k = 0; k < 3; k++) {
-            float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
-            lo[k] = fminf(lo[k], fminf(J[k], end) - e);
-            hi[k] = fmaxf(hi[k], fmaxf(J[k], end) + e);
-        }
+        float slo[3], shi[3];
+        shaft_box(b, jt, s, h, slo, shi);
+        for (int k = 0; k < 3; k++)
+            lo[k] = fminf(lo[k], slo[k]), hi[k] = fmaxf(hi[k], shi[k]);
     }
     for (uint32_t i = 1; i < jt->forks; i++) { /* a run's J, which may have no shaft of its own */
         const merp_seg *in = &jt->field[i].in;
@@ -547,27 +557,20 @@ typedef struct need_box {
     float lo[3], hi[3], need;
 } need_box;
 
-/* The boxes of jt's shafts, as merp_joint_grid grows its grid's box from
- * them, and of each later fork's in segment (the axis between its J and the
- * one before: merp_joint_grid takes its J alone), each with the cells its
- * shaft needs (merp_joint_cell's
+/* The boxes of jt's shafts (shaft_box) and of each later fork's in
+ * segment (the axis between its J and the one before: merp_joint_grid
+ * takes its J alone), each with the cells its shaft needs (merp_joint_cell's
  * rule, shaft by shaft); at most MERP_PATCH_CUTS + MERP_RUN_FORKS. */
 static uint32_t need_boxes(const merp_builder *b, const merp_joint *jt, float h, need_box *nb)
 {
     uint32_t count = 0;
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        const float *J = shaft_origin(jt, s);
-        float r = fmaxf(merp_node_radius(b, jt->start[s]), merp_cut_radius(b, jt, s));
-        float e = MERP_JOINT_SHELL * fmaxf(r, s < 2 ? merp_node_radius(b, jt->start[0]) : 0.0f) + 2.0f * h;
         bool lateral = s >= MERP_CUT_LATERAL || merp_joint_begins_axis(b->nodes, jt, s);
         need_box *x = &nb[count++];
         x->need = merp_node_radius(b, jt->start[s]) / (lateral ? CELLS_PER_LATERAL_RADIUS : CELLS_PER_RADIUS);
         if (!jt->capped[s]) /* a thin ring, THIN_CELLS cells in radius at least (settle_cuts) */
             x->need = fminf(x->need, merp_cut_radius(b, jt, s) / THIN_CELLS);
-        for (int k = 0; k < 3; k++) {
-            float end = jt->o[s][k] + 2.0f * h * jt->n[s][k];
-            x->lo[k] = fminf(J[k], end) - e, x->hi[k] = fmaxf(J[k], end) + e;
-        }
+        shaft_box(b, jt, s, h, x->lo, x->hi);
     }
     for (uint32_t i = 1; i < jt->forks; i++) {
         const merp_seg *in = &jt->field[i].in;
@@ -595,10 +598,9 @@ bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g,
     const uint32_t n = g->n[A], room = n + 2;
     const float h = g->h;
     need_box *nb = merp_malloc((MERP_PATCH_CUTS + MERP_RUN_FORKS) * sizeof *nb);
-    float *fine = merp_malloc((size_t)n * sizeof *fine), *u = merp_malloc((size_t)room * sizeof *u);
+    float *fine = merp_malloc((size_t)n * sizeof *fine);
     graded *gr = merp_malloc(sizeof *gr + 2 * (size_t)room * sizeof(float));
-    bool ok = nb != NULL && fine != NULL && u != NULL && gr != NULL;
-    uint32_t cells = 0;
+    bool ok = nb != NULL && fine != NULL && gr != NULL;
     if (ok) {
         uint32_t boxes = need_boxes(b, jt, h, nb);
         for (uint32_t i = 0; i < n; i++)
@@ -617,14 +619,15 @@ bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g,
         float j = floorf((J0[A] - g->origin[A]) / h);
         uint32_t anchor = j < 0.0f ? 0 : j >= (float)n ? n - 1 : (uint32_t)j;
         float *ratio = gr->at + room;
-        cells = merp_grade_levels(fine, n, anchor, room, u, ratio);
+        /* the levels in cells of h from the origin, made coordinates below */
+        uint32_t cells = merp_grade_levels(fine, n, anchor, room, gr->at, ratio);
         ok = cells > 0 && cells < n; /* graded, and fewer levels */
         if (ok) {
             merp_grid_warp *w = &gr->warp;
             *w = (merp_grid_warp){.axis = A, .level = gr->at, .ratio = ratio};
             float widest = 0.0f, lean = 0.0f;
             for (uint32_t l = 0; l <= cells; l++) {
-                gr->at[l] = g->origin[A] + u[l] * h;
+                gr->at[l] = g->origin[A] + gr->at[l] * h;
                 widest = fmaxf(widest, ratio[l]);
                 if (l < cells)
                     lean = fmaxf(lean, fabsf(ratio[l + 1] - ratio[l]));
@@ -643,7 +646,7 @@ bool merp_joint_grade(const merp_builder *b, const merp_joint *jt, merp_grid *g,
             *store = gr, gr = NULL;
         }
     }
-    merp_free(nb), merp_free(fine), merp_free(u), merp_free(gr);
+    merp_free(nb), merp_free(fine), merp_free(gr);
     return ok;
 }
 

@@ -1,8 +1,9 @@
 /* meristem — dual contouring (Ju, Losasso, Schaefer & Warren 2002) over a
- * grid, regular or graded (implicit.h): a vertex per sheet of surface in each crossed
- * cell, placed by the quadratic error function of the sheet's edge crossings
- * and normals (Hermite data), so that a crease through the cell (the branch
- * bark ridge) keeps its vertex on it; one quad per crossed edge. */
+ * grid, regular or graded (implicit.h): a vertex per sheet of surface in
+ * each crossed cell, placed by the quadratic error function of the sheet's
+ * edge crossings and normals (Hermite data), so that a crease through the
+ * cell (the branch bark ridge) keeps its vertex on it; one quad per crossed
+ * edge. */
 #include "config.h"
 
 #include <assert.h>

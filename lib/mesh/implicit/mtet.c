@@ -1,7 +1,8 @@
 /* meristem — marching tetrahedra over the Freudenthal triangulation of a
- * grid, regular or graded (implicit.h). A polygonizer for smooth fields: no ambiguous
- * case (a tetrahedron's sign pattern has one surface piece), so the output is
- * a closed manifold wherever the surface stays inside the grid. */
+ * grid, regular or graded (implicit.h). A polygonizer for smooth fields: no
+ * ambiguous case (a tetrahedron's sign pattern has one surface piece), so
+ * the output is a closed manifold wherever the surface stays inside the
+ * grid. */
 #include "config.h"
 
 #include <assert.h>

@@ -1,7 +1,8 @@
 /* meristem — the lattice under the polygonizers of implicit/ (mtet.c, dc.c):
- * samples of a field on a grid (regular or graded), evaluated lazily, and a walk over the
- * cells the surface crosses, from seeds, so that a polygonizer costs in the
- * surface's area, not the grid's volume. Private to lib/mesh/implicit/. */
+ * samples of a field on a grid (regular or graded), evaluated lazily, and a
+ * walk over the cells the surface crosses, from seeds, so that a polygonizer
+ * costs in the surface's area, not the grid's volume. Private to
+ * lib/mesh/implicit/. */
 #ifndef MERISTEM_MESH_IMPLICIT_WALK_H
 #define MERISTEM_MESH_IMPLICIT_WALK_H
 
