@@ -19,9 +19,8 @@ static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
 {
     for (uint32_t i = 0; i < b->axis_count; i++) {
         merp_axis *a = &b->axes[i];
-        const mer_node *first = &b->nodes[a->first];
         bool starts_in = b->lateral_in[a->first] != UINT32_MAX, cuts = starts_in;
-        a->base_cap = first->parent == MER_NO_NODE || !starts_in;
+        a->base_cap = !starts_in; /* a root's, unless a patch holds the base (merp_joint.base) */
         a->extra_rings = 0, a->lost_bands = 0, a->ends_in = 0;
         uint32_t id = a->first;
         for (uint32_t k = 0; k < a->count && !cuts; k++, id = b->nodes[id].main_child)
@@ -70,12 +69,30 @@ static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, co
     uv[1] = jt->v[s] + (s == MERP_CUT_IN ? -1.0f : 1.0f) * v3_dot(q, jt->n[s]) / (MERP_TWO_PI * 0.5f * r);
 }
 
+/* The UV frame and v (shaft_uv) of an in shaft that ends on the plant's
+ * base (jt->base), which no tube ring records: v 0 there, as a trunk's tube
+ * starts, and the frame tube.c would start the trunk with (its normal
+ * level, up × the axis). */
+static void base_frame(merp_joint *jt)
+{
+    const float *n = jt->n[MERP_CUT_IN], up[3] = {0.0f, 1.0f, 0.0f};
+    const float t[3] = {-n[0], -n[1], -n[2]}; /* the trunk's axis, up */
+    float *e = jt->frame[MERP_CUT_IN][0];
+    v3_cross(up, t, e);
+    if (!v3_normalize(e))
+        v3_any_perp(t, e);
+    v3_cross(t, e, jt->frame[MERP_CUT_IN][1]);
+    jt->v[MERP_CUT_IN] = 0.0f;
+}
+
 /* A capped shaft's UV frame and v (shaft_uv), which no tube ring records:
  * u by angle from the in cut's frame laid square to the shaft, and v
  * running on from the in shaft's at J, so the bark's texture goes on up
  * the shaft as it would along a tube. */
 static void capped_frames(const merp_builder *b, merp_joint *jt)
 {
+    if (jt->base)
+        base_frame(jt);
     const float *e0 = jt->frame[MERP_CUT_IN][0];
     float r0 = merp_node_radius(b, jt->node[MERP_CUT_IN]) + merp_node_end_radius(b, jt->node[MERP_CUT_IN]);
     float v_J = jt->v[MERP_CUT_IN] + jt->d[MERP_CUT_IN] / (MERP_TWO_PI * 0.5f * r0);
@@ -178,7 +195,7 @@ static float mark_fade(const merp_builder *b, const merp_joint *jt, const float 
 {
     float w = 1.0f;
     for (uint32_t s = 0; s < jt->cuts; s++) {
-        if (jt->capped[s])
+        if (!merp_cut_has_ring(jt, s))
             continue; /* no tube beyond it */
         float q[3], r = merp_cut_radius(b, jt, s);
         for (int k = 0; k < 3; k++)
@@ -229,6 +246,32 @@ static void face_outwards(const merp_trimesh *m, uint32_t ring_first, float *fac
  * rings shade as the tubes; face_outwards where it points inwards), shafts,
  * ridge b = F_b, UVs (ring copies exactly the ring's), then the seam split.
  * `facing`: room for 3 floats a vertex. */
+/* The flat cap a patch keeps on the plant's base (jt->base): its vertices'
+ * normal is the plane's, down (−∇F_g there is the bark's beside it); a rim
+ * vertex, which the bark's triangles share, keeps the bark's. The cap's
+ * vertices lie on the plane (dual contouring's moved onto it, patch.c),
+ * within a hundred-thousandth of the radius. `on` has a word a vertex. */
+static void base_normals(const merp_builder *b, merp_joint *jt, uint32_t *on)
+{
+    merp_trimesh *m = &jt->mesh;
+    const float *o = jt->o[MERP_CUT_IN], *n = jt->n[MERP_CUT_IN];
+    const float tol = 1e-5f * merp_cut_radius(b, jt, MERP_CUT_IN);
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        const float *p = m->positions + 3 * (size_t)v;
+        const float q[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]};
+        on[v] = fabsf(v3_dot(q, n)) <= tol; /* 1: on the plane, 2: on its rim */
+    }
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *c = m->triangles + 3 * (size_t)t;
+        if (!on[c[0]] || !on[c[1]] || !on[c[2]])
+            for (int k = 0; k < 3; k++)
+                on[c[k]] = on[c[k]] ? 2u : 0u;
+    }
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        if (on[v] == 1)
+            memcpy(m->normals + 3 * (size_t)v, n, 3 * sizeof(float));
+}
+
 static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *scratch, float *facing)
 {
     merp_trimesh *m = &jt->mesh;
@@ -260,6 +303,8 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
         jt->uvs[2 * v + 1] = jt->v[s];
         memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float)); /* face_outwards keeps it */
     }
+    if (jt->base)
+        base_normals(b, jt, scratch);
     face_outwards(m, ring_first, facing);
     if (!b->opt.no_uvs)
         split_seam(jt, scratch);
@@ -319,7 +364,8 @@ static mer_result build_patch_at(merp_builder *b, merp_joint *jt, float h, float
             beyond[k] = far[k] - c->o[k];
         c->depth = v3_dot(beyond, c->n) + (s == MERP_CUT_IN ? g->ra : g->rb) + 2.0f * h;
         c->ring = jt->ring[s];
-        c->sides = jt->sides[s];
+        c->sides = jt->sides[s]; /* 0 on the base: the patch keeps its cap */
+        assert((c->sides == 0) == (s == MERP_CUT_IN && jt->base));
     }
     uint64_t vmax, tmax;
     merp_patch_bound(&pt, &vmax, &tmax);

@@ -179,6 +179,17 @@ static bool cap_end(const merp_builder *b, uint32_t id, bool bare, merp_joint *j
     return true;
 }
 
+/* Ends jt's in shaft on the plant's base (jt->base) at root internode id,
+ * claimed whole (follow). */
+static bool base_end(const merp_builder *b, claims *cl, uint32_t id, bool mark, merp_joint *jt)
+{
+    assert(b->nodes[id].parent == MER_NO_NODE);
+    jt->node[MERP_CUT_IN] = id, jt->at[MERP_CUT_IN] = 0.0f, jt->base = true;
+    if (mark)
+        cl->lo[id] = b->nodes[id].length, cl->hi[id] = 0.0f;
+    return true;
+}
+
 /* Cut s of jt: `need` along its shaft's axis from J, forwards from J at the
  * base of `first` or, `back`, backwards from J at its tip; across as many
  * internodes as that takes (short internodes of a thick axis), none of them
@@ -186,8 +197,13 @@ static bool cap_end(const merp_builder *b, uint32_t id, bool bare, merp_joint *j
  * parent, whose tip the patch covers). Sets node[s], at[s];
  * with `mark`, claims what the shaft covers. Where the axis ends first, or
  * would leave its tip's cone under a radius long, an out or lateral shaft
- * ends inside the patch (cap_end, capped[s]) if it may. False when it does
- * not fit. */
+ * ends inside the patch (cap_end, capped[s]) if it may. Where the in cut
+ * would fall below the plant's base, or within BASE_GAP of it, the in shaft
+ * ends on the base (base_end): there is no tube below to stitch to, and
+ * the patch's cut there is flat, the trunk's base disk (fig6-sylleptic's
+ * root internode is half its thick trunk's in cut long, and its lowest,
+ * thickest fork stayed tubes, its laterals' base disks showing). False when
+ * it does not fit. */
 static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back, float need, bool mark,
                    merp_joint *jt, uint32_t s)
 {
@@ -195,6 +211,8 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
     uint32_t id = first, forked = MER_NO_NODE; /* the first internode passed that a lateral leaves */
     bool bare = true; /* no living lateral leaves the internodes passed so far */
     jt->capped[s] = 0;
+    if (back)
+        jt->base = false;
     for (uint32_t passed = 0;; passed++) {
         /* a relayed fork's parent may be a tip's cone: the patch covers its tip */
         bool cone = !back || (jt->relay && id == first);
@@ -215,7 +233,10 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
             need = arc + len + CUT_GAP * merp_node_radius(b, below_id);
         if (arc + len > need) {
             /* below a tree's root internode is its base disk, no patch's cut */
-            float below = back && n->parent == MER_NO_NODE && cl->lo[id] == 0.0f ? BASE_GAP * merp_node_radius(b, id) : gap;
+            bool root = back && n->parent == MER_NO_NODE && cl->lo[id] == 0.0f;
+            float below = root ? BASE_GAP * merp_node_radius(b, id) : gap;
+            if (root && at <= below && !(cl->hi[id] < len))
+                return base_end(b, cl, id, mark, jt);
             bool by_lo = back ? at <= cl->lo[id] + below : cl->lo[id] > 0.0f;
             bool by_hi = back ? cl->hi[id] < len : at >= cl->hi[id] - gap;
             if (by_lo || by_hi) {
@@ -255,7 +276,9 @@ static bool follow(const merp_builder *b, claims *cl, uint32_t first, bool back,
             forked = id;
         bare = bare && bare_internode(b, id);
         uint32_t next = back ? n->parent : n->main_child;
-        if (back && (next == MER_NO_NODE || b->nodes[next].main_child != id))
+        if (back && next == MER_NO_NODE)
+            return base_end(b, cl, id, mark, jt); /* (claimed above) */
+        if (back && b->nodes[next].main_child != id)
             return false;
         if (!back && (next == MER_NO_NODE || !b->nodes[next].alive)) { /* the axis ends before its cut */
             if (jt->cap && !bare)
@@ -568,7 +591,7 @@ static uint32_t need_boxes(const merp_builder *b, const merp_joint *jt, float h,
         bool lateral = s >= MERP_CUT_LATERAL || merp_joint_begins_axis(b->nodes, jt, s);
         need_box *x = &nb[count++];
         x->need = merp_node_radius(b, jt->start[s]) / (lateral ? CELLS_PER_LATERAL_RADIUS : CELLS_PER_RADIUS);
-        if (!jt->capped[s]) /* a thin ring, THIN_CELLS cells in radius at least (settle_cuts) */
+        if (merp_cut_has_ring(jt, s)) /* a thin ring, THIN_CELLS cells in radius at least (settle_cuts) */
             x->need = fminf(x->need, merp_cut_radius(b, jt, s) / THIN_CELLS);
         shaft_box(b, jt, s, h, x->lo, x->hi);
     }
@@ -690,8 +713,9 @@ static bool place_clear(const merp_builder *b, claims *cl, merp_joint *jt, const
             /* The placed segments clear the others from d on
              * (merp_cut_clearance is exact for them); the first placement's
              * 2h past d is a margin. The chord is at most the arc, so the
-             * shortfall is a least move. A capped shaft has no cut. */
-            if (!jt->capped[s] && jt->d[s] < d)
+             * shortfall is a least move. A capped shaft has no cut, and
+             * the base no room to move (nor a ring to match). */
+            if (merp_cut_has_ring(jt, s) && jt->d[s] < d)
                 push[s] = fmaxf(0.5f * h, d - jt->d[s]), again = true;
         }
         if (!again)
@@ -706,7 +730,7 @@ static float thinnest_cut(const merp_builder *b, const merp_joint *jt)
 {
     float thin = INFINITY;
     for (uint32_t s = 0; s < jt->cuts; s++)
-        if (!jt->capped[s]) /* no ring */
+        if (merp_cut_has_ring(jt, s))
             thin = fminf(thin, merp_cut_radius(b, jt, s));
     return thin;
 }
@@ -1102,7 +1126,7 @@ static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt,
         uint32_t id = jt->start[s];
         for (; id != jt->node[s]; id = back ? b->nodes[id].parent : b->nodes[id].main_child)
             claim_whole(b, cl, id, owner);
-        if (jt->capped[s]) /* its last internode too (follow) */
+        if (jt->capped[s] || (back && jt->base)) /* its last internode too (follow) */
             claim_whole(b, cl, id, owner);
         else if (back)
             cl->hi[id] = set ? jt->at[s] : INFINITY, cl->own_hi[id] = owner;
@@ -1518,7 +1542,10 @@ void merp_joint_forget(merp_builder *b, merp_joint *jt)
         if (i > 0 && jt->link[i].slot != MERP_LINK_OUT)
             b->lateral_in[jt->link_start[i]] = UINT32_MAX;
     }
-    b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    if (jt->base)
+        b->lateral_in[jt->node[MERP_CUT_IN]] = UINT32_MAX;
+    else
+        b->cut_begin[jt->node[MERP_CUT_IN]] = UINT32_MAX;
     for (uint32_t s = 1; s < jt->cuts; s++) {
         if (!jt->capped[s])
             b->cut_end[jt->node[s]] = UINT32_MAX;
@@ -1537,7 +1564,10 @@ static void remember(merp_builder *b, claims *cl, const merp_joint *jt, uint32_t
         if (i > 0 && b->nodes[b->nodes[L].parent].main_child != L) /* an axis that begins in the patch, uncut: a lateral or a relay */
             b->lateral_in[L] = at * MERP_PATCH_CUTS;
     }
-    b->cut_begin[jt->node[MERP_CUT_IN]] = at;
+    if (jt->base) /* the trunk's axis starts in the patch, which holds its base */
+        b->lateral_in[jt->node[MERP_CUT_IN]] = at * MERP_PATCH_CUTS + MERP_CUT_IN;
+    else
+        b->cut_begin[jt->node[MERP_CUT_IN]] = at;
     for (uint32_t s = 1; s < jt->cuts; s++) {
         if (!jt->capped[s]) /* a capped shaft's axis stays inside to its end (tube.c) */
             b->cut_end[jt->node[s]] = at * MERP_PATCH_CUTS + s;

@@ -28,8 +28,9 @@ typedef struct merp_axis {
     uint32_t count;   /* internodes along it, >= 1 */
     uint32_t sides;   /* 3 .. MERP_MAX_SIDES */
     uint8_t end;      /* enum merp_axis_end */
-    uint8_t base_cap; /* 1 for a plant's trunk (and, with implicit junctions, a
-                         lateral that starts in no patch) */
+    uint8_t base_cap; /* 1 for a plant's trunk and, with implicit junctions,
+                         any axis that starts in no patch (a trunk whose base
+                         a patch holds has none: merp_joint.base) */
     /* With implicit junctions: rings added (two cut rings) less rings dropped
      * (inside a patch, or folding against a cut: tube.c), and the quads
      * between rings dropped, on this axis;
@@ -78,6 +79,12 @@ typedef struct merp_joint {
     bool cap;                       /* its out and lateral shafts may end
                                        inside it (joints_plan.c: a single
                                        fork's and a run's) */
+    bool base;                      /* its in shaft ends on the plant's base:
+                                       the root internode is shorter than its
+                                       in cut needs, and the in cut is the
+                                       base's plane, whose flat cap the patch
+                                       keeps (the trunk's base disk; no ring,
+                                       sides 0; o, n and d the base's) */
     uint8_t capped[MERP_PATCH_CUTS]; /* shaft s ends inside the patch: its
                                        axis ends within the patch's reach of
                                        J, its field segment's round end closes
@@ -140,7 +147,9 @@ typedef struct merp_builder {
     uint32_t *joint_at;     /* by node id: the joint at its tip, or UINT32_MAX */
     uint32_t *lateral_in;   /* by node id: joint · MERP_PATCH_CUTS + cut of a lateral
                                (or a relay: cut 1, or a run's relayed fork's)
-                               whose shaft starts in a patch, or UINT32_MAX */
+                               whose shaft starts in a patch, or of a root
+                               internode whose base a patch holds (cut 0,
+                               merp_joint.base), or UINT32_MAX */
     uint32_t *cut_end;      /* by node id: joint · MERP_PATCH_CUTS + cut of the out
                                or lateral cut in it (a patch ends), or UINT32_MAX */
     uint32_t *cut_begin;    /* by node id: the joint whose in cut lies in it (a
@@ -286,6 +295,14 @@ static inline float merp_cut_radius(const merp_builder *b, const merp_joint *jt,
     const mer_node *n = &b->nodes[id];
     const float f = n->length > 0.0f ? jt->at[s] / n->length : 0.0f, r = merp_node_radius(b, id);
     return r + f * (merp_node_end_radius(b, id) - r);
+}
+
+/* Whether jt's cut s meets a tube's ring: not where its shaft ends inside
+ * the patch (capped) or on the plant's base (base). */
+static inline bool merp_cut_has_ring(const merp_joint *jt, uint32_t s)
+{
+    assert(s < jt->cuts);
+    return !jt->capped[s] && !(s == MERP_CUT_IN && jt->base);
 }
 
 /* joints_plan.c: plans the forks to patch into b->joints, their cuts and

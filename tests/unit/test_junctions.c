@@ -855,6 +855,62 @@ static void trunk_bases_get_patches(void **state)
     }
 }
 
+/* A trunk base whose root internode is shorter than its in cut needs
+ * (fig6-sylleptic's: an internode long, its trunk's lowest fork a radius
+ * above the ground with a lateral nearly as thick) was tubes, its
+ * lateral's base disk showing on the trunk: the in cut fell below the
+ * base. Its in shaft now ends on the base, the patch's cut there the
+ * trunk's flat base disk: the root fork is patched in seeds 1 and 2, the
+ * bark closed, nothing below the ground, and a flat cap on it whose area
+ * is the root's base section's, its normals straight down. */
+static void trunk_bases_on_the_ground_get_patches(void **state)
+{
+    (void)state;
+    for (uint64_t seed = 1; seed <= 2; seed++) {
+        mer_scene *s = grown14("fig6-sylleptic", seed);
+        mer_mesh *m = implicit_mesh(s);
+        uint32_t n;
+        float thickest;
+        mer_node *nodes = all_nodes(s, &n, &thickest);
+        const float r = 0.5f * nodes[0].diameter, base = nodes[0].base[1];
+        assert_true(nodes[0].parent == MER_NO_NODE && nodes[0].length < r);
+        assert_true(patched_fork(m, 0));
+        const mer_mesh_part *b = &m->bark;
+        float lowest = INFINITY, area = 0.0f;
+        uint32_t down = 0;
+        for (uint32_t v = 0; v < b->vertex_count; v++) {
+            lowest = fminf(lowest, b->positions[3 * v + 1]);
+            down += fabsf(b->positions[3 * v + 1] - base) < 1e-4f * r && b->normals[3 * v + 1] < -0.999f;
+        }
+        for (uint32_t c = 0; c < b->chunk_count; c++) {
+            const mer_mesh_chunk *ch = &b->chunks[c];
+            for (uint32_t k = 0; k + 2 < ch->index_count; k += 3) {
+                const float *q[3];
+                bool flat = true;
+                for (int j = 0; j < 3; j++) {
+                    q[j] = b->positions + 3 * (size_t)(ch->first_vertex + b->indices[ch->first_index + k + j]);
+                    flat = flat && fabsf(q[j][1] - base) < 1e-4f * r;
+                }
+                /* a triangle in the ground plane: half |(q1 − q0) × (q2 − q0)|'s y */
+                if (flat)
+                    area += 0.5f * fabsf((q[1][0] - q[0][0]) * (q[2][2] - q[0][2]) -
+                                         (q[1][2] - q[0][2]) * (q[2][0] - q[0][0]));
+            }
+        }
+        float disk = 3.14159265f * r * r;
+        print_message("fig6-sylleptic seed %u: root fork patched, lowest bark %.6f (base %.6f), cap %.4f of the "
+                      "base section's area, %u vertices facing down\n",
+                      (unsigned)seed, (double)lowest, (double)base, (double)(area / disk), down);
+        assert_true(lowest >= base - 1e-4f * r);
+        assert_true(area > 0.9f * disk && area < 1.1f * disk);
+        assert_true(down > 20);
+        assert_bark_closed(m);
+        free(nodes);
+        mer_mesh_free(m);
+        mer_scene_free(s);
+    }
+}
+
 /* A sympodium's forks an internode apart: fork P goes on up its
  * continuation to the next fork, which ended its axis in a flower and is
  * relayed by its lateral. The relayed fork's patch claims the internode
@@ -1839,6 +1895,7 @@ int main(void)
         cmocka_unit_test(runs_keep_their_cells_coarse),
         cmocka_unit_test(runs_end_in_relayed_forks),
         cmocka_unit_test(trunk_bases_get_patches),
+        cmocka_unit_test(trunk_bases_on_the_ground_get_patches),
         cmocka_unit_test(forks_up_a_lateral_get_one_patch),
         cmocka_unit_test(whorled_runs_hold_each_fork_once),
         cmocka_unit_test(pruned_forks_are_relayed),

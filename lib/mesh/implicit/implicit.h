@@ -620,12 +620,14 @@ void merp_junction_strength(const merp_junction *j, const float p[3], float *sca
  * along n (a few radii of its shaft), so it does not clip another shaft, and
  * at most `depth` beyond the plane (> 0; INFINITY: all the way), so that it
  * does not clip a primitive further out along that line: a run's axis that
- * curls back across a lateral's line, past the lateral's own segment. */
+ * curls back across a lateral's line, past the lateral's own segment. A
+ * cut with no ring (sides 0) keeps the flat cap its clip makes: the patch
+ * closes itself there (a trunk's base on the ground). */
 typedef struct merp_cut {
     float o[3], n[3];
     float reach;
-    const float *ring; /* 3 floats a vertex */
-    uint32_t sides;
+    const float *ring; /* 3 floats a vertex; NULL with sides 0 */
+    uint32_t sides;    /* 0: no ring, the cap kept */
     float depth;
 } merp_cut;
 
@@ -660,10 +662,10 @@ void merp_patch_bound(const merp_patch *pt, uint64_t *vertices, uint64_t *triang
 
 /* Polygonizes the junction between its cuts and stitches each cut's boundary
  * loop to that cut's ring: F_g is clipped beyond each cut's plane (within
- * its reach and depth, merp_cut), the flat
- * caps the clip makes are dropped, and each loop left in a cut plane is
- * zipped to a copy of the ring (appended to `out`, positions exactly the
- * ring's), walking both by angle about n. With dual contouring, the vertex
+ * its reach and depth, merp_cut), the flat caps the clip makes are dropped
+ * (a ring-less cut's kept), and each loop left in a cut plane is zipped
+ * to a copy of the ring (appended to `out`, positions exactly the ring's),
+ * walking both by angle about n. With dual contouring, the vertex
  * of each cell the cap crosses is moved onto its cut plane (it lies on the
  * crease between cap and tube, up to the QEF's regularisation), so each loop
  * lies in its plane; each loop vertex is then moved in that plane, along

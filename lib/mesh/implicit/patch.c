@@ -534,9 +534,13 @@ static void snap_cuts(merp_trimesh *m, const clipped *cl, const merp_dc_source *
     }
 }
 
-/* Drops the caps marked in on_cut and zips each cut's loop to its ring. */
+/* Drops the caps marked in on_cut and zips each cut's loop to its ring; a
+ * cut with no ring keeps its cap (its vertices unmarked). */
 static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int16_t *on_cut, mer_error *err)
 {
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        if (on_cut[v] >= 0 && pt->cut[on_cut[v]].sides == 0)
+            on_cut[v] = -1;
     size_t all = m->vertex_count + 2;
     for (uint32_t i = 0; i < pt->cuts; i++)
         all += pt->cut[i].sides;
@@ -553,6 +557,8 @@ static mer_result stitch_all(merp_trimesh *m, const merp_patch *pt, int16_t *on_
     uint32_t vertices = m->vertex_count;
     for (uint32_t i = 0; i < pt->cuts && rc == MER_OK; i++) {
         uint32_t len = 0;
+        if (pt->cut[i].sides == 0)
+            continue;
         rc = take_loop(on_cut, next, vertices, i, L, &len, err);
         if (rc == MER_OK)
             rc = stitch(m, &pt->cut[i], L, len, on_cut, vertices, scratch, order, err);
