@@ -1592,10 +1592,13 @@ static uint32_t shaft_next(const merp_builder *b, uint32_t s, uint32_t id)
 /* The forks jt's patch would leave tubes that could have a patch of their
  * own, weighed (fork_weight): forks its shafts pass (not its own), not yet
  * tried, for which plan_one finds room with the claims as they are. Each
- * counted once (cl->tried marks them 2 meanwhile). */
-static double swallows(merp_builder *b, claims *cl, const merp_joint *jt, float threshold)
+ * counted once (cl->tried marks them 2 meanwhile), into *np, the first
+ * MERP_RUN_FORKS of them into passed. */
+static double swallows(merp_builder *b, claims *cl, const merp_joint *jt, float threshold, uint32_t *passed,
+                       uint32_t *np)
 {
     double weight = 0.0;
+    *np = 0;
     for (uint32_t s = 0; s < jt->cuts; s++)
         for (uint32_t id = jt->start[s]; id != jt->node[s]; id = shaft_next(b, s, id)) {
             uint32_t F = passed_fork(b, s, id);
@@ -1603,8 +1606,12 @@ static double swallows(merp_builder *b, claims *cl, const merp_joint *jt, float 
             for (uint32_t i = 0; i < jt->forks; i++)
                 own |= jt->fork_node[i] == F;
             if (!own && F != MER_NO_NODE && !cl->tried[F] && is_fork(b, F, threshold) &&
-                plan_one(b, cl, F, false, false, cl->probe))
+                plan_one(b, cl, F, false, false, cl->probe)) {
                 cl->tried[F] = 2, weight += fork_weight(b, F);
+                if (*np < MERP_RUN_FORKS)
+                    passed[*np] = F;
+                ++*np;
+            }
         }
     for (uint32_t s = 0; s < jt->cuts; s++)
         for (uint32_t id = jt->start[s]; id != jt->node[s]; id = shaft_next(b, s, id)) {
@@ -1613,6 +1620,31 @@ static double swallows(merp_builder *b, claims *cl, const merp_joint *jt, float 
                 cl->tried[F] = 0;
         }
     return weight;
+}
+
+/* Whether run jt patches forks that outweigh those it would leave tubes
+ * (swallows). Greedy as the planner is, a run may take in a fork or two at
+ * the price of more that come later: its shafts reach far, clear of every
+ * primitive of the run, and pass thinner forks' J (default's root run took
+ * in forks 0-3 and left 4-8 tubes). Weighed with the claims as they are
+ * without it: the joints it takes
+ * in (taken[0 .. nt), released) hold theirs meanwhile, and a fork is
+ * gained only where none of them patched it (an elbow is none). The forks
+ * it would leave tubes are listed in passed (*np, as swallows has them). */
+static bool outweighs(merp_builder *b, claims *cl, const merp_joint *jt, float threshold, const uint32_t *taken,
+                      uint32_t nt, uint32_t *passed, uint32_t *np)
+{
+    double gained = 0.0;
+    for (uint32_t i = 0; i < jt->forks; i++) {
+        uint32_t F = jt->fork_node[i];
+        gained += b->joint_at[F] != UINT32_MAX || elbow(b, F) ? 0.0 : fork_weight(b, F);
+    }
+    for (uint32_t t = 0; t < nt; t++)
+        claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
+    double lost = swallows(b, cl, jt, threshold, passed, np);
+    for (uint32_t t = 0; t < nt; t++)
+        claim_joint(b, cl, &b->joints[taken[t]], UINT32_MAX);
+    return lost < gained;
 }
 
 /* Plans P's fork, which fits no patch of its own because joint X's is in
@@ -1633,18 +1665,27 @@ static double swallows(merp_builder *b, claims *cl, const merp_joint *jt, float 
  * without elbows, 16 with them). A relayed fork it takes in
  * is planned as plan_run has it: relayed where it has no living
  * continuation, else as it grew (a swap's continuation, which did not fit a
- * patch of its own, may fit the run's). False when it does not fit (X's
+ * patch of its own, may fit the run's). Where the run would leave forks
+ * its shafts pass tubes, forks that would fit alone and are worth as much
+ * as the forks it patches that the joints it takes in did not (outweighs,
+ * fork_weight), it takes those in too (the run from a fork to the next up
+ * the trunk passed its lateral's fork: default, seed 2, whose second fork
+ * stayed tubes for a thinner one, as three of default's and
+ * fig13-tropism-late's seeds 1-5 did). False when it does not fit (X's
  * forks on no way from P, too many forks, plan_run's refusals) or would
- * leave forks tubes worth as much as the forks it patches that the joints
- * it takes in did not (swallows, fork_weight): the claims are then as they
+ * leave such forks tubes however it grows: the claims are then as they
  * were. */
 static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold, uint32_t X, uint32_t stop,
                         uint32_t bend, merp_joint *jt, uint32_t *taken, uint32_t *nt)
 {
     gathered g = {.fork = {P}, .n = 1, .threshold = stop != MER_NO_NODE ? 0.0f : threshold};
     bool ok = false, stuck = false;
+    uint32_t passed[MERP_RUN_FORKS], np = 0; /* the forks the last plan would leave tubes (outweighs) */
     *nt = 0;
-    while (!ok && !stuck && (X != UINT32_MAX || stop != MER_NO_NODE || bend != MER_NO_NODE)) {
+    while (!ok && !stuck && (X != UINT32_MAX || stop != MER_NO_NODE || bend != MER_NO_NODE || np > 0)) {
+        stuck = np > MERP_RUN_FORKS; /* (more than a run holds) */
+        for (uint32_t i = 0; i < np && !stuck; i++)
+            stuck = !gather(b, &g, passed[i]);
         for (uint32_t i = 0; X != UINT32_MAX && i < b->joints[X].forks && !stuck; i++)
             stuck = !gather(b, &g, b->joints[X].fork_node[i]);
         if (stop != MER_NO_NODE && !stuck)
@@ -1674,7 +1715,9 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
         stuck = stuck || !order_run(b, &g, R, link, start);
         cl->blocker = UINT32_MAX, cl->stopper = MER_NO_NODE, cl->bend = MER_NO_NODE;
         ok = !stuck && plan_run(b, cl, R, link, start, g.n, jt);
-        X = cl->blocker, stop = cl->stopper, bend = cl->bend;
+        X = cl->blocker, stop = cl->stopper, bend = cl->bend, np = 0;
+        if (ok && !outweighs(b, cl, jt, threshold, taken, *nt, passed, &np))
+            ok = false, X = UINT32_MAX, stop = bend = MER_NO_NODE; /* grown by the forks passed, if any */
         if (stop != MER_NO_NODE && g.threshold > 0.0f && !ok && !stuck) {
             /* The forks up a short axis, however thin: gathered again, so
              * that the thin forks the ways between them passed before are
@@ -1687,24 +1730,10 @@ static bool plan_merged(merp_builder *b, claims *cl, uint32_t P, float threshold
             g = again;
         }
     }
-    /* Greedy as the planner is, a run may take in a fork or two at the
-     * price of more that come later: its shafts reach far, clear of every
-     * primitive of the run, and pass thinner forks' J (default's root run
-     * took in forks 0-3 and left 4-8 tubes). It is planned only where the
-     * forks it patches outweigh those it passes that would fit alone, with
-     * the claims as they are without it (fork_weight). */
+    /* The joints taken in hold their claims again; a run planned releases
+     * them (the caller forgets those joints). */
     for (uint32_t t = 0; t < *nt; t++)
         claim_joint(b, cl, &b->joints[taken[t]], taken[t]);
-    if (ok) { /* jt holds the run only when plan_run planned it */
-        /* each fork it patches that had no joint (a fork's joint is one the
-         * run takes in), a short axis's thin ones too; no elbow */
-        double gained = 0.0;
-        for (uint32_t i = 0; i < jt->forks; i++) {
-            uint32_t F = jt->fork_node[i];
-            gained += b->joint_at[F] != UINT32_MAX || elbow(b, F) ? 0.0 : fork_weight(b, F);
-        }
-        ok = swallows(b, cl, jt, threshold) < gained;
-    }
     if (ok)
         for (uint32_t t = 0; t < *nt; t++)
             claim_joint(b, cl, &b->joints[taken[t]], UINT32_MAX);
