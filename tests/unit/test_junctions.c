@@ -1779,8 +1779,9 @@ static void same_bytes_on_threads(mer_scene *s)
 }
 
 /* ... on fig7-bh-0.54's tree, on a sympodium's, whose forks are relayed,
- * and on abop-1.24c's, whose runs of 27 forks reverse the decider's choice
- * on faces as the walk reaches them (dc.c, cell_sheets_chosen). */
+ * on abop-1.24c's, whose runs of 27 forks reverse the decider's choice
+ * on faces as the walk reaches them (dc.c, cell_sheets_chosen), and on
+ * fig6-sylleptic's, whose trunk base is a patch's. */
 static void same_bytes_whatever_the_threads(void **state)
 {
     (void)state;
@@ -1795,6 +1796,9 @@ static void same_bytes_whatever_the_threads(void **state)
     same_bytes_on_threads(s);
     mer_scene_free(s);
     s = grown14("abop-1.24c", 1);
+    same_bytes_on_threads(s);
+    mer_scene_free(s);
+    s = grown14("fig6-sylleptic", 1); /* a run that holds the trunk's base on the ground */
     same_bytes_on_threads(s);
     mer_scene_free(s);
 }
