@@ -13,8 +13,8 @@
 #include "mesh_private.h"
 
 
-/* Each axis's ring counts and, for a lateral not in a patch, its base
- * disk; with `record`, the cut rings of the axes that have any. */
+/* Each axis's ring counts and, for an axis that starts in no patch, its
+ * base disk; with `record`, the cut rings of the axes that have any. */
 static mer_result walk_axes(merp_builder *b, bool record, mer_error *err)
 {
     for (uint32_t i = 0; i < b->axis_count; i++) {
@@ -71,8 +71,8 @@ static void shaft_uv(const merp_builder *b, const merp_joint *jt, uint32_t s, co
 
 /* The UV frame and v (shaft_uv) of an in shaft that ends on the plant's
  * base (jt->base), which no tube ring records: v 0 there, as a trunk's tube
- * starts, and the frame tube.c would start the trunk with (its normal
- * level, up × the axis). */
+ * starts, and a frame as tube.c starts one (its normal level, up × the
+ * shaft's axis from the base to J; no ring at the base has to match it). */
 static void base_frame(merp_joint *jt)
 {
     const float *n = jt->n[MERP_CUT_IN], up[3] = {0.0f, 1.0f, 0.0f};
@@ -242,20 +242,22 @@ static void face_outwards(const merp_trimesh *m, uint32_t ring_first, float *fac
     }
 }
 
-/* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
- * rings shade as the tubes; face_outwards where it points inwards), shafts,
- * ridge b = F_b, UVs (ring copies exactly the ring's), then the seam split.
- * `facing`: room for 3 floats a vertex. */
-/* The flat cap a patch keeps on the plant's base (jt->base): its vertices'
- * normal is the plane's, down (−∇F_g there is the bark's beside it); a rim
- * vertex, which the bark's triangles share, keeps the bark's. The cap's
- * vertices lie on the plane (dual contouring's moved onto it, patch.c),
- * within a hundred-thousandth of the radius. `on` has a word a vertex. */
-static void base_normals(const merp_builder *b, merp_joint *jt, uint32_t *on)
+/* The flat cap a patch keeps on the plant's base (jt->base), as tube.c's
+ * base disk has it: its vertices' normal the plane's, down (−∇F_g there is
+ * the bark's beside it), UVs by place on the disk (a shaft's would give
+ * the cap no area in UV space), no ridge; a rim vertex, which the bark's
+ * triangles share, keeps the bark's. The cap's vertices lie on the plane
+ * (moved onto it, patch.c) to the rounding of their coordinates, which a
+ * plant far from the origin makes more than a thin trunk's radius: a
+ * vertex within a millionth of the coordinates' size (or a hundred-
+ * thousandth of the radius) counts as on it. `on` has a word a vertex. */
+static void base_cap(const merp_builder *b, merp_joint *jt, uint32_t *on)
 {
     merp_trimesh *m = &jt->mesh;
     const float *o = jt->o[MERP_CUT_IN], *n = jt->n[MERP_CUT_IN];
-    const float tol = 1e-5f * merp_cut_radius(b, jt, MERP_CUT_IN);
+    const float *e0 = jt->frame[MERP_CUT_IN][0], *e1 = jt->frame[MERP_CUT_IN][1];
+    const float r = merp_cut_radius(b, jt, MERP_CUT_IN);
+    const float tol = fmaxf(1e-5f * r, 1e-6f * (fabsf(o[0]) + fabsf(o[1]) + fabsf(o[2]) + r));
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         const float *p = m->positions + 3 * (size_t)v;
         const float q[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]};
@@ -267,11 +269,22 @@ static void base_normals(const merp_builder *b, merp_joint *jt, uint32_t *on)
             for (int k = 0; k < 3; k++)
                 on[c[k]] = on[c[k]] ? 2u : 0u;
     }
-    for (uint32_t v = 0; v < m->vertex_count; v++)
-        if (on[v] == 1)
-            memcpy(m->normals + 3 * (size_t)v, n, 3 * sizeof(float));
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        if (on[v] != 1)
+            continue;
+        const float *p = m->positions + 3 * (size_t)v;
+        const float q[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]};
+        memcpy(m->normals + 3 * (size_t)v, n, 3 * sizeof(float));
+        jt->uvs[2 * v] = 0.5f + 0.5f * v3_dot(q, e0) / r; /* seen from below, as tube.c's disk */
+        jt->uvs[2 * v + 1] = 0.5f - 0.5f * v3_dot(q, e1) / r;
+        jt->ridge[v] = 0.0f;
+    }
 }
 
+/* The patch's vertex attributes: normals −∇F_g (the unclipped field, so the
+ * rings shade as the tubes; face_outwards where it points inwards), shafts,
+ * ridge b = F_b, UVs (ring copies exactly the ring's), the base's cap
+ * (base_cap), then the seam split. `facing`: room for 3 floats a vertex. */
 static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *scratch, float *facing)
 {
     merp_trimesh *m = &jt->mesh;
@@ -304,7 +317,7 @@ static void patch_attributes(const merp_builder *b, merp_joint *jt, uint32_t *sc
         memcpy(jt->ring_normal[s] + 3 * j, nr, 3 * sizeof(float)); /* face_outwards keeps it */
     }
     if (jt->base)
-        base_normals(b, jt, scratch);
+        base_cap(b, jt, scratch);
     face_outwards(m, ring_first, facing);
     if (!b->opt.no_uvs)
         split_seam(jt, scratch);

@@ -715,7 +715,10 @@ static bool place_clear(const merp_builder *b, claims *cl, merp_joint *jt, const
              * (merp_cut_clearance is exact for them); the first placement's
              * 2h past d is a margin. The chord is at most the arc, so the
              * shortfall is a least move. A capped shaft has no cut, and
-             * the base no room to move (nor a ring to match). */
+             * the base no room to move, nor a ring to match: it is not
+             * held clear of the others, and a lateral that leaves within
+             * its reach of the ground is clipped flat there, on the
+             * ground, as the trunk is. */
             if (merp_cut_has_ring(jt, s) && jt->d[s] < d)
                 push[s] = fmaxf(0.5f * h, d - jt->d[s]), again = true;
         }

@@ -80,11 +80,12 @@ typedef struct merp_joint {
                                        inside it (joints_plan.c: a single
                                        fork's and a run's) */
     bool base;                      /* its in shaft ends on the plant's base:
-                                       the root internode is shorter than its
-                                       in cut needs, and the in cut is the
-                                       base's plane, whose flat cap the patch
-                                       keeps (the trunk's base disk; no ring,
-                                       sides 0; o, n and d the base's) */
+                                       its in cut would fall below the root
+                                       internode's base or within BASE_GAP of
+                                       it, and is the base's plane, whose flat
+                                       cap the patch keeps (the trunk's base
+                                       disk; no ring, sides 0; o, n and d the
+                                       base's) */
     uint8_t capped[MERP_PATCH_CUTS]; /* shaft s ends inside the patch: its
                                        axis ends within the patch's reach of
                                        J, its field segment's round end closes
