@@ -1130,7 +1130,7 @@ static void claim_joint(const merp_builder *b, claims *cl, const merp_joint *jt,
         uint32_t id = jt->start[s];
         for (; id != jt->node[s]; id = back ? b->nodes[id].parent : b->nodes[id].main_child)
             claim_whole(b, cl, id, owner);
-        if (jt->capped[s] || (back && jt->base)) /* its last internode too (follow) */
+        if (!merp_cut_has_ring(jt, s)) /* its last internode too (follow: capped, or on the base) */
             claim_whole(b, cl, id, owner);
         else if (back)
             cl->hi[id] = set ? jt->at[s] : INFINITY, cl->own_hi[id] = owner;
@@ -1641,10 +1641,10 @@ static double swallows(merp_builder *b, claims *cl, const merp_joint *jt, float 
  * the price of more that come later: its shafts reach far, clear of every
  * primitive of the run, and pass thinner forks' J (default's root run took
  * in forks 0-3 and left 4-8 tubes). Weighed with the claims as they are
- * without it: the joints it takes
- * in (taken[0 .. nt), released) hold theirs meanwhile, and a fork is
- * gained only where none of them patched it (an elbow is none). The forks
- * it would leave tubes are listed in passed (*np, as swallows has them). */
+ * without it: the joints it takes in (taken[0 .. nt), released) hold theirs
+ * meanwhile, and a fork is gained only where none of them patched it (an
+ * elbow is none). The forks it would leave tubes are listed in passed
+ * (*np, as swallows has them). */
 static bool outweighs(merp_builder *b, claims *cl, const merp_joint *jt, float threshold, const uint32_t *taken,
                       uint32_t nt, uint32_t *passed, uint32_t *np)
 {

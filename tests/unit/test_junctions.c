@@ -912,13 +912,17 @@ static void assert_base_on_ground(const mer_mesh *m, const mer_node *root, const
 static void trunk_bases_on_the_ground_get_patches(void **state)
 {
     (void)state;
-    for (uint64_t seed = 1; seed <= 3; seed++) {
+    static const struct {
+        uint64_t seed;
+        uint32_t plants; /* 2: 60 units either side of the origin, each as thick as one tree alone */
+    } trees[] = {{1, 1}, {2, 1}, {1, 2}};
+    for (size_t t = 0; t < sizeof trees / sizeof *trees; t++) {
         mer_params p;
         mer_error err;
         assert_int_equal(mer_preset_params("fig6-sylleptic", &p, &err), MER_OK);
-        if (seed == 3) /* each as thick as one tree alone */
+        if (trees[t].plants == 2)
             p.seedlings = 2, p.seedling_spacing = 120.0f, p.leaf_diameter *= 2.0f;
-        mer_scene *s = new_preset_scene("fig6-sylleptic", &p, seed == 3 ? 1 : seed);
+        mer_scene *s = new_preset_scene("fig6-sylleptic", &p, trees[t].seed);
         assert_int_equal(mer_scene_step(s, 14, NULL, NULL, NULL, NULL, &err), MER_OK);
         mer_mesh *m = implicit_mesh(s);
         uint32_t n;
@@ -928,8 +932,8 @@ static void trunk_bases_on_the_ground_get_patches(void **state)
             if (nodes[id].parent != MER_NO_NODE)
                 continue;
             char what[160];
-            snprintf(what, sizeof what, "fig6-sylleptic %s, root %u at x %.0f (length %.2f, diameter %.2f)",
-                     seed == 3 ? "two plants" : seed == 1 ? "seed 1" : "seed 2", (unsigned)id,
+            snprintf(what, sizeof what, "fig6-sylleptic seed %u, %u plant(s), root %u at x %.0f (length %.2f, "
+                     "diameter %.2f)", (unsigned)trees[t].seed, (unsigned)trees[t].plants, (unsigned)id,
                      (double)nodes[id].base[0], (double)nodes[id].length, (double)nodes[id].diameter);
             assert_true(patched_fork(m, id));
             assert_base_on_ground(m, &nodes[id], what);
